@@ -1,0 +1,71 @@
+"""flexmbd: planar flexible multibody dynamics with the finite-element approach.
+
+A mechanism is a set of nodes and elements whose deformation parameters are
+functions of the nodal coordinates (THEORY.md). Build a :class:`Model` with
+:class:`ModelBuilder`, then analyse it with the functions below.
+"""
+
+from .builder import ModelBuilder
+from .elements import Beam, Hinge, RigidBeam, Truss
+from .errors import (
+    ConvergenceError,
+    FlexmbdError,
+    InputFileError,
+    ModelError,
+    SimulationError,
+    SingularConfigurationError,
+)
+from .kinematic_run import kinematic_analysis
+from .kinematics import (
+    accelerations,
+    deformation_transfer,
+    deformations,
+    first_order_transfer,
+    hessian,
+    initial_q,
+    jacobian,
+    partition_jacobian,
+    quadratic_velocity,
+    second_order_transfer,
+    solve_position,
+    velocities,
+)
+from .model import CoordinateClass, DeformationClass, Model
+from .motion import Custom, Polynomial
+from .results import KinematicResult
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "Beam",
+    "ConvergenceError",
+    "CoordinateClass",
+    "Custom",
+    "DeformationClass",
+    "FlexmbdError",
+    "Hinge",
+    "InputFileError",
+    "KinematicResult",
+    "Model",
+    "ModelBuilder",
+    "ModelError",
+    "Polynomial",
+    "RigidBeam",
+    "SimulationError",
+    "SingularConfigurationError",
+    "Truss",
+    "__version__",
+    "accelerations",
+    "deformation_transfer",
+    "deformations",
+    "first_order_transfer",
+    "hessian",
+    "initial_q",
+    "jacobian",
+    "kinematic_analysis",
+    "partition_jacobian",
+    "quadratic_velocity",
+    "second_order_transfer",
+    "solve_position",
+    "velocities",
+]

@@ -1,0 +1,419 @@
+"""Building a :class:`~flexmbd.model.Model` and checking it.
+
+:class:`ModelBuilder` records nodes, elements and classification in any order;
+:meth:`ModelBuilder.build` checks everything at once and raises one
+:class:`~flexmbd.errors.ModelError` that lists every problem it found, naming
+the nodes, elements and coordinates involved.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import defaultdict
+from dataclasses import dataclass
+from types import MappingProxyType
+
+import numpy as np
+
+from .elements import ROTATIONAL, TRANSLATIONAL, Beam, ElementType, Hinge, RigidBeam, Truss
+from .errors import ModelError
+from .kinematics import constraint_jacobian, diagnose_rank
+from .model import (
+    DIRECTION_NAMES,
+    CoordinateClass,
+    DeformationClass,
+    Element,
+    ElementGroup,
+    Model,
+    Node,
+    _direction_number,
+    _frozen,
+)
+from .motion import Law
+
+_ZERO_LENGTH = 1e-12  # relative to the model size
+
+
+@dataclass(frozen=True)
+class _Request:
+    """One classification request: class ``what`` for entry ``k`` of node/element ``number``."""
+
+    what: CoordinateClass | DeformationClass
+    number: int
+    k: int | str | None
+    law: Law | None
+    command: str
+
+
+class ModelBuilder:
+    """Describe a planar mechanism in SPACAR terms, then :meth:`build` it.
+
+    Example (the sliding bar of EXERCISES 1 as a truss)::
+
+        b = ModelBuilder("sliding bar")
+        b.add_node(1, -math.sqrt(3), 0.0).add_node(2, 0.0, 1.0)
+        b.add_truss(1, 1, 2)
+        b.fix(1, "y").fix(2, "x")
+        b.input_coordinate(1, "x", law=Polynomial(-2.0, 4.0))
+        model = b.build()
+
+    Node and element numbers are positive integers of your choice. A node's
+    kind (translational or rotational) follows from the elements that use it;
+    translational nodes need a position, rotational nodes start at angle 0.
+    Directions are SPACAR numbers (1, 2) or names (``"x"``, ``"y"``, ``"phi"``);
+    without directions a request covers all coordinates of the node (all
+    deformations of the element). Coordinates not classified are dependent;
+    deformations not classified are rigid. All methods return the builder.
+    """
+
+    def __init__(self, name: str = "model"):
+        self.name = name
+        self._positions: dict[int, tuple[float, float]] = {}
+        self._elements: list[tuple[int, type[ElementType], tuple[int, ...]]] = []
+        self._coordinate_requests: list[_Request] = []
+        self._deformation_requests: list[_Request] = []
+        self._problems: list[str] = []
+
+    # --- nodes and elements -----------------------------------------------------
+    def add_node(self, number: int, x: float, y: float) -> ModelBuilder:
+        """Translational node ``number`` at ``(x, y)`` [m] in the initial configuration."""
+        if number in self._positions:
+            self._problems.append(f"node {number} is given a position twice")
+        try:
+            position = (float(x), float(y))
+        except (TypeError, ValueError):
+            self._problems.append(f"node {number}: position ({x!r}, {y!r}) is not two numbers")
+            return self
+        if not all(math.isfinite(v) for v in position):
+            self._problems.append(f"node {number}: position {position} is not finite")
+        self._positions[number] = position
+        return self
+
+    def add_element(self, number: int, element_type: type[ElementType], nodes) -> ModelBuilder:
+        """Element ``number`` of ``element_type`` on ``nodes`` (in the type's node order)."""
+        nodes = tuple(nodes)
+        if len(nodes) != len(element_type.node_kinds):
+            roles = ", ".join(element_type.node_roles)
+            self._problems.append(
+                f"{element_type.name} {number} needs {len(element_type.node_kinds)} nodes "
+                f"({roles}), got {len(nodes)}"
+            )
+            return self
+        self._elements.append((number, element_type, nodes))
+        return self
+
+    def add_truss(self, number: int, p: int, q: int) -> ModelBuilder:
+        """Truss between translational nodes ``p`` and ``q`` (PLTRUSS)."""
+        return self.add_element(number, Truss, (p, q))
+
+    def add_beam(self, number: int, p: int, phi_p: int, q: int, phi_q: int) -> ModelBuilder:
+        """Beam from ``p`` to ``q`` with rotational nodes ``phi_p``, ``phi_q`` (PLBEAM)."""
+        return self.add_element(number, Beam, (p, phi_p, q, phi_q))
+
+    def add_rigid_beam(self, number: int, p: int, phi_p: int, q: int) -> ModelBuilder:
+        """Beam from ``p`` to ``q`` with one rotational node ``phi_p`` at ``p``."""
+        return self.add_element(number, RigidBeam, (p, phi_p, q))
+
+    def add_hinge(self, number: int, phi_p: int, phi_q: int) -> ModelBuilder:
+        """Hinge between rotational nodes ``phi_p`` and ``phi_q`` (PLHINGE)."""
+        return self.add_element(number, Hinge, (phi_p, phi_q))
+
+    # --- classification -----------------------------------------------------------
+    def _coordinates(self, what, node, directions, law=None, command=""):
+        if law is not None and len(directions) > 1:
+            self._problems.append(
+                f"{command} node {node}: a law needs exactly one direction, got {len(directions)}"
+            )
+            law = None
+        for k in directions or (None,):
+            self._coordinate_requests.append(_Request(what, node, k, law, command))
+        return self
+
+    def _deformations(self, what, element, ks, law=None, command=""):
+        if law is not None and len(ks) > 1:
+            self._problems.append(
+                f"{command} element {element}: a law needs exactly one deformation, got {len(ks)}"
+            )
+            law = None
+        for k in ks or (None,):
+            self._deformation_requests.append(_Request(what, element, k, law, command))
+        return self
+
+    def fix(self, node: int, *directions: int | str) -> ModelBuilder:
+        """Fix coordinates of ``node`` (FIX): all of them when no direction is given."""
+        return self._coordinates(CoordinateClass.FIXED, node, directions, command="fix")
+
+    def input_coordinate(self, node: int, *directions: int | str, law: Law | None = None
+                         ) -> ModelBuilder:
+        """Prescribe coordinates of ``node`` as kinematic inputs (INPUTX).
+
+        ``law`` (for one direction) is the default motion, e.g.
+        :class:`~flexmbd.motion.Polynomial`; analyses may override it.
+        """
+        return self._coordinates(CoordinateClass.INPUT, node, directions, law, "input_coordinate")
+
+    def dynamic_coordinate(self, node: int, *directions: int | str) -> ModelBuilder:
+        """Make coordinates of ``node`` dynamic degrees of freedom (DYNX)."""
+        return self._coordinates(CoordinateClass.DYNAMIC, node, directions,
+                                 command="dynamic_coordinate")
+
+    def input_deformation(self, element: int, *ks: int, law: Law | None = None) -> ModelBuilder:
+        """Prescribe deformations ``ks`` (1-based) of ``element`` (INPUTE)."""
+        return self._deformations(DeformationClass.INPUT, element, ks, law, "input_deformation")
+
+    def dynamic_deformation(self, element: int, *ks: int) -> ModelBuilder:
+        """Make deformations ``ks`` of ``element`` dynamic degrees of freedom (DYNE)."""
+        return self._deformations(DeformationClass.DYNAMIC, element, ks,
+                                  command="dynamic_deformation")
+
+    def release(self, element: int, *ks: int) -> ModelBuilder:
+        """Release deformations ``ks`` of ``element`` (RLSE): computed, not constrained."""
+        return self._deformations(DeformationClass.RELEASED, element, ks, command="release")
+
+    # --- building -------------------------------------------------------------------
+    def build(self) -> Model:
+        """Check the description and return the immutable :class:`Model`.
+
+        Raises:
+            ModelError: listing every problem found (unknown nodes, zero-length
+                elements, conflicting classes, a degree-of-freedom count that
+                does not close, a singular ``D_c`` in the initial configuration).
+        """
+        problems = list(self._problems)
+        kinds = self._node_kinds(problems)
+        problems += self._element_problems()
+        if problems:
+            raise ModelError(problems)
+        model = self._assemble(kinds, problems)
+        if problems:
+            raise ModelError(problems)
+        problems += check_solvability(model)
+        if problems:
+            raise ModelError(problems)
+        return model
+
+    def _node_kinds(self, problems: list[str]) -> dict[int, str]:
+        """Kind of every node from its use by elements; reports conflicts."""
+        users: dict[int, dict[str, list[str]]] = defaultdict(lambda: defaultdict(list))
+        for number, etype, nodes in self._elements:
+            for node, kind in zip(nodes, etype.node_kinds):
+                users[node][kind].append(f"{etype.name} {number}")
+        kinds: dict[int, str] = {}
+        for node, by_kind in users.items():
+            if len(by_kind) > 1:
+                problems.append(
+                    f"node {node} is used as translational by "
+                    f"{', '.join(by_kind[TRANSLATIONAL])} and as rotational by "
+                    f"{', '.join(by_kind[ROTATIONAL])}"
+                )
+                continue
+            kind = next(iter(by_kind))
+            kinds[node] = kind
+            if kind == TRANSLATIONAL and node not in self._positions:
+                problems.append(
+                    f"node {node} (used by {', '.join(by_kind[kind])}) has no position: "
+                    f"give it one with add_node({node}, x, y)"
+                )
+            if kind == ROTATIONAL and node in self._positions:
+                problems.append(
+                    f"node {node} is rotational (used by {', '.join(by_kind[kind])}) "
+                    f"but was given a position"
+                )
+        for node in self._positions:
+            kinds.setdefault(node, TRANSLATIONAL)  # a free point mass, say
+        for node in kinds:
+            if not isinstance(node, (int, np.integer)) or isinstance(node, bool) or node < 1:
+                problems.append(f"node number {node!r} is not a positive integer")
+        return kinds
+
+    def _element_problems(self) -> list[str]:
+        problems = []
+        seen: dict[int, str] = {}
+        for number, etype, nodes in self._elements:
+            if not isinstance(number, (int, np.integer)) or isinstance(number, bool) or number < 1:
+                problems.append(f"element number {number!r} is not a positive integer")
+            if number in seen:
+                problems.append(f"element number {number} is used twice ({seen[number]} and "
+                                f"{etype.name})")
+            seen[number] = etype.name
+            if len(set(nodes)) != len(nodes):
+                problems.append(f"{etype.name} {number} uses a node twice: nodes {nodes}")
+        return problems
+
+    def _assemble(self, kinds: dict[int, str], problems: list[str]) -> Model:
+        nodes: dict[int, Node] = {}
+        labels: list[str] = []
+        x0: list[float] = []
+        for number in sorted(kinds):
+            kind = kinds[number]
+            first = len(x0)
+            position = self._positions.get(number)
+            values = list(position) if kind == TRANSLATIONAL else [0.0]
+            x0 += values
+            labels += [f"x{number}.{k}" for k in range(1, len(values) + 1)]
+            nodes[number] = Node(number, kind, position,
+                                 tuple(range(first, first + len(values))))
+
+        elements: dict[int, Element] = {}
+        deformation_labels: list[str] = []
+        for number, etype, element_nodes in sorted(self._elements, key=lambda e: e[0]):
+            coords = tuple(i for n in element_nodes for i in nodes[n].coordinates)
+            first = len(deformation_labels)
+            nd = etype.n_deformations()
+            deformation_labels += [f"e{number}.{k}" for k in range(1, nd + 1)]
+            elements[number] = Element(number, etype, element_nodes, coords,
+                                       tuple(range(first, first + nd)))
+
+        x0_array = np.array(x0, dtype=float)
+        groups = _group_elements(elements, x0_array)
+        scale = max((float(g.reference.length.max()) for g in groups if g.type.ends), default=1.0)
+        for g in groups:
+            if g.type.ends is None:
+                continue
+            for number, length in zip(g.numbers, g.reference.length):
+                if length <= _ZERO_LENGTH * max(scale, 1.0):
+                    ends = elements[int(number)].nodes
+                    problems.append(
+                        f"{g.type.name} {number} has zero length: its nodes "
+                        f"{ends[0]} and {ends[g.type.node_roles.index('q')]} coincide"
+                    )
+
+        coordinate_class = np.full(len(x0), CoordinateClass.DEPENDENT, dtype=int)
+        deformation_class = np.full(len(deformation_labels), DeformationClass.RIGID, dtype=int)
+        laws: dict[str, Law] = {}
+        self._classify_coordinates(nodes, labels, coordinate_class, laws, problems)
+        self._classify_deformations(elements, deformation_labels, deformation_class, laws,
+                                    problems)
+        return Model(
+            name=self.name,
+            nodes=MappingProxyType(nodes),
+            elements=MappingProxyType(elements),
+            groups=groups,
+            x0=_frozen(x0_array),
+            coordinate_class=_frozen(coordinate_class),
+            deformation_class=_frozen(deformation_class),
+            coordinate_labels=tuple(labels),
+            deformation_labels=tuple(deformation_labels),
+            input_laws=MappingProxyType(laws),
+        )
+
+    def _classify_coordinates(self, nodes, labels, classes, laws, problems):
+        assigned: dict[int, str] = {}
+        for req in self._coordinate_requests:
+            if req.number not in nodes:
+                problems.append(f"{req.command}: node {req.number} is not in the model")
+                continue
+            node = nodes[req.number]
+            if req.k is None:
+                ks = range(1, len(node.coordinates) + 1)
+                if req.law is not None and len(ks) > 1:
+                    problems.append(f"{req.command} node {req.number}: a law needs exactly one "
+                                    f"direction of this {node.kind} node")
+                    continue
+            else:
+                k = _direction_number(node.kind, req.k)
+                if k is None or not 1 <= k <= len(node.coordinates):
+                    names = DIRECTION_NAMES[node.kind]
+                    valid = " and ".join(f"{i + 1} ({n})" for i, n in enumerate(names))
+                    problems.append(
+                        f"{req.command} node {req.number}: direction {req.k!r} does not exist; "
+                        f"a {node.kind} node has direction {valid}"
+                    )
+                    continue
+                ks = [k]
+            for k in ks:
+                i = node.coordinates[k - 1]
+                _assign(i, labels[i], req, classes, assigned, problems)
+                if req.law is not None:
+                    laws[labels[i]] = req.law
+
+    def _classify_deformations(self, elements, labels, classes, laws, problems):
+        assigned: dict[int, str] = {}
+        for req in self._deformation_requests:
+            if req.number not in elements:
+                problems.append(f"{req.command}: element {req.number} is not in the model")
+                continue
+            element = elements[req.number]
+            nd = len(element.deformations)
+            if req.k is None:
+                ks = range(1, nd + 1)
+                if req.law is not None and nd > 1:
+                    problems.append(f"{req.command} element {req.number}: a law needs exactly one "
+                                    f"deformation of this {element.type.name}")
+                    continue
+            elif isinstance(req.k, (int, np.integer)) and 1 <= req.k <= nd:
+                ks = [int(req.k)]
+            else:
+                problems.append(
+                    f"{req.command} element {req.number}: deformation {req.k!r} does not exist; "
+                    f"a {element.type.name} has deformations 1 to {nd}"
+                )
+                continue
+            for k in ks:
+                i = element.deformations[k - 1]
+                _assign(i, labels[i], req, classes, assigned, problems)
+                if req.law is not None:
+                    laws[labels[i]] = req.law
+
+
+# keyed by name: members of the two IntEnums with equal values compare equal
+_CLASS_WORDS = {"FIXED": "fixed", "INPUT": "an input", "DYNAMIC": "dynamic",
+                "RIGID": "rigid", "RELEASED": "released"}
+
+
+def _assign(i, label, req, classes, assigned, problems):
+    """Put entry ``i`` in class ``req.what``; a second, different class is a problem."""
+    word = _CLASS_WORDS[req.what.name]
+    if i in assigned and assigned[i] != word:
+        problems.append(f"{label} is put in two classes: {assigned[i]} and {word}")
+        return
+    assigned[i] = word
+    classes[i] = req.what
+
+
+def _group_elements(elements: dict[int, Element], x0: np.ndarray) -> tuple[ElementGroup, ...]:
+    by_type: dict[type[ElementType], list[Element]] = defaultdict(list)
+    for element in elements.values():
+        by_type[element.type].append(element)
+    groups = []
+    for etype, members in by_type.items():
+        coords = np.array([m.coordinates for m in members], dtype=np.intp)
+        groups.append(
+            ElementGroup(
+                type=etype,
+                numbers=_frozen([m.number for m in members]),
+                coordinates=_frozen(coords),
+                deformations=_frozen(np.array([m.deformations for m in members], dtype=np.intp)),
+                reference=etype.reference(x0[coords]),
+            )
+        )
+    return tuple(groups)
+
+
+def check_solvability(model: Model) -> list[str]:
+    """Problems with the square, nonsingular ``D_c`` required by THEORY section 3.
+
+    Counts rows (rigid and independent deformations) against columns (dependent
+    coordinates) and, through the singular value decomposition of ``D_c`` in the
+    initial configuration, names the coordinates that the constraints leave
+    free and the deformations whose equations are redundant.
+    """
+
+    rows, cols = len(model.constrained), len(model.dependent)
+    if rows == cols == 0:
+        return []
+    diagnosis = ""
+    if rows and cols:
+        diagnosis = diagnose_rank(model, constraint_jacobian(model, np.asarray(model.x0)))
+    if rows == cols:
+        return [f"D_c is singular in the initial configuration: {diagnosis}"] if diagnosis else []
+    excess = abs(rows - cols)
+    if rows > cols:
+        advice = (f"{excess} equation(s) too many; release {excess} deformation(s) or make "
+                  f"{excess} fixed/input coordinate(s) dependent")
+    else:
+        advice = (f"{excess} equation(s) too few; fix {excess} coordinate(s), make them inputs "
+                  f"or dynamic, or add elements")
+    text = (f"the degree-of-freedom count does not close: {rows} constraint equations (rigid "
+            f"and independent deformations) for {cols} dependent coordinates, {advice}")
+    return [f"{text} ({diagnosis})" if diagnosis else text]

@@ -1,0 +1,162 @@
+"""The element contract.
+
+An element type is a tiny class with declarative attributes and vectorised
+kernels. Every kernel takes the coordinates of *all* elements of that type at
+once, ``xe`` of shape ``(n, n_coordinates)`` in the element's coordinate order
+(THEORY section 2), and the reference data from :meth:`ElementType.reference`.
+
+The deformation functions are written once, in :meth:`ElementType.formula`,
+with the math functions passed in as a module (``numpy`` or ``sympy``); the
+numeric value and the symbolic path both evaluate that one definition. The
+derivatives are hand-written for speed and checked against finite differences
+and against symbolic differentiation of ``formula`` in the tests.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from types import ModuleType
+from typing import Any, ClassVar
+
+import numpy as np
+
+TRANSLATIONAL = "translational"
+ROTATIONAL = "rotational"
+#: number of coordinates carried by a node of each kind
+COORDINATES_PER_NODE = {TRANSLATIONAL: 2, ROTATIONAL: 1}
+
+
+@dataclass(frozen=True)
+class Reference:
+    """Reference (initial) geometry of ``n`` elements of one type.
+
+    Attributes:
+        length: ``l0``, distance between the translational end nodes [m], shape ``(n,)``.
+        angle: ``beta0``, orientation of ``r_q - r_p`` [rad], shape ``(n,)``.
+    """
+
+    length: np.ndarray
+    angle: np.ndarray
+
+
+class ElementType:
+    """Base class of the planar element types.
+
+    Class attributes:
+        name: short name used in messages (``"truss"``).
+        keyword: the SPACAR input-file keyword (``"PLTRUSS"``).
+        node_kinds: kind of each node in connection order.
+        node_roles: name of each node in connection order (``"p"``, ``"phi_p"``, ...).
+        deformation_names: one name per deformation parameter.
+        ends: column pairs of ``xe`` holding ``r_p`` and ``r_q``, or ``None``
+            for elements without translational nodes.
+    """
+
+    name: ClassVar[str]
+    keyword: ClassVar[str]
+    node_kinds: ClassVar[tuple[str, ...]]
+    node_roles: ClassVar[tuple[str, ...]]
+    deformation_names: ClassVar[tuple[str, ...]]
+    ends: ClassVar[tuple[tuple[int, int], tuple[int, int]] | None] = None
+
+    @classmethod
+    def n_coordinates(cls) -> int:
+        return sum(COORDINATES_PER_NODE[k] for k in cls.node_kinds)
+
+    @classmethod
+    def n_deformations(cls) -> int:
+        return len(cls.deformation_names)
+
+    @classmethod
+    def reference(cls, xe0: np.ndarray) -> Reference:
+        """Reference length and angle from the initial coordinates ``xe0`` ``(n, nc)``."""
+        xe0 = np.atleast_2d(xe0)
+        if cls.ends is None:
+            zero = np.zeros(len(xe0))
+            return Reference(length=zero, angle=zero.copy())
+        d = xe0[:, list(cls.ends[1])] - xe0[:, list(cls.ends[0])]
+        return Reference(length=np.hypot(d[:, 0], d[:, 1]), angle=np.arctan2(d[:, 1], d[:, 0]))
+
+    # --- the single definition -------------------------------------------------
+    @staticmethod
+    def formula(c: list[Any], length: Any, angle: Any, m: ModuleType) -> list[Any]:
+        """Deformation parameters as expressions of the coordinate list ``c``.
+
+        ``m`` supplies ``sqrt``, ``sin`` and ``cos`` (``numpy`` or ``sympy``).
+        """
+        raise NotImplementedError
+
+    # --- numeric kernels --------------------------------------------------------
+    @classmethod
+    def deformations(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
+        """Deformation parameters ``e = D(x)``, shape ``(n, nd)``."""
+        return np.stack(cls.formula(list(xe.T), ref.length, ref.angle, np), axis=1)
+
+    @classmethod
+    def jacobian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
+        """``D_x = dD/dx`` per element, shape ``(n, nd, nc)``."""
+        raise NotImplementedError
+
+    @classmethod
+    def hessian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
+        """``D_xx`` per element, shape ``(n, nd, nc, nc)``, symmetric in the last two axes."""
+        raise NotImplementedError
+
+    @classmethod
+    def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference) -> np.ndarray:
+        """``(D_xx xdot) xdot`` per deformation, shape ``(n, nd)`` (THEORY section 2)."""
+        raise NotImplementedError
+
+
+# --- planar geometry shared by the kernels ---------------------------------------
+def unit_and_normal(beta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``e(beta) = (cos, sin)`` and ``n(beta) = (-sin, cos)``, each shape ``(n, 2)``."""
+    c, s = np.cos(beta), np.sin(beta)
+    return np.stack([c, s], axis=1), np.stack([-s, c], axis=1)
+
+
+def chord(xe: np.ndarray, ends) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``d = r_q - r_p`` ``(n, 2)``, its length ``l`` ``(n,)`` and direction ``e_l`` ``(n, 2)``."""
+    d = xe[:, list(ends[1])] - xe[:, list(ends[0])]
+    length = np.hypot(d[:, 0], d[:, 1])
+    return d, length, d / length[:, None]
+
+
+def dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Row-wise dot product of ``(n, 2)`` arrays."""
+    return np.einsum("ij,ij->i", a, b)
+
+
+def elongation_jacobian(e_l: np.ndarray) -> np.ndarray:
+    """Gradient of ``l`` with respect to ``(r_p, r_q)``, shape ``(n, 4)``."""
+    return np.concatenate([-e_l, e_l], axis=1)
+
+
+def elongation_hessian(length: np.ndarray, e_l: np.ndarray) -> np.ndarray:
+    """Hessian of ``l`` with respect to ``(r_p, r_q)``, shape ``(n, 4, 4)``."""
+    a = (np.eye(2)[None] - e_l[:, :, None] * e_l[:, None, :]) / length[:, None, None]
+    h = np.empty((len(a), 4, 4))
+    h[:, :2, :2] = a
+    h[:, 2:, 2:] = a
+    h[:, :2, 2:] = -a
+    h[:, 2:, :2] = -a
+    return h
+
+
+def elongation_quadratic_velocity(length: np.ndarray, e_l: np.ndarray, dv: np.ndarray) -> np.ndarray:
+    """``(d2 l / dr2 rdot) rdot = (dv.dv - (e_l.dv)^2) / l``, shape ``(n,)``."""
+    return (dot(dv, dv) - dot(e_l, dv) ** 2) / length
+
+
+def normal_distance_hessian(hess, ends, phi, n_d, e_r, sign):
+    """Write the Hessian of ``sign * n(beta0 + phi) . d`` into ``hess`` ``(n, nc, nc)``.
+
+    ``d = r_q - r_p`` with ``r_p, r_q`` at the column pairs ``ends``; ``phi`` is
+    the column of the node angle; ``n_d = n . d`` and ``e_r = e(beta0 + phi)``.
+    Since ``dn/dbeta = -e`` and ``de/dbeta = n``, the only non-zero entries are
+    ``d2/dphi2 = -sign n.d``, ``d2/dphi dr_p = sign e`` and ``d2/dphi dr_q = -sign e``.
+    """
+    rp, rq = list(ends[0]), list(ends[1])
+    hess[:, phi, phi] = -sign * n_d
+    hess[:, phi, rp] = hess[:, rp, phi] = sign * e_r
+    hess[:, phi, rq] = hess[:, rq, phi] = -sign * e_r

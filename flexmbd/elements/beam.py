@@ -1,0 +1,89 @@
+"""Planar beam (PLBEAM): elongation and two bending deformations (THEORY section 2).
+
+``e1 = l - l0``, ``e2 = -n_p . d``, ``e3 = n_q . d`` with ``d = r_q - r_p`` and
+``n_p = n(beta0 + phi_p)``, ``n_q = n(beta0 + phi_q)``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .base import (
+    ROTATIONAL,
+    TRANSLATIONAL,
+    ElementType,
+    Reference,
+    chord,
+    dot,
+    elongation_hessian,
+    elongation_jacobian,
+    elongation_quadratic_velocity,
+    normal_distance_hessian,
+    unit_and_normal,
+)
+
+_RP, _PHI_P, _RQ, _PHI_Q = [0, 1], 2, [3, 4], 5
+_TRANS = np.array(_RP + _RQ)
+
+
+class Beam(ElementType):
+    """Coordinates ``[x_p, y_p, phi_p, x_q, y_q, phi_q]``."""
+
+    name = "beam"
+    keyword = "PLBEAM"
+    node_kinds = (TRANSLATIONAL, ROTATIONAL, TRANSLATIONAL, ROTATIONAL)
+    node_roles = ("p", "phi_p", "q", "phi_q")
+    deformation_names = ("elongation", "bending at p", "bending at q")
+    ends = ((0, 1), (3, 4))
+
+    @staticmethod
+    def formula(c, length, angle, m):
+        xp, yp, php, xq, yq, phq = c
+        dx, dy = xq - xp, yq - yp
+        bp, bq = angle + php, angle + phq
+        return [
+            m.sqrt(dx**2 + dy**2) - length,
+            m.sin(bp) * dx - m.cos(bp) * dy,  # -n_p . d
+            -m.sin(bq) * dx + m.cos(bq) * dy,  # n_q . d
+        ]
+
+    @classmethod
+    def _frames(cls, xe, ref):
+        d, length, e_l = chord(xe, cls.ends)
+        e_p, n_p = unit_and_normal(ref.angle + xe[:, _PHI_P])
+        e_q, n_q = unit_and_normal(ref.angle + xe[:, _PHI_Q])
+        return d, length, e_l, e_p, n_p, e_q, n_q
+
+    @classmethod
+    def jacobian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
+        d, _, e_l, e_p, n_p, e_q, n_q = cls._frames(xe, ref)
+        jac = np.zeros((len(xe), 3, 6))
+        jac[:, 0, _RP + _RQ] = elongation_jacobian(e_l)
+        jac[:, 1, _RP], jac[:, 1, _RQ], jac[:, 1, _PHI_P] = n_p, -n_p, dot(e_p, d)
+        jac[:, 2, _RP], jac[:, 2, _RQ], jac[:, 2, _PHI_Q] = -n_q, n_q, -dot(e_q, d)
+        return jac
+
+    @classmethod
+    def hessian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
+        d, length, e_l, e_p, n_p, e_q, n_q = cls._frames(xe, ref)
+        hess = np.zeros((len(xe), 3, 6, 6))
+        hess[:, 0, _TRANS[:, None], _TRANS] = elongation_hessian(length, e_l)
+        # e2 = -n_p . d and e3 = +n_q . d
+        normal_distance_hessian(hess[:, 1], cls.ends, _PHI_P, dot(n_p, d), e_p, sign=-1.0)
+        normal_distance_hessian(hess[:, 2], cls.ends, _PHI_Q, dot(n_q, d), e_q, sign=1.0)
+        return hess
+
+    @classmethod
+    def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference) -> np.ndarray:
+        d, length, e_l, e_p, n_p, e_q, n_q = cls._frames(xe, ref)
+        dv = xde[:, _RQ] - xde[:, _RP]
+        w_p, w_q = xde[:, _PHI_P], xde[:, _PHI_Q]
+        return np.stack(
+            [
+                elongation_quadratic_velocity(length, e_l, dv),
+                w_p**2 * dot(n_p, d) + 2.0 * w_p * dot(e_p, dv),
+                -(w_q**2) * dot(n_q, d) - 2.0 * w_q * dot(e_q, dv),
+            ],
+            axis=1,
+        )
+

@@ -1,0 +1,36 @@
+"""Planar hinge (PLHINGE): relative rotation ``e1 = phi_q - phi_p``."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .base import ROTATIONAL, ElementType, Reference
+
+_JACOBIAN = np.array([[-1.0, 1.0]])
+
+
+class Hinge(ElementType):
+    """Two rotational nodes; coordinates ``[phi_p, phi_q]``. Linear, so ``D_xx = 0``."""
+
+    name = "hinge"
+    keyword = "PLHINGE"
+    node_kinds = (ROTATIONAL, ROTATIONAL)
+    node_roles = ("phi_p", "phi_q")
+    deformation_names = ("relative rotation",)
+
+    @staticmethod
+    def formula(c, length, angle, m):
+        php, phq = c
+        return [phq - php]
+
+    @classmethod
+    def jacobian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
+        return np.broadcast_to(_JACOBIAN, (len(xe), 1, 2)).copy()
+
+    @classmethod
+    def hessian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
+        return np.zeros((len(xe), 1, 2, 2))
+
+    @classmethod
+    def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference) -> np.ndarray:
+        return np.zeros((len(xe), 1))

@@ -1,0 +1,81 @@
+"""Rigid beam with one rotational node (THEORY section 2, as in the exercises).
+
+Coordinates ``[x_p, y_p, phi_p, x_q, y_q]``; deformations ``e1 = l - l0`` and
+``e2 = n_p . d`` (note the sign, opposite to the beam's ``e2``). Both are
+normally rigid: the element fixes the distance of p and q and ties the angle
+``phi_p`` to the direction of the chord.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .base import (
+    ROTATIONAL,
+    TRANSLATIONAL,
+    ElementType,
+    Reference,
+    chord,
+    dot,
+    elongation_hessian,
+    elongation_jacobian,
+    elongation_quadratic_velocity,
+    normal_distance_hessian,
+    unit_and_normal,
+)
+
+_RP, _PHI_P, _RQ = [0, 1], 2, [3, 4]
+_TRANS = np.array(_RP + _RQ)
+
+
+class RigidBeam(ElementType):
+    """Beam with rotational node at p only; two deformations."""
+
+    name = "rigid beam"
+    keyword = "PLRBEAM"
+    node_kinds = (TRANSLATIONAL, ROTATIONAL, TRANSLATIONAL)
+    node_roles = ("p", "phi_p", "q")
+    deformation_names = ("elongation", "normal offset")
+    ends = ((0, 1), (3, 4))
+
+    @staticmethod
+    def formula(c, length, angle, m):
+        xp, yp, php, xq, yq = c
+        dx, dy = xq - xp, yq - yp
+        bp = angle + php
+        return [m.sqrt(dx**2 + dy**2) - length, -m.sin(bp) * dx + m.cos(bp) * dy]
+
+    @classmethod
+    def _frames(cls, xe, ref):
+        d, length, e_l = chord(xe, cls.ends)
+        e_p, n_p = unit_and_normal(ref.angle + xe[:, _PHI_P])
+        return d, length, e_l, e_p, n_p
+
+    @classmethod
+    def jacobian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
+        d, _, e_l, e_p, n_p = cls._frames(xe, ref)
+        jac = np.zeros((len(xe), 2, 5))
+        jac[:, 0, _TRANS] = elongation_jacobian(e_l)
+        jac[:, 1, _RP], jac[:, 1, _RQ], jac[:, 1, _PHI_P] = -n_p, n_p, -dot(e_p, d)
+        return jac
+
+    @classmethod
+    def hessian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
+        d, length, e_l, e_p, n_p = cls._frames(xe, ref)
+        hess = np.zeros((len(xe), 2, 5, 5))
+        hess[:, 0, _TRANS[:, None], _TRANS] = elongation_hessian(length, e_l)
+        normal_distance_hessian(hess[:, 1], cls.ends, _PHI_P, dot(n_p, d), e_p, sign=1.0)
+        return hess
+
+    @classmethod
+    def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference) -> np.ndarray:
+        d, length, e_l, e_p, n_p = cls._frames(xe, ref)
+        dv = xde[:, _RQ] - xde[:, _RP]
+        w_p = xde[:, _PHI_P]
+        return np.stack(
+            [
+                elongation_quadratic_velocity(length, e_l, dv),
+                -(w_p**2) * dot(n_p, d) - 2.0 * w_p * dot(e_p, dv),
+            ],
+            axis=1,
+        )

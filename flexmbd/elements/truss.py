@@ -1,0 +1,47 @@
+"""Planar truss (PLTRUSS): one elongation ``e1 = l - l0`` (THEORY section 2)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .base import (
+    TRANSLATIONAL,
+    ElementType,
+    Reference,
+    chord,
+    elongation_hessian,
+    elongation_jacobian,
+    elongation_quadratic_velocity,
+)
+
+
+class Truss(ElementType):
+    """Two translational nodes ``p, q``; coordinates ``[x_p, y_p, x_q, y_q]``."""
+
+    name = "truss"
+    keyword = "PLTRUSS"
+    node_kinds = (TRANSLATIONAL, TRANSLATIONAL)
+    node_roles = ("p", "q")
+    deformation_names = ("elongation",)
+    ends = ((0, 1), (2, 3))
+
+    @staticmethod
+    def formula(c, length, angle, m):
+        xp, yp, xq, yq = c
+        return [m.sqrt((xq - xp) ** 2 + (yq - yp) ** 2) - length]
+
+    @classmethod
+    def jacobian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
+        _, _, e_l = chord(xe, cls.ends)
+        return elongation_jacobian(e_l)[:, None, :]
+
+    @classmethod
+    def hessian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
+        _, length, e_l = chord(xe, cls.ends)
+        return elongation_hessian(length, e_l)[:, None, :, :]
+
+    @classmethod
+    def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference) -> np.ndarray:
+        _, length, e_l = chord(xe, cls.ends)
+        dv = xde[:, 2:4] - xde[:, 0:2]
+        return elongation_quadratic_velocity(length, e_l, dv)[:, None]

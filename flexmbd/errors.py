@@ -1,0 +1,70 @@
+"""The exceptions of flexmbd.
+
+Every error a user can cause is one of these, with a message that names the
+nodes, elements, coordinates, time or input-file line involved. The command
+line prints the message as one line and exits non-zero.
+"""
+
+from __future__ import annotations
+
+
+class FlexmbdError(Exception):
+    """Base class of all flexmbd errors."""
+
+
+class ModelError(FlexmbdError, ValueError):
+    """A model description is inconsistent.
+
+    ``problems`` lists every problem found, one sentence each, so that a user
+    can fix them all at once.
+    """
+
+    def __init__(self, problems: list[str] | str):
+        self.problems = [problems] if isinstance(problems, str) else list(problems)
+        if len(self.problems) == 1:
+            text = f"invalid model: {self.problems[0]}"
+        else:
+            lines = "".join(f"\n  - {p}" for p in self.problems)
+            text = f"invalid model, {len(self.problems)} problems:{lines}"
+        super().__init__(text)
+
+
+class SimulationError(FlexmbdError, RuntimeError):
+    """An analysis could not continue at time ``time``.
+
+    Runs over a time grid attach what was computed before the failure as
+    ``partial_result`` (``None`` for a single-configuration solve).
+    """
+
+    def __init__(self, message: str, time: float | None = None):
+        super().__init__(message)
+        self.time = time
+        self.partial_result = None
+
+
+class ConvergenceError(SimulationError):
+    """The Newton-Raphson position solve did not converge."""
+
+    def __init__(self, message: str, time: float | None = None,
+                 iterations: int = 0, residual: float = float("nan")):
+        super().__init__(message, time)
+        self.iterations = iterations
+        self.residual = residual
+
+
+class SingularConfigurationError(SimulationError):
+    """The constraint Jacobian ``D_c`` is singular (e.g. a dead point)."""
+
+
+class InputFileError(FlexmbdError, ValueError):
+    """A SPACAR input file cannot be read; names the line and the reason."""
+
+    def __init__(self, message: str, path: str | None = None, line: int | None = None):
+        where = ""
+        if path is not None:
+            where = f"{path}:{line}: " if line is not None else f"{path}: "
+        elif line is not None:
+            where = f"line {line}: "
+        super().__init__(where + message)
+        self.path = path
+        self.line = line

@@ -1,0 +1,315 @@
+"""The model: nodes, elements, classification of coordinates and deformations.
+
+A :class:`Model` is immutable once built (its arrays are read-only); analyses
+are functions of ``(model, state)`` with the state in plain numpy arrays. Build
+one with :class:`flexmbd.ModelBuilder`.
+
+Numbering follows SPACAR: node and element numbers are the user's; coordinate
+``k`` of node ``n`` is labelled ``x<n>.<k>`` (``k = 1, 2`` for ``x, y`` of a
+translational node, ``k = 1`` for the angle of a rotational node) and
+deformation ``k`` of element ``e`` is labelled ``e<e>.<k>``. Internally every
+array is indexed from 0 in the order of increasing node (element) number.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from functools import cached_property
+from enum import IntEnum
+from types import MappingProxyType
+
+import numpy as np
+
+from .elements import ROTATIONAL, ElementType, Reference
+from .motion import Law
+
+
+class CoordinateClass(IntEnum):
+    """Class of a nodal coordinate (THEORY section 1)."""
+
+    FIXED = 0  #: ``x(o)``, constant
+    INPUT = 1  #: ``x(m)``, prescribed function of time
+    DYNAMIC = 2  #: ``x(m)``, dynamic degree of freedom
+    DEPENDENT = 3  #: ``x(c)``, solved from the constraints
+
+
+class DeformationClass(IntEnum):
+    """Class of a deformation parameter (THEORY section 2)."""
+
+    RIGID = 0  #: ``e(o)``, held at zero
+    INPUT = 1  #: ``e(m)``, prescribed function of time
+    DYNAMIC = 2  #: ``e(m)``, dynamic degree of freedom (flexible)
+    RELEASED = 3  #: ``e(c)``, computed from the coordinates
+
+
+DIRECTION_NAMES = {"translational": ("x", "y"), "rotational": ("phi",)}
+
+
+@dataclass(frozen=True)
+class Node:
+    """A node: SPACAR number, kind, initial position [m] and global coordinate indices."""
+
+    number: int
+    kind: str
+    position: tuple[float, float] | None
+    coordinates: tuple[int, ...]
+
+
+@dataclass(frozen=True)
+class Element:
+    """An element: number, type, node numbers in connection order, global indices."""
+
+    number: int
+    type: type[ElementType]
+    nodes: tuple[int, ...]
+    coordinates: tuple[int, ...]
+    deformations: tuple[int, ...]
+
+
+@dataclass(frozen=True, eq=False)
+class ElementGroup:
+    """All elements of one type, with index maps for vectorised assembly.
+
+    Attributes:
+        type: the element type.
+        numbers: element numbers, shape ``(n,)``.
+        coordinates: global coordinate index of each element coordinate, ``(n, nc)``.
+        deformations: global deformation index of each element deformation, ``(n, nd)``.
+        reference: reference length and angle of each element.
+    """
+
+    type: type[ElementType]
+    numbers: np.ndarray
+    coordinates: np.ndarray
+    deformations: np.ndarray
+    reference: Reference
+
+
+def _frozen(a) -> np.ndarray:
+    a = np.array(a)
+    a.flags.writeable = False
+    return a
+
+
+@dataclass(frozen=True, eq=False)
+class Model:
+    """An immutable planar mechanism (build it with :class:`flexmbd.ModelBuilder`).
+
+    Attributes:
+        name: a name for messages and plots.
+        nodes: nodes by number.
+        elements: elements by number.
+        groups: elements grouped by type for vectorised kernels.
+        x0: initial (reference) coordinates, shape ``(nx,)`` [m, rad].
+        coordinate_class: :class:`CoordinateClass` of each coordinate, ``(nx,)``.
+        deformation_class: :class:`DeformationClass` of each deformation, ``(ne,)``.
+        coordinate_labels: ``x<node>.<k>`` for each coordinate.
+        deformation_labels: ``e<element>.<k>`` for each deformation.
+        input_laws: default law of each prescribed coordinate or deformation, by label.
+    """
+
+    name: str
+    nodes: Mapping[int, Node]
+    elements: Mapping[int, Element]
+    groups: tuple[ElementGroup, ...]
+    x0: np.ndarray
+    coordinate_class: np.ndarray
+    deformation_class: np.ndarray
+    coordinate_labels: tuple[str, ...]
+    deformation_labels: tuple[str, ...]
+    input_laws: Mapping[str, Law] = field(default_factory=dict)
+
+    # --- sizes and index sets -------------------------------------------------
+    @property
+    def n_coordinates(self) -> int:
+        return len(self.x0)
+
+    @property
+    def n_deformations(self) -> int:
+        return len(self.deformation_class)
+
+    def _coordinates_of(self, *classes: CoordinateClass) -> np.ndarray:
+        return _frozen(np.flatnonzero(np.isin(self.coordinate_class, classes)))
+
+    def _deformations_of(self, *classes: DeformationClass) -> np.ndarray:
+        return _frozen(np.flatnonzero(np.isin(self.deformation_class, classes)))
+
+    @cached_property
+    def fixed(self) -> np.ndarray:
+        """Indices of ``x(o)``."""
+        return self._coordinates_of(CoordinateClass.FIXED)
+
+    @cached_property
+    def dependent(self) -> np.ndarray:
+        """Indices of ``x(c)``: the columns of ``D_c``."""
+        return self._coordinates_of(CoordinateClass.DEPENDENT)
+
+    @cached_property
+    def independent_coordinates(self) -> np.ndarray:
+        """Indices of ``x(m)`` (inputs and dynamic coordinates), in coordinate order."""
+        return self._coordinates_of(CoordinateClass.INPUT, CoordinateClass.DYNAMIC)
+
+    @cached_property
+    def rigid(self) -> np.ndarray:
+        """Indices of ``e(o)``."""
+        return self._deformations_of(DeformationClass.RIGID)
+
+    @cached_property
+    def independent_deformations(self) -> np.ndarray:
+        """Indices of ``e(m)`` (input and dynamic deformations), in deformation order."""
+        return self._deformations_of(DeformationClass.INPUT, DeformationClass.DYNAMIC)
+
+    @cached_property
+    def released(self) -> np.ndarray:
+        """Indices of ``e(c)``."""
+        return self._deformations_of(DeformationClass.RELEASED)
+
+    @cached_property
+    def constrained(self) -> np.ndarray:
+        """Rows of ``D_c``: ``e(o)`` followed by ``e(m)`` (THEORY section 3)."""
+        return _frozen(np.concatenate([self.rigid, self.independent_deformations]))
+
+    @cached_property
+    def n_dof(self) -> int:
+        """Number of generalized coordinates ``q = [x(m); e(m)]``."""
+        return len(self.independent_coordinates) + len(self.independent_deformations)
+
+    @cached_property
+    def q_labels(self) -> tuple[str, ...]:
+        """Labels of ``q = [x(m); e(m)]``."""
+        return tuple(
+            [self.coordinate_labels[i] for i in self.independent_coordinates]
+            + [self.deformation_labels[i] for i in self.independent_deformations]
+        )
+
+    @cached_property
+    def q_is_input(self) -> np.ndarray:
+        """Boolean mask over ``q``: prescribed (rheonomic) entries; the rest are dynamic."""
+        return _frozen(
+            np.concatenate(
+                [
+                    self.coordinate_class[self.independent_coordinates] == CoordinateClass.INPUT,
+                    self.deformation_class[self.independent_deformations]
+                    == DeformationClass.INPUT,
+                ]
+            )
+        )
+
+    @cached_property
+    def characteristic_length(self) -> float:
+        """Largest element reference length [m] (1 when no element has a length)."""
+        lengths = [g.reference.length.max() for g in self.groups if g.type.ends is not None]
+        return float(max(lengths)) if lengths and max(lengths) > 0 else 1.0
+
+    @cached_property
+    def coordinate_scale(self) -> np.ndarray:
+        """Per coordinate: 1 for translations, ``1 / characteristic_length`` for angles.
+
+        Multiplying the columns of ``D_x`` by this makes an angle count like a
+        displacement of the model's size, so that conditioning checks do not
+        depend on the units or the size of the mechanism.
+        """
+        scale = np.ones(self.n_coordinates)
+        for node in self.nodes.values():
+            if node.kind == ROTATIONAL:
+                scale[list(node.coordinates)] = 1.0 / self.characteristic_length
+        return _frozen(scale)
+
+    # --- labels and look-up ---------------------------------------------------
+    def coordinate_index(self, label: str | tuple[int, int | str]) -> int:
+        """Global index of a coordinate given as ``"x3.2"``, ``(3, 2)`` or ``(3, "y")``."""
+        node, k = _parse_label(label, "x")
+        if node not in self.nodes:
+            raise KeyError(f"{_label_text(label)}: node {node} is not in the model")
+        coords = self.nodes[node].coordinates
+        k = _direction_number(self.nodes[node].kind, k)
+        if k is None or not 1 <= k <= len(coords):
+            raise KeyError(f"{_label_text(label)}: node {node} has no coordinate {k}")
+        return coords[k - 1]
+
+    def deformation_index(self, label: str | tuple[int, int]) -> int:
+        """Global index of a deformation given as ``"e2.1"`` or ``(2, 1)``."""
+        elem, k = _parse_label(label, "e")
+        if elem not in self.elements:
+            raise KeyError(f"{_label_text(label)}: element {elem} is not in the model")
+        defs = self.elements[elem].deformations
+        if not isinstance(k, int) or not 1 <= k <= len(defs):
+            raise KeyError(f"{_label_text(label)}: element {elem} has no deformation {k}")
+        return defs[k - 1]
+
+    def describe_coordinate(self, i: int) -> str:
+        """``"x3.1 (node 3, x)"``: label with node and direction."""
+        label = self.coordinate_labels[i]
+        node, k = _parse_label(label, "x")
+        return f"{label} (node {node}, {DIRECTION_NAMES[self.nodes[node].kind][k - 1]})"
+
+    def describe_deformation(self, i: int) -> str:
+        """``"e2.1 (rigid beam 2, elongation)"``: label with element type and meaning."""
+        label = self.deformation_labels[i]
+        elem, k = _parse_label(label, "e")
+        etype = self.elements[elem].type
+        return f"{label} ({etype.name} {elem}, {etype.deformation_names[k - 1]})"
+
+    def describe_q(self, j: int) -> str:
+        """Description of entry ``j`` of ``q``."""
+        nxm = len(self.independent_coordinates)
+        if j < nxm:
+            return self.describe_coordinate(self.independent_coordinates[j])
+        return self.describe_deformation(self.independent_deformations[j - nxm])
+
+    def summary(self) -> str:
+        """A few lines describing sizes and classification, for printing."""
+        def names(idx, describe):
+            return ", ".join(describe(i) for i in idx) or "none"
+
+        x_in = self.coordinate_class == CoordinateClass.INPUT
+        x_dyn = self.coordinate_class == CoordinateClass.DYNAMIC
+        e_in = self.deformation_class == DeformationClass.INPUT
+        e_dyn = self.deformation_class == DeformationClass.DYNAMIC
+        return "\n".join(
+            [
+                f"model {self.name!r}: {len(self.nodes)} nodes, {len(self.elements)} elements, "
+                f"{self.n_coordinates} coordinates, {self.n_deformations} deformations, "
+                f"{self.n_dof} degrees of freedom",
+                f"  inputs: {names(np.flatnonzero(x_in), self.describe_coordinate)}; "
+                f"{names(np.flatnonzero(e_in), self.describe_deformation)}",
+                f"  dynamic: {names(np.flatnonzero(x_dyn), self.describe_coordinate)}; "
+                f"{names(np.flatnonzero(e_dyn), self.describe_deformation)}",
+            ]
+        )
+
+
+_LABEL = re.compile(r"^\s*([xe])\s*(\d+)\s*(?:\.\s*(\d+))?\s*$", re.IGNORECASE)
+
+
+def _label_text(label) -> str:
+    return label if isinstance(label, str) else repr(label)
+
+
+def _parse_label(label, prefix: str) -> tuple[int, int | str]:
+    """``"x3.2" -> (3, 2)``; ``(3, "y") -> (3, "y")``; a missing ``k`` means 1."""
+    if isinstance(label, str):
+        match = _LABEL.match(label)
+        if not match or match.group(1).lower() != prefix:
+            what = "coordinate" if prefix == "x" else "deformation"
+            raise KeyError(f"{label!r} is not a {what} label like '{prefix}3.1'")
+        return int(match.group(2)), int(match.group(3) or 1)
+    number, k = label
+    return int(number), k
+
+
+def _direction_number(kind: str, direction: int | str) -> int | None:
+    """SPACAR direction number (1-based) of ``direction`` for a node of ``kind``."""
+    if isinstance(direction, str):
+        names = DIRECTION_NAMES[kind]
+        return names.index(direction.lower()) + 1 if direction.lower() in names else None
+    if isinstance(direction, (int, np.integer)) and not isinstance(direction, bool):
+        return int(direction)
+    return None
+
+
+def coordinate_labels_of(node: int, kind: str) -> list[str]:
+    """Labels of the coordinates of one node."""
+    return [f"x{node}.{k}" for k in range(1, 3 if kind != ROTATIONAL else 2)]

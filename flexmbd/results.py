@@ -1,0 +1,85 @@
+"""Results of analyses over a time grid, with SPACAR-style column names.
+
+Columns: ``t``; coordinates ``x<node>.<k>``; deformations ``e<elem>.<k>``; first
+and second time derivatives with prefixes ``xd``, ``xdd``, ``ed``, ``edd``.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .errors import SimulationError
+from .model import Model
+
+_COLUMN = re.compile(r"^(xdd|xd|x|edd|ed|e)(\d+)(?:\.(\d+))?$")
+
+
+@dataclass(eq=False)
+class KinematicResult:
+    """Positions, velocities and accelerations over time.
+
+    Attributes:
+        model: the analysed model.
+        t: output times [s], shape ``(nt,)``.
+        x, xd, xdd: coordinates and their first and second time derivatives,
+            shape ``(nt, nx)`` [m, rad, per s, per s^2].
+        e, ed, edd: deformations and their derivatives, shape ``(nt, ne)``.
+        success: ``False`` when the run stopped early; the arrays then hold the
+            points computed before the failure.
+        message: what happened, one line.
+        error: the exception that stopped the run, if any.
+    """
+
+    model: Model
+    t: np.ndarray
+    x: np.ndarray
+    xd: np.ndarray
+    xdd: np.ndarray
+    e: np.ndarray
+    ed: np.ndarray
+    edd: np.ndarray
+    success: bool = True
+    message: str = "completed"
+    error: SimulationError | None = None
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        """One column by name: ``"t"``, ``"x3.2"``, ``"xd2.1"``, ``"edd1.1"``, ... (shape ``(nt,)``)."""
+        if name == "t":
+            return self.t
+        match = _COLUMN.match(name.strip())
+        if not match:
+            raise KeyError(f"{name!r} is not a result column (e.g. 't', 'x3.1', 'xd3.1', 'e2.1')")
+        prefix, number, k = match.group(1), match.group(2), match.group(3) or "1"
+        if prefix.startswith("x"):
+            index = self.model.coordinate_index(f"x{number}.{k}")
+        else:
+            index = self.model.deformation_index(f"e{number}.{k}")
+        return getattr(self, prefix)[:, index]
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """All columns by name, in the order ``t, x, xd, xdd, e, ed, edd``."""
+        out = {"t": self.t}
+        for prefix, labels in (("x", self.model.coordinate_labels),
+                               ("e", self.model.deformation_labels)):
+            for suffix in ("", "d", "dd"):
+                values = getattr(self, prefix + suffix)
+                for j, label in enumerate(labels):
+                    out[prefix + suffix + label[1:]] = values[:, j]
+        return out
+
+    def to_csv(self, path: str | Path) -> Path:
+        """Write all columns to a CSV file with a header row; returns the path."""
+        path = Path(path)
+        cols = self.columns()
+        data = np.column_stack(list(cols.values())) if cols else np.empty((0, 0))
+        np.savetxt(path, data, delimiter=",", header=",".join(cols), comments="", fmt="%.17g")
+        return path
+
+    def raise_for_status(self) -> None:
+        """Raise the error that stopped the run, if any."""
+        if self.error is not None:
+            raise self.error
