@@ -68,3 +68,11 @@ class InputFileError(FlexmbdError, ValueError):
         super().__init__(where + message)
         self.path = path
         self.line = line
+
+
+class OptionalDependencyError(FlexmbdError, ImportError):
+    """A feature needs an optional extra that is not installed; names the pip command."""
+
+
+class OutputError(FlexmbdError, ValueError):
+    """A result, figure or movie cannot be written as asked (e.g. an unknown file type)."""

@@ -12,10 +12,8 @@ from .inputs import evaluate_laws, resolve_laws
 from .kinematics import (
     accelerations,
     deformations,
-    jacobian,
-    partition_jacobian,
+    position_analysis,
     quadratic_velocity,
-    solve_position,
     velocities,
 )
 from .model import Model
@@ -76,10 +74,9 @@ def kinematic_analysis(
                     # first-order predictor x + F_q dq (THEORY 3); a second-order one
                     # overshoots near singular points and can jump to another branch
                     x_guess = out["x"][k - 1] + dt * out["xd"][k - 1]
-                x = solve_position(model, q, x_guess, time=t, tolerance=tolerance,
-                                   max_iterations=max_iterations)
-                D_x = jacobian(model, x)
-                jac = partition_jacobian(model, x, t, D_x)
+                solution = position_analysis(model, q, x_guess, time=t, tolerance=tolerance,
+                                             max_iterations=max_iterations)
+                x, jac = solution.x, solution.jacobian
                 xd = velocities(model, x, qd, jac)
                 xdd = accelerations(model, x, xd, qdd, jac)
             except SimulationError as err:
@@ -87,8 +84,8 @@ def kinematic_analysis(
                 break
             out["x"][k], out["xd"][k], out["xdd"][k] = x, xd, xdd
             out["e"][k] = deformations(model, x)
-            out["ed"][k] = D_x @ xd
-            out["edd"][k] = D_x @ xdd + quadratic_velocity(model, x, xd)
+            out["ed"][k] = jac.full @ xd
+            out["edd"][k] = jac.full @ xdd + quadratic_velocity(model, x, xd)
             done = k + 1
             bar.update(1)
 

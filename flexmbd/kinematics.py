@@ -238,6 +238,23 @@ def initial_q(model: Model) -> np.ndarray:
                            np.zeros(len(model.independent_deformations))])
 
 
+@dataclass(frozen=True, eq=False)
+class PositionSolution:
+    """Result of :func:`position_analysis`.
+
+    Attributes:
+        x: all coordinates, shape ``(nx,)``.
+        jacobian: the partitioned Jacobian at ``x`` (ready for velocities).
+        iterations: Newton iterations taken.
+        residual: largest constraint residual before the final correction [m, rad].
+    """
+
+    x: np.ndarray
+    jacobian: PartitionedJacobian
+    iterations: int
+    residual: float
+
+
 def solve_position(model: Model, q: np.ndarray, x_guess: np.ndarray | None = None, *,
                    time: float | None = None, tolerance: float | None = None,
                    max_iterations: int = 25) -> np.ndarray:
@@ -257,7 +274,21 @@ def solve_position(model: Model, q: np.ndarray, x_guess: np.ndarray | None = Non
 
     Raises:
         ConvergenceError: no convergence (names time, iterations and residual).
-        SingularConfigurationError: ``D_c`` singular on the way.
+        SingularConfigurationError: ``D_c`` singular on the way or at the solution.
+    """
+    return position_analysis(model, q, x_guess, time=time, tolerance=tolerance,
+                             max_iterations=max_iterations).x
+
+
+def position_analysis(model: Model, q: np.ndarray, x_guess: np.ndarray | None = None, *,
+                      time: float | None = None, tolerance: float | None = None,
+                      max_iterations: int = 25) -> PositionSolution:
+    """:func:`solve_position` that also returns the Jacobian at the solution.
+
+    Once the residual is below the tolerance, one more correction with the
+    last factorisation (a chord step, no new Jacobian) makes the error of ``x``
+    second order in the residual, so positions are accurate well below the
+    tolerance.
     """
     if tolerance is None:
         tolerance = RELATIVE_TOLERANCE * model.characteristic_length
@@ -267,18 +298,22 @@ def solve_position(model: Model, q: np.ndarray, x_guess: np.ndarray | None = Non
     x[model.independent_coordinates] = x_m
     rows, dep = model.constrained, model.dependent
     target = np.concatenate([np.zeros(len(model.rigid)), e_m])
-    residual_norm = np.inf
+    jac = None
     for iteration in range(max_iterations + 1):
         residual = deformations(model, x)[rows] - target
         residual_norm = float(np.max(np.abs(residual), initial=0.0))
         if residual_norm <= tolerance:
-            _check_regular(model, x, time, tolerance)
-            return x
+            if jac is not None:
+                x[dep] -= jac.solve(residual)
+            jac = partition_jacobian(model, x, time)
+            _check_regular(model, jac, time, tolerance)
+            return PositionSolution(x, jac, iteration, residual_norm)
         if not np.isfinite(residual_norm) or iteration == max_iterations:
             break
-        x[dep] -= partition_jacobian(model, x, time).solve(residual)
-    worst = model.describe_deformation(rows[int(np.argmax(np.abs(residual)))]) \
-        if np.all(np.isfinite(residual)) else "a non-finite configuration"
+        jac = partition_jacobian(model, x, time)
+        x[dep] -= jac.solve(residual)
+    worst = (model.describe_deformation(rows[int(np.argmax(np.abs(residual)))])
+             if np.all(np.isfinite(residual)) else "a non-finite configuration")
     raise ConvergenceError(
         f"position solve did not converge {_at(time)}: residual {residual_norm:.3g} after "
         f"{iteration} iterations (tolerance {tolerance:.3g}), largest in {worst}; the inputs "
@@ -288,7 +323,8 @@ def solve_position(model: Model, q: np.ndarray, x_guess: np.ndarray | None = Non
     )
 
 
-def _check_regular(model: Model, x: np.ndarray, time: float | None, tolerance: float) -> None:
+def _check_regular(model: Model, jac: PartitionedJacobian, time: float | None,
+                   tolerance: float) -> None:
     """Reject a converged solution that is singular within the position tolerance.
 
     Near a singular root Newton converges only linearly and stops about
@@ -296,11 +332,8 @@ def _check_regular(model: Model, x: np.ndarray, time: float | None, tolerance: f
     scaled smallest singular value below ``10 sqrt(tolerance / L)`` cannot be
     told apart from zero at that tolerance.
     """
-    if not len(model.dependent):
-        return
-    jac = partition_jacobian(model, x, time)
     limit = 10.0 * np.sqrt(tolerance / model.characteristic_length)
-    if jac.conditioning < limit:
+    if len(model.dependent) and jac.conditioning < limit:
         raise _singular(model, jac.D_c, time,
                         f"D_c is singular within the position tolerance (scaled smallest "
                         f"singular value {jac.conditioning:.2g} < {limit:.2g})")

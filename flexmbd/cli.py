@@ -1,0 +1,89 @@
+"""The ``flexmbd`` command line.
+
+Every error a user can cause ends as one line on stderr and a non-zero exit
+code, never a traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+from . import __version__
+from .errors import FlexmbdError
+
+EXIT_ERROR = 1
+EXIT_USAGE = 2
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="flexmbd",
+        description="Planar flexible multibody dynamics with the finite-element approach.",
+    )
+    parser.add_argument("--version", action="version", version=f"flexmbd {__version__}")
+    commands = parser.add_subparsers(dest="command", metavar="COMMAND")
+    example = commands.add_parser(
+        "example", help="run one of the course exercises (flexmbd example --list)",
+        description="Run an exercise; options after NAME go to the example "
+                    "(flexmbd example NAME --help).",
+        add_help=False,
+    )
+    example.add_argument("name", nargs="?", help="example name")
+    example.add_argument("--list", action="store_true", help="list the examples")
+    example.add_argument("-h", "--help", action="store_true", help="show help")
+    return parser
+
+
+def _one_line(error: BaseException) -> str:
+    return " ".join(str(error).replace("\n  - ", "; ").split())
+
+
+def _run_example(args: argparse.Namespace, rest: list[str], parser) -> int:
+    from .examples import EXAMPLES
+
+    if args.list or (args.name is None and not args.help):
+        width = max(len(n) for n in EXAMPLES)
+        for name, (_, _, text) in EXAMPLES.items():
+            print(f"  {name:<{width}}  {text}")
+        return 0
+    if args.name is None:
+        parser.parse_args(["example", "--help"])  # pragma: no cover - argparse exits
+    if args.name not in EXAMPLES:
+        print(f"flexmbd: error: unknown example {args.name!r}; choose from "
+              f"{', '.join(EXAMPLES)}", file=sys.stderr)
+        return EXIT_USAGE
+    module_name, preset, _ = EXAMPLES[args.name]
+    module = importlib.import_module(f"flexmbd.examples.{module_name}")
+    argv = preset + rest + (["--help"] if args.help else [])
+    try:
+        return int(module.main(argv, prog=f"flexmbd example {args.name}") or 0)
+    except SystemExit as done:  # argparse of the example: --help or a usage error
+        return done.code if isinstance(done.code, int) else EXIT_USAGE
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of the ``flexmbd`` command; returns the exit code."""
+    parser = _parser()
+    args, rest = parser.parse_known_args(argv)
+    try:
+        if args.command == "example":
+            return _run_example(args, rest, parser)
+        if rest:
+            parser.error(f"unrecognized arguments: {' '.join(rest)}")
+        parser.print_help()
+        return EXIT_USAGE
+    except FlexmbdError as error:
+        print(f"flexmbd: error: {_one_line(error)}", file=sys.stderr)
+        return EXIT_ERROR
+    except OSError as error:
+        print(f"flexmbd: error: {_one_line(error)}", file=sys.stderr)
+        return EXIT_ERROR
+    except KeyboardInterrupt:
+        print("flexmbd: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

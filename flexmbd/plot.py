@@ -1,0 +1,268 @@
+"""Figures and animations of results (matplotlib, imported only when used).
+
+Figures are created without pyplot, so saving never opens a window; pass
+``show=True`` to the functions that offer it for an interactive window.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .elements import Beam
+from .errors import OptionalDependencyError, OutputError
+from .model import CoordinateClass, Model
+from .results import KinematicResult
+
+#: arrows are scaled so that the longest one over the run is this share of the model size
+ARROW_SHARE = 0.3
+_HERMITE_POINTS = 21
+
+
+def _new_figure(window: bool, **kwargs):
+    """A figure: managed by pyplot (so :func:`show` displays it) only when ``window``."""
+    if window:
+        import matplotlib.pyplot as plt
+
+        return plt.figure(**kwargs)
+    from matplotlib.figure import Figure
+
+    return Figure(**kwargs)
+
+
+def element_polylines(model: Model, x: np.ndarray, exaggeration: float = 1.0) -> list[np.ndarray]:
+    """Drawable shape of every element with translational nodes at coordinates ``x``.
+
+    Straight lines for trusses and rigid beams; beams follow the cubic Hermite
+    interpolation of THEORY section 5, with the transverse deflection from the
+    chord multiplied by ``exaggeration``. Each polyline has shape ``(n, 2)`` [m].
+    """
+    lines = []
+    xi = np.linspace(0.0, 1.0, _HERMITE_POINTS)
+    for g in model.groups:
+        if g.type.ends is None:
+            continue
+        xe = x[g.coordinates]
+        rp, rq = xe[:, list(g.type.ends[0])], xe[:, list(g.type.ends[1])]
+        if g.type is not Beam:
+            lines += [np.stack([a, b]) for a, b in zip(rp, rq)]
+            continue
+        e = Beam.deformations(xe, g.reference)
+        d = rq - rp
+        length = np.hypot(d[:, 0], d[:, 1])
+        e_l = d / length[:, None]
+        n_l = np.stack([-e_l[:, 1], e_l[:, 0]], axis=1)
+        # deflection from the chord: v(xi) = (xi - 2 xi^2 + xi^3) e2 + (xi^2 - xi^3) e3
+        h2, h3 = xi - 2 * xi**2 + xi**3, xi**2 - xi**3
+        for k in range(len(xe)):
+            v = exaggeration * (h2 * e[k, 1] + h3 * e[k, 2])
+            lines.append(rp[k] + np.outer(xi, d[k]) + np.outer(v, n_l[k]))
+    return lines
+
+
+def _translational_nodes(model: Model):
+    nodes = [n for n in model.nodes.values() if n.kind == "translational"]
+    index = np.array([n.coordinates for n in nodes], dtype=int).reshape(-1, 2)
+    fixed = np.array([np.all(model.coordinate_class[list(n.coordinates)] == CoordinateClass.FIXED)
+                      for n in nodes], dtype=bool)
+    return nodes, index, fixed
+
+
+def _limits(result: KinematicResult, index: np.ndarray):
+    pts = result.x[:, index].reshape(-1, 2)
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    size = max(float(np.max(hi - lo)), result.model.characteristic_length)
+    pad = 0.25 * size
+    return lo - pad, hi + pad, size
+
+
+def animate(result: KinematicResult, filename: str | Path | None = None, *,
+            arrows: bool = True, max_frames: int = 200, fps: int = 25,
+            exaggeration: float = 1.0, title: str | None = None, window: bool = False):
+    """Animate the mechanism with velocity (blue) and acceleration (red) arrows at the nodes.
+
+    Args:
+        result: a run over time.
+        filename: ``.gif`` (Pillow, always available) or ``.mp4`` (ffmpeg from
+            imageio-ffmpeg, the ``movie`` extra); ``None`` returns the animation unsaved.
+        arrows: draw velocity and acceleration arrows at translational nodes,
+            each scaled so that a typical frame's longest arrow is 30 % of the model size.
+        max_frames: the run is subsampled to at most this many frames.
+        fps: frames per second of the movie.
+        exaggeration: factor on beam deflections.
+        title: figure title (default: the model name).
+        window: draw in a pyplot window (shown by :func:`show`) instead of off-screen.
+
+    Returns:
+        ``matplotlib.animation.FuncAnimation`` (keep a reference while it plays).
+    """
+    from matplotlib.animation import FuncAnimation
+
+    model = result.model
+    if len(result.t) == 0:
+        raise ValueError("the result holds no time points to animate")
+    frames = np.unique(np.linspace(0, len(result.t) - 1, min(max_frames, len(result.t)))
+                       .round().astype(int))
+    nodes, index, fixed = _translational_nodes(model)
+    lo, hi, size = _limits(result, index)
+    fig = _new_figure(window, figsize=(7, 5.5))
+    ax = fig.add_subplot()
+    ax.set_xlim(lo[0], hi[0])
+    ax.set_ylim(lo[1], hi[1])
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_title(title or model.name)
+    ax.grid(True, alpha=0.3)
+
+    n_lines = len(element_polylines(model, result.x[0]))
+    lines = [ax.plot([], [], "-", color="0.2", lw=2.5)[0] for _ in range(n_lines)]
+    moving = ax.plot([], [], "o", color="tab:orange", ms=6, zorder=3)[0]
+    anchored = ax.plot([], [], "s", color="k", ms=7, zorder=3)[0]
+    clock = ax.text(0.02, 0.96, "", transform=ax.transAxes, va="top")
+    quivers = []
+    if arrows and len(nodes):
+        for name, color in (("xd", "tab:blue"), ("xdd", "tab:red")):
+            vectors = getattr(result, name)[:, index]
+            # a typical, not the extreme, frame sets the scale: near singular points
+            # the arrows grow without bound and would hide everything else
+            peak = float(np.percentile(np.linalg.norm(vectors, axis=-1).max(axis=1), 75))
+            scale = peak / (ARROW_SHARE * size) if peak > 0 else 1.0
+            unit = "m/s" if name == "xd" else "m/s^2"
+            q = ax.quiver(np.zeros(len(nodes)), np.zeros(len(nodes)), np.zeros(len(nodes)),
+                          np.zeros(len(nodes)), color=color, angles="xy", scale_units="xy",
+                          scale=scale, width=0.006, zorder=4,
+                          label=f"{'velocity' if name == 'xd' else 'acceleration'} "
+                                f"(1 m on screen = {scale:.3g} {unit})")
+            quivers.append((q, vectors))
+        ax.legend(loc="upper right", fontsize=8)
+
+    def draw(k):
+        x = result.x[k]
+        for line, poly in zip(lines, element_polylines(model, x, exaggeration)):
+            line.set_data(poly[:, 0], poly[:, 1])
+        pts = x[index]
+        moving.set_data(pts[~fixed, 0], pts[~fixed, 1])
+        anchored.set_data(pts[fixed, 0], pts[fixed, 1])
+        for q, vectors in quivers:
+            q.set_offsets(pts)
+            q.set_UVC(vectors[k, :, 0], vectors[k, :, 1])
+        clock.set_text(f"t = {result.t[k]:.4f} s")
+        return [*lines, moving, anchored, clock] + [q for q, _ in quivers]
+
+    animation = FuncAnimation(fig, draw, frames=frames, interval=1000 / fps, blit=False)
+    if filename is not None:
+        save_animation(animation, filename, fps)
+    return animation
+
+
+def save_animation(animation, filename: str | Path, fps: int = 25) -> Path:
+    """Write an animation as ``.gif`` (Pillow) or ``.mp4`` (ffmpeg from imageio-ffmpeg)."""
+    path = Path(filename)
+    suffix = path.suffix.lower()
+    if suffix == ".gif":
+        from matplotlib.animation import PillowWriter
+
+        writer = PillowWriter(fps=fps)
+    elif suffix in (".mp4", ".m4v", ".mov"):
+        import matplotlib as mpl
+        from matplotlib.animation import FFMpegWriter
+
+        try:
+            import imageio_ffmpeg
+        except ImportError:
+            raise OptionalDependencyError(
+                "writing .mp4 needs ffmpeg from imageio-ffmpeg: pip install 'flexmbd[movie]' "
+                "(or save a .gif, which needs nothing extra)"
+            ) from None
+        mpl.rcParams["animation.ffmpeg_path"] = imageio_ffmpeg.get_ffmpeg_exe()
+        writer = FFMpegWriter(fps=fps, codec="libx264", extra_args=["-pix_fmt", "yuv420p"])
+    else:
+        raise OutputError(f"cannot write a movie as {path.name!r}: use .gif or .mp4")
+    animation.save(str(path), writer=writer)
+    return path
+
+
+def plot_motion(result: KinematicResult, columns: list[str], *, against: str = "t",
+                labels: list[str] | None = None, title: str | None = None,
+                filename: str | Path | None = None, window: bool = False):
+    """Position, velocity and acceleration of coordinates or deformations, stacked.
+
+    Args:
+        result: a run over time.
+        columns: coordinate or deformation names (``"x5.1"``, ``"e2.1"``); their
+            rates ``xd..``/``ed..`` and accelerations are plotted below them.
+        against: column for the horizontal axis (default time).
+        labels: legend text per column.
+        title: figure title (default: the model name).
+        filename: save the figure there when given (``.png``, ``.pdf``, ``.svg``).
+        window: draw in a pyplot window (shown by :func:`show`).
+
+    Returns:
+        The ``matplotlib.figure.Figure``.
+    """
+    fig = _new_figure(window, figsize=(7, 7.5))
+    axes = fig.subplots(3, 1, sharex=True)
+    xs = result[against]
+    for k, name in enumerate(columns):
+        prefix, rest = name[0], name[1:]
+        label = labels[k] if labels else name
+        for ax, suffix in zip(axes, ("", "d", "dd")):
+            ax.plot(xs, result[prefix + suffix + rest], label=label)
+    unit = _unit(result.model, columns)
+    for ax, what, per in zip(axes, ("position", "velocity", "acceleration"), ("", "/s", "/s^2")):
+        ax.set_ylabel(f"{what} [{unit}{per}]" if unit else what)
+        ax.grid(True, alpha=0.3)
+    axes[0].legend()
+    axes[0].set_title(title or result.model.name)
+    axes[-1].set_xlabel("t [s]" if against == "t" else against)
+    fig.tight_layout()
+    if filename is not None:
+        fig.savefig(filename, dpi=120)
+    return fig
+
+
+def _unit(model: Model, columns: list[str]) -> str:
+    """``"m"`` or ``"rad"`` when all columns share it, else ``""``."""
+    units = set()
+    for name in columns:
+        if name.startswith("x"):
+            node = model.nodes[int(name[1:].split(".")[0])]
+            units.add("rad" if node.kind == "rotational" else "m")
+        else:
+            etype = model.elements[int(name[1:].split(".")[0])].type
+            units.add("rad" if etype.ends is None else "m")
+    return units.pop() if len(units) == 1 else ""
+
+
+def plot_columns(result: KinematicResult, columns: list[str], against: str = "t", *,
+                 labels: list[str] | None = None, title: str | None = None,
+                 filename: str | Path | None = None, ylabel: str | None = None,
+                 window: bool = False):
+    """Plot result columns (``"x5.1"``, ``"xd5.1"``, ...) against time or another column.
+
+    Returns the ``matplotlib.figure.Figure``; saved to ``filename`` when given.
+    """
+    fig = _new_figure(window, figsize=(7, 4.5))
+    ax = fig.add_subplot()
+    xs = result[against]
+    for k, name in enumerate(columns):
+        ax.plot(xs, result[name], label=labels[k] if labels else name)
+    ax.set_xlabel("t [s]" if against == "t" else against)
+    if ylabel:
+        ax.set_ylabel(ylabel)
+    ax.set_title(title or result.model.name)
+    ax.grid(True, alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    if filename is not None:
+        fig.savefig(filename, dpi=120)
+    return fig
+
+
+def show() -> None:
+    """Show the figures made with ``window=True`` (needs an interactive backend)."""
+    import matplotlib.pyplot as plt
+
+    plt.show()
