@@ -99,6 +99,6 @@ def format_matrix(matrix, rows: list[str], columns: list[str], digits: int = 5) 
     width = max(digits + 7, *(len(c) for c in columns))
     lead = max((len(r) for r in rows), default=0)
     lines = [" " * (lead + 2) + "".join(f"{c:>{width}}" for c in columns)]
-    for label, row in zip(rows, matrix):
+    for label, row in zip(rows, matrix, strict=True):
         lines.append(f"  {label:<{lead}}" + "".join(f"{v:>{width}.{digits}g}" for v in row))
     return "\n".join(lines)

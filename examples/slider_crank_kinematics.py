@@ -22,9 +22,6 @@ import math
 import sys
 
 import numpy as np
-
-import flexmbd as fm
-from flexmbd import plot
 from flexmbd.examples._support import (
     Check,
     add_output_options,
@@ -33,6 +30,9 @@ from flexmbd.examples._support import (
     format_matrix,
     print_checks,
 )
+
+import flexmbd as fm
+from flexmbd import plot
 
 L1 = 1.0  #: crank length [m]
 L2 = math.sqrt(3.0) * L1  #: rod length [m]
@@ -43,7 +43,7 @@ DRAWN = math.radians(60.0)  #: crank angle of the drawn configuration
 
 def build_model(l1: float = L1, l2: float = L2, omega0: float = OMEGA0,
                 alpha: float = ALPHA) -> fm.Model:
-    """The slider-crank, stretched along the x axis, crank driven by ``phi2 = omega0 t + alpha t^2/2``."""
+    """The slider-crank stretched along the x axis; crank ``phi2 = omega0 t + alpha t^2 / 2``."""
     b = fm.ModelBuilder("slider-crank")
     b.add_node(1, 0.0, 0.0).add_node(3, l1, 0.0).add_node(5, l1 + l2, 0.0)
     b.add_rigid_beam(1, 1, 2, 3)  # crank O-A

@@ -22,9 +22,6 @@ import math
 import sys
 
 import numpy as np
-
-import flexmbd as fm
-from flexmbd import plot
 from flexmbd.examples._support import (
     Check,
     add_output_options,
@@ -32,6 +29,9 @@ from flexmbd.examples._support import (
     finish_outputs,
     print_checks,
 )
+
+import flexmbd as fm
+from flexmbd import plot
 
 L0 = 2.0  #: bar length [m]
 SPEED = 4.0  #: speed of end p in the truss model [m/s]
@@ -62,7 +62,7 @@ def rigid_beam_model(l0: float = L0, omega: float = OMEGA) -> fm.Model:
 
 
 def truss_checks(model: fm.Model, l0: float = L0, speed: float = SPEED) -> list[Check]:
-    """Values at ``x_p = -l0 cos 30deg`` against ``y_q = sqrt(l0^2 - x_p^2)`` and its derivatives."""
+    """Values at ``x_p = -l0 cos 30deg`` against ``y_q = sqrt(l0^2 - x_p^2)`` and derivatives."""
     x_p = -l0 * math.cos(ANGLE)
     t = (x_p + l0) / speed
     r = fm.kinematic_analysis(model, [t])

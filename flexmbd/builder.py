@@ -196,7 +196,7 @@ class ModelBuilder:
         """Kind of every node from its use by elements; reports conflicts."""
         users: dict[int, dict[str, list[str]]] = defaultdict(lambda: defaultdict(list))
         for number, etype, nodes in self._elements:
-            for node, kind in zip(nodes, etype.node_kinds):
+            for node, kind in zip(nodes, etype.node_kinds, strict=True):
                 users[node][kind].append(f"{etype.name} {number}")
         kinds: dict[int, str] = {}
         for node, by_kind in users.items():
@@ -270,7 +270,7 @@ class ModelBuilder:
         for g in groups:
             if g.type.ends is None:
                 continue
-            for number, length in zip(g.numbers, g.reference.length):
+            for number, length in zip(g.numbers, g.reference.length, strict=True):
                 if length <= _ZERO_LENGTH * max(scale, 1.0):
                     ends = elements[int(number)].nodes
                     problems.append(
@@ -402,9 +402,14 @@ def check_solvability(model: Model) -> list[str]:
     rows, cols = len(model.constrained), len(model.dependent)
     if rows == cols == 0:
         return []
-    diagnosis = ""
     if rows and cols:
         diagnosis = diagnose_rank(model, constraint_jacobian(model, np.asarray(model.x0)))
+    elif rows:
+        names = ", ".join(model.describe_deformation(i) for i in model.constrained)
+        diagnosis = f"the equations of {names} have no dependent coordinate to solve for"
+    else:
+        names = ", ".join(model.describe_coordinate(i) for i in model.dependent)
+        diagnosis = f"nothing determines the coordinates {names}"
     if rows == cols:
         return [f"D_c is singular in the initial configuration: {diagnosis}"] if diagnosis else []
     excess = abs(rows - cols)

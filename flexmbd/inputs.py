@@ -47,7 +47,7 @@ def resolve_laws(model: Model, inputs: Mapping[str, Law] | None = None) -> list[
             laws[q_index(model, label)] = law
     q0 = initial_q(model)
     missing = []
-    for j, (law, is_input) in enumerate(zip(laws, model.q_is_input)):
+    for j, (law, is_input) in enumerate(zip(laws, model.q_is_input, strict=True)):
         if law is None and is_input:
             missing.append(model.describe_q(j))
         elif law is None:

@@ -183,10 +183,9 @@ def weakest_direction(model: Model, D_c: np.ndarray) -> str:
     u, _, vt = np.linalg.svd(scaled / np.maximum(norms, 1e-300))
     coords = _largest(vt[-1])
     defs = _largest(u[:, -1])
-    return (
-        f"the constraints {', '.join(model.describe_deformation(model.constrained[i]) for i in defs)}"
-        f" no longer determine {', '.join(model.describe_coordinate(model.dependent[j]) for j in coords)}"
-    )
+    constraints = ", ".join(model.describe_deformation(model.constrained[i]) for i in defs)
+    coordinates = ", ".join(model.describe_coordinate(model.dependent[j]) for j in coords)
+    return f"the constraints {constraints} no longer determine {coordinates}"
 
 
 def _largest(vector: np.ndarray, share: float = 0.1) -> np.ndarray:

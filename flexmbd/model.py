@@ -16,9 +16,8 @@ from __future__ import annotations
 import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from functools import cached_property
 from enum import IntEnum
-from types import MappingProxyType
+from functools import cached_property
 
 import numpy as np
 

@@ -46,7 +46,7 @@ def element_polylines(model: Model, x: np.ndarray, exaggeration: float = 1.0) ->
         xe = x[g.coordinates]
         rp, rq = xe[:, list(g.type.ends[0])], xe[:, list(g.type.ends[1])]
         if g.type is not Beam:
-            lines += [np.stack([a, b]) for a, b in zip(rp, rq)]
+            lines += [np.stack([a, b]) for a, b in zip(rp, rq, strict=True)]
             continue
         e = Beam.deformations(xe, g.reference)
         d = rq - rp
@@ -140,7 +140,7 @@ def animate(result: KinematicResult, filename: str | Path | None = None, *,
 
     def draw(k):
         x = result.x[k]
-        for line, poly in zip(lines, element_polylines(model, x, exaggeration)):
+        for line, poly in zip(lines, element_polylines(model, x, exaggeration), strict=True):
             line.set_data(poly[:, 0], poly[:, 1])
         pts = x[index]
         moving.set_data(pts[~fixed, 0], pts[~fixed, 1])
@@ -208,10 +208,12 @@ def plot_motion(result: KinematicResult, columns: list[str], *, against: str = "
     for k, name in enumerate(columns):
         prefix, rest = name[0], name[1:]
         label = labels[k] if labels else name
-        for ax, suffix in zip(axes, ("", "d", "dd")):
+        for ax, suffix in zip(axes, ("", "d", "dd"), strict=True):
             ax.plot(xs, result[prefix + suffix + rest], label=label)
     unit = _unit(result.model, columns)
-    for ax, what, per in zip(axes, ("position", "velocity", "acceleration"), ("", "/s", "/s^2")):
+    quantities = zip(axes, ("position", "velocity", "acceleration"), ("", "/s", "/s^2"),
+                     strict=True)
+    for ax, what, per in quantities:
         ax.set_ylabel(f"{what} [{unit}{per}]" if unit else what)
         ax.grid(True, alpha=0.3)
     axes[0].legend()

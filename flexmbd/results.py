@@ -47,7 +47,7 @@ class KinematicResult:
     error: SimulationError | None = None
 
     def __getitem__(self, name: str) -> np.ndarray:
-        """One column by name: ``"t"``, ``"x3.2"``, ``"xd2.1"``, ``"edd1.1"``, ... (shape ``(nt,)``)."""
+        """One column, shape ``(nt,)``, by name: ``"t"``, ``"x3.2"``, ``"xd2.1"``, ``"edd1.1"``."""
         if name == "t":
             return self.t
         match = _COLUMN.match(name.strip())

@@ -48,7 +48,7 @@ def numeric_jacobian(f, xe, h=1e-6):
 @pytest.mark.parametrize("cls", ELEMENTS, ids=lambda c: c.name)
 def test_reference_configuration_is_undeformed(cls):
     rng = np.random.default_rng(1)
-    ref, _, _ = random_state(cls, rng)
+    _ref, _, _ = random_state(cls, rng)
     xe0 = rng.uniform(-2, 2, size=(N, cls.n_coordinates()))
     for col, kind in enumerate(_column_kinds(cls)):
         if kind == "r":
@@ -86,7 +86,8 @@ def test_quadratic_velocity_is_second_derivative_along_a_path(cls, seed):
     expected = (f(h) - 2 * f(0.0) + f(-h)) / h**2
     np.testing.assert_allclose(cls.quadratic_velocity(xe, xde, ref), expected, rtol=1e-5, atol=1e-6)
     contracted = np.einsum("edij,ei,ej->ed", cls.hessian(xe, ref), xde, xde)
-    np.testing.assert_allclose(cls.quadratic_velocity(xe, xde, ref), contracted, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(cls.quadratic_velocity(xe, xde, ref), contracted,
+                               rtol=1e-12, atol=1e-12)
 
 
 @pytest.mark.parametrize("cls", ELEMENTS, ids=lambda c: c.name)

@@ -143,7 +143,8 @@ def elongation_hessian(length: np.ndarray, e_l: np.ndarray) -> np.ndarray:
     return h
 
 
-def elongation_quadratic_velocity(length: np.ndarray, e_l: np.ndarray, dv: np.ndarray) -> np.ndarray:
+def elongation_quadratic_velocity(length: np.ndarray, e_l: np.ndarray,
+                                  dv: np.ndarray) -> np.ndarray:
     """``(d2 l / dr2 rdot) rdot = (dv.dv - (e_l.dv)^2) / l``, shape ``(n,)``."""
     return (dot(dv, dv) - dot(e_l, dv) ** 2) / length
 

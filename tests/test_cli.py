@@ -1,0 +1,59 @@
+"""The command line: examples by name, one-line errors, exit codes."""
+
+import subprocess
+import sys
+
+import pytest
+from flexmbd.examples import sliding_bar
+
+import flexmbd as fm
+from flexmbd import cli
+
+
+def test_list_examples(capsys):
+    assert cli.main(["example", "--list"]) == 0
+    out = capsys.readouterr().out
+    for name in ("sliding-truss", "sliding-beam", "slider-crank-kin"):
+        assert name in out
+
+
+def test_unknown_example_is_a_usage_error(capsys):
+    assert cli.main(["example", "nope"]) == 2
+    assert "unknown example 'nope'" in capsys.readouterr().err
+
+
+def test_bad_movie_type_fails_before_any_work(capsys):
+    assert cli.main(["example", "sliding-beam", "--movie", "bar.avi"]) == 2
+    assert "must end in .gif, .mp4" in capsys.readouterr().err
+
+
+def test_library_errors_become_one_line(monkeypatch, capsys):
+    def broken(argv, prog=None):
+        raise fm.ModelError(["node 3 has no position", "truss 2 has zero length"])
+
+    monkeypatch.setattr(sliding_bar, "main", broken)
+    assert cli.main(["example", "sliding-truss"]) == 1
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("flexmbd: error: invalid model, 2 problems")
+    assert "node 3 has no position; truss 2 has zero length" in err
+
+
+def test_console_script_runs_an_example_without_traceback(tmp_path):
+    done = subprocess.run(
+        [sys.executable, "-m", "flexmbd.cli", "example", "sliding-truss", "--t-end", "1.2",
+         "--points", "40"],
+        capture_output=True, text=True, cwd=tmp_path, timeout=120,
+    )
+    assert done.returncode == 1
+    assert "Traceback" not in done.stderr
+    assert "did not converge" in done.stderr or "singular configuration" in done.stderr
+
+
+@pytest.mark.parametrize("argv", [["--version"], []])
+def test_version_and_help(argv, capsys):
+    try:
+        code = cli.main(argv)
+    except SystemExit as done:
+        code = done.code
+    out = capsys.readouterr().out
+    assert ("flexmbd 0.1.0" in out) if argv else ("example" in out and code == 2)

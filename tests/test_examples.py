@@ -1,0 +1,67 @@
+"""Every example runs (without windows) and reproduces the numbers of EXERCISES 1-2."""
+
+import math
+
+import numpy as np
+import pytest
+from flexmbd.examples import EXAMPLES, slider_crank_kinematics, sliding_bar
+
+
+def by_name(checks):
+    return {c.name.split(" [")[0]: c for c in checks}
+
+
+def test_sliding_bar_truss_numbers():
+    checks = by_name(sliding_bar.truss_checks(sliding_bar.truss_model()))
+    assert checks["y_q"].computed == pytest.approx(1.0, rel=1e-12)
+    assert checks["ydot_q"].computed == pytest.approx(4 * math.sqrt(3), rel=1e-12)
+    assert checks["yddot_q"].computed == pytest.approx(-64.0, rel=1e-12)
+    assert all(c.passed for c in checks.values())
+
+
+def test_sliding_bar_rigid_beam_numbers():
+    checks = by_name(sliding_bar.rigid_beam_checks(sliding_bar.rigid_beam_model()))
+    assert checks["xdot_p"].computed == pytest.approx(4.0, rel=1e-12)
+    assert checks["omegadot"].computed == pytest.approx(-16 * math.sqrt(3), rel=1e-12)
+    assert abs(checks["xddot_p"].computed) < 1e-12  # "with omegadot" row
+    assert all(c.passed for c in checks.values())
+
+
+def test_slider_crank_example_checks_and_revolution():
+    model = slider_crank_kinematics.build_model()
+    assert all(c.passed for c in slider_crank_kinematics.checks(model))
+    r = slider_crank_kinematics.drawn_configuration(model)
+    assert math.degrees(r["x4.1"][0]) == pytest.approx(-30.0, abs=1e-10)
+    assert r["x5.1"][0] == pytest.approx(2.0, rel=1e-14)  # l1 cos 60 + l2 cos 30 = 2 l1
+    times = np.linspace(0.0, 0.7, 50)
+    import flexmbd as fm
+
+    assert slider_crank_kinematics.revolution_error(fm.kinematic_analysis(model, times)) < 1e-10
+
+
+@pytest.mark.parametrize("name", sorted(EXAMPLES))
+def test_every_example_runs_and_saves_plot_and_movie(name, tmp_path, capsys):
+    import importlib
+
+    module_name, preset, _ = EXAMPLES[name]
+    module = importlib.import_module(f"flexmbd.examples.{module_name}")
+    plot, movie = tmp_path / "plot.png", tmp_path / "movie.gif"
+    code = module.main([*preset, "--points", "30", "--plot", str(plot), "--movie", str(movie)])
+    out = capsys.readouterr().out
+    assert code == 0, out
+    assert "checks passed" in out and "NOT all" not in out
+    assert plot.stat().st_size > 10_000 and movie.stat().st_size > 10_000
+
+
+def test_mp4_movie(tmp_path):
+    pytest.importorskip("imageio_ffmpeg")
+    movie = tmp_path / "bar.mp4"
+    assert sliding_bar.main(["--variant", "beam", "--points", "12", "--movie", str(movie)]) == 0
+    assert movie.read_bytes()[4:8] == b"ftyp"  # an MP4 container
+
+
+def test_sliding_bar_asked_to_go_on_says_why(capsys):
+    code = sliding_bar.main(["--t-end", "1.0", "--points", "50"])
+    err = capsys.readouterr().err
+    assert code == 1
+    assert "singular configuration at t = 1 s" in err and "x2.2 (node 2, y)" in err

@@ -1,0 +1,152 @@
+"""Model building and validation: every problem is reported, by name."""
+
+import math
+
+import numpy as np
+import pytest
+
+import flexmbd as fm
+from flexmbd.model import CoordinateClass, DeformationClass
+
+from .models import slider_crank
+
+
+def sliding_truss() -> fm.ModelBuilder:
+    b = fm.ModelBuilder("bar")
+    b.add_node(1, -math.sqrt(3), 0.0).add_node(2, 0.0, 1.0)
+    b.add_truss(1, 1, 2)
+    return b
+
+
+def problems_of(builder: fm.ModelBuilder) -> list[str]:
+    with pytest.raises(fm.ModelError) as info:
+        builder.build()
+    return info.value.problems
+
+
+def test_slider_crank_numbering_and_classes():
+    model = slider_crank()
+    assert model.coordinate_labels == ("x1.1", "x1.2", "x2.1", "x3.1", "x3.2", "x4.1",
+                                       "x5.1", "x5.2")
+    assert model.deformation_labels == ("e1.1", "e1.2", "e2.1", "e2.2")
+    assert [model.coordinate_labels[i] for i in model.dependent] == ["x3.1", "x3.2", "x4.1",
+                                                                    "x5.1"]
+    assert [model.coordinate_labels[i] for i in model.fixed] == ["x1.1", "x1.2", "x5.2"]
+    assert model.q_labels == ("x2.1",)
+    assert model.q_is_input.tolist() == [True]
+    assert model.n_dof == 1
+    assert model.coordinate_index((5, "x")) == model.coordinate_index("x5.1") == 6
+    assert model.describe_deformation(3) == "e2.2 (rigid beam 2, normal offset)"
+
+
+def test_model_is_immutable():
+    model = slider_crank()
+    with pytest.raises(ValueError):
+        model.x0[0] = 1.0
+    with pytest.raises(AttributeError):
+        model.name = "other"  # type: ignore[misc]
+    with pytest.raises(TypeError):
+        model.nodes[9] = None  # type: ignore[index]
+
+
+def test_reference_length_and_angle():
+    model = slider_crank()
+    (group,) = model.groups
+    np.testing.assert_allclose(group.reference.length, [1.0, math.sqrt(3)])
+    np.testing.assert_allclose(group.reference.angle, [0.0, 0.0])
+
+
+def test_all_structural_problems_are_reported_at_once():
+    b = fm.ModelBuilder()
+    b.add_node(1, 0.0, 0.0).add_node(2, 0.0, 0.0).add_node(2, 1.0, 0.0)
+    b.add_truss(1, 1, 2)
+    b.add_truss(1, 1, 3)  # duplicate number, node 3 has no position
+    b.add_beam(2, 1, 4, 5, 1)  # node 1 used as translational and rotational
+    b.fix(9)
+    problems = problems_of(b)
+    text = "\n".join(problems)
+    assert "node 2 is given a position twice" in text
+    assert "element number 1 is used twice" in text
+    assert "node 3 (used by truss 1) has no position" in text
+    assert "node 1 is used as translational by" in text and "rotational by beam 2" in text
+    assert len(problems) >= 4
+
+
+def test_unknown_node_zero_length_and_double_class():
+    b = fm.ModelBuilder()
+    b.add_node(1, 0.0, 0.0).add_node(2, 0.0, 0.0)
+    b.add_truss(1, 1, 2)
+    b.fix(1).fix(7, "x").input_coordinate(1, "x").fix(2, "z").release(3, 1)
+    text = "\n".join(problems_of(b))
+    assert "truss 1 has zero length: its nodes 1 and 2 coincide" in text
+    assert "fix: node 7 is not in the model" in text
+    assert "x1.1 is put in two classes: fixed and an input" in text
+    assert "direction 'z' does not exist" in text
+    assert "release: element 3 is not in the model" in text
+
+
+def test_deformation_classes_and_bad_index():
+    b = sliding_truss()
+    b.fix(1, "y").fix(2, "x").input_coordinate(1, "x")
+    b.release(1, 2)
+    assert "deformation 2 does not exist; a truss has deformations 1 to 1" in problems_of(b)[0]
+    b = sliding_truss().fix(1, "y").fix(2, "x").input_coordinate(1, "x")
+    b.release(1).dynamic_deformation(1, 1)
+    assert "e1.1 is put in two classes: released and dynamic" in problems_of(b)[0]
+
+
+def test_under_determined_names_the_free_coordinates():
+    b = sliding_truss().fix(1, "y").fix(2, "x")  # x_p neither fixed nor input
+    (problem,) = problems_of(b)
+    assert "1 equation(s) too few" in problem
+    assert "1 constraint equations" in problem and "2 dependent coordinates" in problem
+    assert "x1.1 (node 1, x)" in problem and "x2.2 (node 2, y)" in problem
+
+
+def test_over_determined_names_the_redundant_equations():
+    b = sliding_truss().fix(1).fix(2, "x").input_coordinate(2, "y")
+    (problem,) = problems_of(b)
+    assert "1 equation(s) too many" in problem
+    assert "e1.1 (truss 1, elongation)" in problem
+
+
+def test_singular_start_is_reported_with_svd_names():
+    """Truss along x with its end free only along x cannot fix y: D_c singular."""
+    b = fm.ModelBuilder()
+    b.add_node(1, 0.0, 0.0).add_node(2, 2.0, 0.0)
+    b.add_truss(1, 1, 2)
+    b.fix(1).fix(2, "x")  # dependent y_q, but d e1 / d y_q = 0 when the bar lies flat
+    (problem,) = problems_of(b)
+    assert problem.startswith("D_c is singular in the initial configuration")
+    assert "x2.2 (node 2, y) can move" in problem
+    assert "e1.1 (truss 1, elongation)" in problem
+
+
+def test_slider_crank_driven_at_the_slider_is_singular_when_stretched():
+    b = fm.ModelBuilder()
+    b.add_node(1, 0.0, 0.0).add_node(3, 1.0, 0.0).add_node(5, 3.0, 0.0)
+    b.add_rigid_beam(1, 1, 2, 3).add_rigid_beam(2, 3, 4, 5)
+    b.fix(1).fix(5, "y").input_coordinate(5, "x")
+    (problem,) = problems_of(b)
+    assert "D_c is singular" in problem and "x2.1 (node 2, phi)" in problem
+
+
+def test_laws_and_classification_requests():
+    b = sliding_truss().fix(1, "y").fix(2, "x")
+    b.input_coordinate(1, "x", "y", law=fm.Polynomial(0.0))
+    assert "a law needs exactly one direction" in problems_of(b)[0]
+    model = (sliding_truss().fix(1, "y").fix(2, "x")
+             .input_coordinate(1, 1, law=fm.Polynomial(-2.0, 4.0)).build())
+    assert model.coordinate_class[model.coordinate_index("x1.1")] == CoordinateClass.INPUT
+    assert model.deformation_class[0] == DeformationClass.RIGID
+    assert set(model.input_laws) == {"x1.1"}
+
+
+def test_model_error_message_lists_every_problem():
+    error = fm.ModelError(["first", "second"])
+    assert "2 problems" in str(error) and "- first" in str(error) and "- second" in str(error)
+    assert str(fm.ModelError("only")) == "invalid model: only"
+
+
+def test_summary_mentions_inputs():
+    assert "x2.1 (node 2, phi)" in slider_crank().summary()
