@@ -8,7 +8,8 @@ starts stretched along the x axis (``phi2 = 0``) and the crank turns with
 initial speed ``omega0`` and constant acceleration ``alpha``. In the drawn
 configuration ``phi2 = 60 deg``, ``phi4 = -30 deg`` because ``l2 = sqrt(3) l1``.
 
-Printed: the partitioned Jacobian, ``F_q`` and ``E_q`` (zero on the rigid rows),
+Printed: the partitioned Jacobian, ``F_q`` and ``E_q`` (zero on the rigid rows;
+with ``--symbolic`` also as SymPy expressions),
 velocities and accelerations (directly and through ``F_qq``), each against the
 closed-form slider-crank ``x_B = l1 cos phi + sqrt(l2^2 - l1^2 sin^2 phi)``, and
 the largest deviation from it over the first revolution.
@@ -134,6 +135,19 @@ def print_partitions(model: fm.Model, x: np.ndarray) -> None:
           + format_matrix(fm.deformation_transfer(model, x, F_q), rows, list(model.q_labels)))
 
 
+def print_symbolic(model: fm.Model) -> None:
+    """The deformation functions and ``F_q`` as simplified SymPy expressions."""
+    from flexmbd import symbolic
+
+    print("\nsymbolic deformation functions e = D(x):")
+    for label, expr in zip(model.deformation_labels, symbolic.deformations(model), strict=True):
+        print(f"  {label} = {expr}")
+    print("symbolic F_q (column x2.1), valid on the constraint manifold:")
+    F_q = symbolic.first_order_transfer(model)
+    for i in model.dependent:
+        print(f"  d{model.coordinate_labels[i]}/dphi2 = {F_q[i, 0]}")
+
+
 def main(argv: list[str] | None = None, prog: str | None = None) -> int:
     """Run the example with command-line arguments ``argv``; returns the exit code."""
     parser = example_parser(__doc__, prog)
@@ -141,6 +155,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
     parser.add_argument("--alpha", type=float, default=ALPHA,
                         help="crank angular acceleration [rad/s^2]")
     parser.add_argument("--points", type=int, default=400, help="output times")
+    parser.add_argument("--symbolic", action="store_true",
+                        help="also print D(x) and F_q as SymPy expressions")
     add_output_options(parser)
     args = parser.parse_args(argv)
 
@@ -152,6 +168,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
     print_partitions(model, drawn.x[0])
     ok = print_checks("\nchecks against the closed-form slider-crank:",
                       checks(model, args.omega0, args.alpha))
+    if args.symbolic:
+        print_symbolic(model)
 
     # time of one revolution: omega0 t + alpha t^2 / 2 = 2 pi
     if args.alpha:

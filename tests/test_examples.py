@@ -65,3 +65,11 @@ def test_sliding_bar_asked_to_go_on_says_why(capsys):
     err = capsys.readouterr().err
     assert code == 1
     assert "singular configuration at t = 1 s" in err and "x2.2 (node 2, y)" in err
+
+
+def test_slider_crank_symbolic_output(capsys):
+    pytest.importorskip("sympy")
+    assert slider_crank_kinematics.main(["--points", "10", "--symbolic"]) == 0
+    out = capsys.readouterr().out
+    assert "e2.1 = sqrt((-x3_1 + x5_1)**2 + (-x3_2 + x5_2)**2) - sqrt(3)" in out
+    assert "dx4.1/dphi2 =" in out
