@@ -26,8 +26,8 @@ from .model import (
     ElementGroup,
     Model,
     Node,
-    _direction_number,
-    _frozen,
+    direction_number,
+    frozen_array,
 )
 from .motion import Law
 
@@ -289,9 +289,9 @@ class ModelBuilder:
             nodes=MappingProxyType(nodes),
             elements=MappingProxyType(elements),
             groups=groups,
-            x0=_frozen(x0_array),
-            coordinate_class=_frozen(coordinate_class),
-            deformation_class=_frozen(deformation_class),
+            x0=frozen_array(x0_array),
+            coordinate_class=frozen_array(coordinate_class),
+            deformation_class=frozen_array(deformation_class),
             coordinate_labels=tuple(labels),
             deformation_labels=tuple(deformation_labels),
             input_laws=MappingProxyType(laws),
@@ -311,7 +311,7 @@ class ModelBuilder:
                                     f"direction of this {node.kind} node")
                     continue
             else:
-                k = _direction_number(node.kind, req.k)
+                k = direction_number(node.kind, req.k)
                 if k is None or not 1 <= k <= len(node.coordinates):
                     names = DIRECTION_NAMES[node.kind]
                     valid = " and ".join(f"{i + 1} ({n})" for i, n in enumerate(names))
@@ -378,12 +378,13 @@ def _group_elements(elements: dict[int, Element], x0: np.ndarray) -> tuple[Eleme
     groups = []
     for etype, members in by_type.items():
         coords = np.array([m.coordinates for m in members], dtype=np.intp)
+        defs = np.array([m.deformations for m in members], dtype=np.intp)
         groups.append(
             ElementGroup(
                 type=etype,
-                numbers=_frozen([m.number for m in members]),
-                coordinates=_frozen(coords),
-                deformations=_frozen(np.array([m.deformations for m in members], dtype=np.intp)),
+                numbers=frozen_array([m.number for m in members]),
+                coordinates=frozen_array(coords),
+                deformations=frozen_array(defs),
                 reference=etype.reference(x0[coords]),
             )
         )

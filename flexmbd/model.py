@@ -86,7 +86,8 @@ class ElementGroup:
     reference: Reference
 
 
-def _frozen(a) -> np.ndarray:
+def frozen_array(a) -> np.ndarray:
+    """A read-only copy of ``a``: the arrays of a model never change."""
     a = np.array(a)
     a.flags.writeable = False
     return a
@@ -130,10 +131,10 @@ class Model:
         return len(self.deformation_class)
 
     def _coordinates_of(self, *classes: CoordinateClass) -> np.ndarray:
-        return _frozen(np.flatnonzero(np.isin(self.coordinate_class, classes)))
+        return frozen_array(np.flatnonzero(np.isin(self.coordinate_class, classes)))
 
     def _deformations_of(self, *classes: DeformationClass) -> np.ndarray:
-        return _frozen(np.flatnonzero(np.isin(self.deformation_class, classes)))
+        return frozen_array(np.flatnonzero(np.isin(self.deformation_class, classes)))
 
     @cached_property
     def fixed(self) -> np.ndarray:
@@ -168,7 +169,7 @@ class Model:
     @cached_property
     def constrained(self) -> np.ndarray:
         """Rows of ``D_c``: ``e(o)`` followed by ``e(m)`` (THEORY section 3)."""
-        return _frozen(np.concatenate([self.rigid, self.independent_deformations]))
+        return frozen_array(np.concatenate([self.rigid, self.independent_deformations]))
 
     @cached_property
     def n_dof(self) -> int:
@@ -186,7 +187,7 @@ class Model:
     @cached_property
     def q_is_input(self) -> np.ndarray:
         """Boolean mask over ``q``: prescribed (rheonomic) entries; the rest are dynamic."""
-        return _frozen(
+        return frozen_array(
             np.concatenate(
                 [
                     self.coordinate_class[self.independent_coordinates] == CoordinateClass.INPUT,
@@ -214,7 +215,7 @@ class Model:
         for node in self.nodes.values():
             if node.kind == ROTATIONAL:
                 scale[list(node.coordinates)] = 1.0 / self.characteristic_length
-        return _frozen(scale)
+        return frozen_array(scale)
 
     # --- labels and look-up ---------------------------------------------------
     def coordinate_index(self, label: str | tuple[int, int | str]) -> int:
@@ -223,7 +224,7 @@ class Model:
         if node not in self.nodes:
             raise KeyError(f"{_label_text(label)}: node {node} is not in the model")
         coords = self.nodes[node].coordinates
-        k = _direction_number(self.nodes[node].kind, k)
+        k = direction_number(self.nodes[node].kind, k)
         if k is None or not 1 <= k <= len(coords):
             raise KeyError(f"{_label_text(label)}: node {node} has no coordinate {k}")
         return coords[k - 1]
@@ -299,7 +300,7 @@ def _parse_label(label, prefix: str) -> tuple[int, int | str]:
     return int(number), k
 
 
-def _direction_number(kind: str, direction: int | str) -> int | None:
+def direction_number(kind: str, direction: int | str) -> int | None:
     """SPACAR direction number (1-based) of ``direction`` for a node of ``kind``."""
     if isinstance(direction, str):
         names = DIRECTION_NAMES[kind]
@@ -308,7 +309,3 @@ def _direction_number(kind: str, direction: int | str) -> int | None:
         return int(direction)
     return None
 
-
-def coordinate_labels_of(node: int, kind: str) -> list[str]:
-    """Labels of the coordinates of one node."""
-    return [f"x{node}.{k}" for k in range(1, 3 if kind != ROTATIONAL else 2)]
