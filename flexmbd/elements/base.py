@@ -108,6 +108,26 @@ class ElementType:
         raise NotImplementedError
 
 
+    # --- inertia (THEORY section 5); elements without mass keep these defaults ---------
+    @classmethod
+    def mass_matrix(cls, xe: np.ndarray, ref: Reference, mass: np.ndarray,
+                    lumped: np.ndarray) -> np.ndarray:
+        """Element mass matrices ``(n, nc, nc)`` [kg, kg m, kg m^2] for element masses ``mass``."""
+        return np.zeros((len(xe), cls.n_coordinates(), cls.n_coordinates()))
+
+    @classmethod
+    def inertia_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference,
+                         mass: np.ndarray, lumped: np.ndarray) -> np.ndarray:
+        """Velocity-dependent inertia ``h`` ``(n, nc)``: inertia force ``M xddot + h``."""
+        return np.zeros((len(xe), cls.n_coordinates()))
+
+    @classmethod
+    def gravity_load(cls, xe: np.ndarray, ref: Reference, mass: np.ndarray,
+                     lumped: np.ndarray, gravity: np.ndarray) -> np.ndarray:
+        """Nodal loads ``(n, nc)`` of gravity ``g`` [m/s^2] on the element's own mass."""
+        return np.zeros((len(xe), cls.n_coordinates()))
+
+
 # --- planar geometry shared by the kernels ---------------------------------------
 def unit_and_normal(beta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``e(beta) = (cos, sin)`` and ``n(beta) = (-sin, cos)``, each shape ``(n, 2)``."""
@@ -161,3 +181,24 @@ def normal_distance_hessian(hess, ends, phi, n_d, e_r, sign):
     hess[:, phi, phi] = -sign * n_d
     hess[:, phi, rp] = hess[:, rp, phi] = sign * e_r
     hess[:, phi, rq] = hess[:, rq, phi] = -sign * e_r
+
+
+# --- inertia of a rod with a linear velocity field (truss, rigid beam) ----------------
+def rod_mass_matrix(n_coordinates: int, ends, mass: np.ndarray, lumped: np.ndarray
+                    ) -> np.ndarray:
+    """``m/6 [[2I, I], [I, 2I]]`` (consistent) or ``m/2 I`` (lumped) on ``r_p, r_q``."""
+    cols = list(ends[0]) + list(ends[1])
+    consistent = np.kron(np.array([[2.0, 1.0], [1.0, 2.0]]) / 6.0, np.eye(2))
+    lumped_block = 0.5 * np.eye(4)
+    blocks = np.where(lumped[:, None, None], lumped_block, consistent) * mass[:, None, None]
+    out = np.zeros((len(mass), n_coordinates, n_coordinates))
+    out[:, np.array(cols)[:, None], np.array(cols)] = blocks
+    return out
+
+
+def rod_gravity_load(n_coordinates: int, ends, mass: np.ndarray, gravity: np.ndarray
+                     ) -> np.ndarray:
+    """Half the weight ``m g`` at each end node."""
+    out = np.zeros((len(mass), n_coordinates))
+    out[:, list(ends[0])] = out[:, list(ends[1])] = 0.5 * mass[:, None] * gravity
+    return out

@@ -19,11 +19,24 @@ from .base import (
     elongation_jacobian,
     elongation_quadratic_velocity,
     normal_distance_hessian,
+    rod_gravity_load,
+    rod_mass_matrix,
     unit_and_normal,
 )
 
 _RP, _PHI_P, _RQ, _PHI_Q = [0, 1], 2, [3, 4], 5
 _TRANS = np.array(_RP + _RQ)
+
+# Integrals over xi in [0, 1] of products of the cubic Hermite functions
+# H1 = 1 - 3xi^2 + 2xi^3, H2 = xi - 2xi^2 + xi^3, H3 = 3xi^2 - 2xi^3, H4 = -xi^2 + xi^3
+# (THEORY section 5), and of the functions themselves.
+HERMITE_PRODUCTS = np.array([
+    [13 / 35, 11 / 210, 9 / 70, -13 / 420],
+    [11 / 210, 1 / 105, 13 / 420, -1 / 140],
+    [9 / 70, 13 / 420, 13 / 35, -11 / 210],
+    [-13 / 420, -1 / 140, -11 / 210, 1 / 105],
+])
+HERMITE_INTEGRALS = np.array([1 / 2, 1 / 12, 1 / 2, -1 / 12])
 
 
 class Beam(ElementType):
@@ -87,3 +100,46 @@ class Beam(ElementType):
             axis=1,
         )
 
+
+    # --- inertia: cubic Hermite interpolation r(xi) = sum_i H_i(xi) A_i x (THEORY 5) ------
+    @classmethod
+    def _shape_blocks(cls, xe, ref):
+        """``A_i`` ``(4, n, 2, 6)`` with ``N(xi) = sum_i H_i(xi) A_i`` and the
+        convective accelerations ``c_i`` ``(4, n, 2)`` with ``a = sum_i H_i c_i``."""
+        n = len(xe)
+        e_p, n_p = unit_and_normal(ref.angle + xe[:, _PHI_P])
+        e_q, n_q = unit_and_normal(ref.angle + xe[:, _PHI_Q])
+        length = ref.length[:, None]
+        blocks = np.zeros((4, n, 2, 6))
+        blocks[0, :, :, 0:2] = blocks[2, :, :, 3:5] = np.eye(2)  # r_p and r_q columns
+        blocks[1, :, :, _PHI_P] = length * n_p
+        blocks[3, :, :, _PHI_Q] = length * n_q
+        return blocks, e_p, e_q, length
+
+    @classmethod
+    def mass_matrix(cls, xe, ref, mass, lumped):
+        """Consistent: ``m int N^T N dxi``; lumped: ``m/2`` at each end, no rotary inertia."""
+        blocks, *_ = cls._shape_blocks(xe, ref)
+        consistent = np.einsum("ij,inak,jnal->nkl", HERMITE_PRODUCTS, blocks, blocks)
+        consistent *= mass[:, None, None]
+        return np.where(lumped[:, None, None], rod_mass_matrix(6, cls.ends, mass, lumped),
+                        consistent)
+
+    @classmethod
+    def inertia_velocity(cls, xe, xde, ref, mass, lumped):
+        """``h = m int N^T a dxi`` with ``a = -l0 (w_p^2 H2 e_p + w_q^2 H4 e_q)``."""
+        blocks, e_p, e_q, length = cls._shape_blocks(xe, ref)
+        convective = np.zeros((4, len(xe), 2))
+        convective[1] = -length * xde[:, [_PHI_P]] ** 2 * e_p
+        convective[3] = -length * xde[:, [_PHI_Q]] ** 2 * e_q
+        h = np.einsum("ij,inak,jna->nk", HERMITE_PRODUCTS, blocks, convective)
+        return np.where(lumped[:, None], 0.0, h * mass[:, None])
+
+    @classmethod
+    def gravity_load(cls, xe, ref, mass, lumped, gravity):
+        """Consistent: ``m int N^T g dxi = m [g/2, l0 (n_p.g)/12, g/2, -l0 (n_q.g)/12]``;
+        lumped: ``m g / 2`` at each end."""
+        blocks, *_ = cls._shape_blocks(xe, ref)
+        consistent = np.einsum("i,inak,a->nk", HERMITE_INTEGRALS, blocks, gravity)
+        return np.where(lumped[:, None], rod_gravity_load(6, cls.ends, mass, gravity),
+                        consistent * mass[:, None])

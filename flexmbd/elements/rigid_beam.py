@@ -21,6 +21,8 @@ from .base import (
     elongation_jacobian,
     elongation_quadratic_velocity,
     normal_distance_hessian,
+    rod_gravity_load,
+    rod_mass_matrix,
     unit_and_normal,
 )
 
@@ -79,3 +81,16 @@ class RigidBeam(ElementType):
             ],
             axis=1,
         )
+
+    @classmethod
+    def mass_matrix(cls, xe, ref, mass, lumped):
+        """Consistent: the rod matrix on ``r_p, r_q``. Lumped: ``m/2`` at each end plus
+        the rotary inertia ``J = m l0^2/12 - m l0^2/4 = -m l0^2/6`` at ``phi_p``, so that
+        both give the same reduced mass matrix for a rigid link (THEORY section 5)."""
+        out = rod_mass_matrix(5, cls.ends, mass, lumped)
+        out[:, _PHI_P, _PHI_P] = np.where(lumped, -mass * ref.length**2 / 6.0, 0.0)
+        return out
+
+    @classmethod
+    def gravity_load(cls, xe, ref, mass, lumped, gravity):
+        return rod_gravity_load(5, cls.ends, mass, gravity)

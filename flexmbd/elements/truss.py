@@ -12,6 +12,8 @@ from .base import (
     elongation_hessian,
     elongation_jacobian,
     elongation_quadratic_velocity,
+    rod_gravity_load,
+    rod_mass_matrix,
 )
 
 
@@ -45,3 +47,11 @@ class Truss(ElementType):
         _, length, e_l = chord(xe, cls.ends)
         dv = xde[:, 2:4] - xde[:, 0:2]
         return elongation_quadratic_velocity(length, e_l, dv)[:, None]
+
+    @classmethod
+    def mass_matrix(cls, xe, ref, mass, lumped):
+        return rod_mass_matrix(4, cls.ends, mass, lumped)
+
+    @classmethod
+    def gravity_load(cls, xe, ref, mass, lumped, gravity):
+        return rod_gravity_load(4, cls.ends, mass, gravity)
