@@ -36,7 +36,8 @@ CASES = [(Truss, rod_point), (RigidBeam, rod_point), (Beam, beam_point)]
 def random_element(cls, rng):
     nc = cls.n_coordinates()
     xe0 = rng.uniform(-1, 1, nc)
-    rot = [i for i in range(nc) if i not in sum(map(list, cls.ends), [])]
+    translations = [*cls.ends[0], *cls.ends[1]]
+    rot = [i for i in range(nc) if i not in translations]
     xe0[rot] = 0.0
     ref = cls.reference(xe0[None])
     xe = xe0 + rng.normal(scale=0.2, size=nc)
