@@ -30,8 +30,25 @@ from .model import (
     frozen_array,
 )
 from .motion import Law
+from .properties import ElementProperties, MassFormulation
 
 _ZERO_LENGTH = 1e-12  # relative to the model size
+
+_ROD = {"mass_per_length", "mass_formulation", "axial_stiffness", "axial_damping"}
+#: the properties that make sense for each element type
+_APPLICABLE = {
+    "truss": _ROD,
+    "rigid beam": _ROD,
+    "beam": _ROD | {"bending_stiffness", "shear_stiffness", "bending_damping"},
+    "hinge": {"hinge_stiffness", "hinge_damping"},
+}
+
+
+def _finite_number(value) -> bool:
+    try:
+        return math.isfinite(float(value)) and not isinstance(value, bool)
+    except (TypeError, ValueError):
+        return False
 
 
 @dataclass(frozen=True)
@@ -72,6 +89,12 @@ class ModelBuilder:
         self._elements: list[tuple[int, type[ElementType], tuple[int, ...]]] = []
         self._coordinate_requests: list[_Request] = []
         self._deformation_requests: list[_Request] = []
+        self._properties: dict[int, dict[str, object]] = {}
+        self._property_commands: dict[int, set[tuple[str, str]]] = {}
+        self._prestress: dict[int, dict[int, float]] = {}
+        self._nodal_masses: dict[int, float] = {}
+        self._nodal_forces: dict[int, tuple[float, ...]] = {}
+        self._gravity: tuple[float, float] = (0.0, 0.0)
         self._problems: list[str] = []
 
     # --- nodes and elements -----------------------------------------------------
@@ -169,6 +192,86 @@ class ModelBuilder:
     def release(self, element: int, *ks: int) -> ModelBuilder:
         """Release deformations ``ks`` of ``element`` (RLSE): computed, not constrained."""
         return self._deformations(DeformationClass.RELEASED, element, ks, command="release")
+
+    # --- properties (SPACAR block 2) ------------------------------------------------
+    def _set_properties(self, element: int, command: str, **values) -> ModelBuilder:
+        for name, value in values.items():
+            if value is None:
+                continue
+            if name != "mass_formulation" and not _finite_number(value):
+                self._problems.append(f"{command} element {element}: {name} = {value!r} is "
+                                      f"not a finite number")
+                continue
+            self._properties.setdefault(element, {})[name] = value
+            self._property_commands.setdefault(element, set()).add((command, name))
+        return self
+
+    def set_mass(self, element: int, mass_per_length: float,
+                 formulation: MassFormulation = "consistent") -> ModelBuilder:
+        """Distributed mass ``rhoA`` [kg/m] of a truss, beam or rigid beam (EM).
+
+        ``formulation`` is ``"consistent"`` (default) or ``"lumped"`` (THEORY 5).
+        """
+        if formulation not in ("consistent", "lumped"):
+            self._problems.append(f"set_mass element {element}: formulation {formulation!r} "
+                                  f"is not 'consistent' or 'lumped'")
+        return self._set_properties(element, "set_mass", mass_per_length=mass_per_length,
+                                    mass_formulation=formulation)
+
+    def set_stiffness(self, element: int, *, axial: float | None = None,
+                      bending: float | None = None, shear: float | None = None,
+                      hinge: float | None = None) -> ModelBuilder:
+        """Stiffness (ESTIFF): ``axial = EA`` [N], ``bending = EI`` [N m^2], ``shear = G A_s``
+        [N] (Timoshenko correction of the bending stiffness), ``hinge`` [N m/rad]."""
+        return self._set_properties(element, "set_stiffness", axial_stiffness=axial,
+                                    bending_stiffness=bending, shear_stiffness=shear,
+                                    hinge_stiffness=hinge)
+
+    def set_damping(self, element: int, *, axial: float | None = None,
+                    bending: float | None = None, hinge: float | None = None) -> ModelBuilder:
+        """Viscous damping (EDAMP), the twins of the stiffnesses: ``axial`` [N s] acts as
+        ``axial / l0 * e1dot``, ``bending`` [N m^2 s] with the bending matrix of ``EI``,
+        ``hinge`` [N m s/rad]."""
+        return self._set_properties(element, "set_damping", axial_damping=axial,
+                                    bending_damping=bending, hinge_damping=hinge)
+
+    def set_prestress(self, element: int, k: int, sigma0: float) -> ModelBuilder:
+        """Pre-stress ``sigma0`` [N or N m] of deformation ``k`` (1-based) of ``element`` (ESIG)."""
+        if not _finite_number(sigma0):
+            self._problems.append(f"set_prestress element {element}: {sigma0!r} is not a "
+                                  f"finite number")
+            return self
+        self._prestress.setdefault(element, {})[k] = float(sigma0)
+        return self
+
+    def add_point_mass(self, node: int, mass: float) -> ModelBuilder:
+        """Point mass [kg] on a translational node, or rotary inertia [kg m^2] on a
+        rotational node (XM); repeated calls add up."""
+        if not _finite_number(mass):
+            self._problems.append(f"add_point_mass node {node}: {mass!r} is not a finite number")
+            return self
+        self._nodal_masses[node] = self._nodal_masses.get(node, 0.0) + float(mass)
+        return self
+
+    def add_force(self, node: int, *components: float) -> ModelBuilder:
+        """Constant applied load (XF): ``(Fx, Fy)`` [N] on a translational node or a
+        torque ``M`` [N m] on a rotational node; repeated calls add up."""
+        if not all(_finite_number(c) for c in components):
+            self._problems.append(f"add_force node {node}: {components!r} are not finite numbers")
+            return self
+        old = self._nodal_forces.get(node)
+        if old is not None and len(old) == len(components):
+            components = tuple(a + b for a, b in zip(old, components, strict=True))
+        self._nodal_forces[node] = tuple(float(c) for c in components)
+        return self
+
+    def set_gravity(self, gx: float, gy: float) -> ModelBuilder:
+        """Gravitational acceleration ``(gx, gy)`` [m/s^2] (GRAVITY), e.g. ``(0, -9.81)``."""
+        if not (_finite_number(gx) and _finite_number(gy)):
+            self._problems.append(f"set_gravity: ({gx!r}, {gy!r}) is not two finite numbers")
+            return self
+        self._gravity = (float(gx), float(gy))
+        return self
 
     # --- building -------------------------------------------------------------------
     def build(self) -> Model:
@@ -284,6 +387,8 @@ class ModelBuilder:
         self._classify_coordinates(nodes, labels, coordinate_class, laws, problems)
         self._classify_deformations(elements, deformation_labels, deformation_class, laws,
                                     problems)
+        element_properties = self._element_properties(elements, problems)
+        self._check_nodal_loads(nodes, problems)
         return Model(
             name=self.name,
             nodes=MappingProxyType(nodes),
@@ -295,7 +400,52 @@ class ModelBuilder:
             coordinate_labels=tuple(labels),
             deformation_labels=tuple(deformation_labels),
             input_laws=MappingProxyType(laws),
+            element_properties=MappingProxyType(element_properties),
+            nodal_masses=MappingProxyType(dict(self._nodal_masses)),
+            nodal_forces=MappingProxyType(dict(self._nodal_forces)),
+            gravity=self._gravity,
         )
+
+    def _element_properties(self, elements, problems) -> dict[int, ElementProperties]:
+        """Properties by element, with every one checked against the element's type."""
+        out = {}
+        for number in sorted(set(self._properties) | set(self._prestress)):
+            if number not in elements:
+                problems.append(f"properties given for element {number}, which is not in "
+                                f"the model")
+                continue
+            etype = elements[number].type
+            values = dict(self._properties.get(number, {}))
+            for command, name in sorted(self._property_commands.get(number, ())):
+                if name not in _APPLICABLE[etype.name]:
+                    problems.append(f"{command} element {number}: a {etype.name} has no "
+                                    f"{name.replace('_', ' ')}")
+                elif name != "mass_formulation" and float(values[name]) < 0:
+                    problems.append(f"{command} element {number}: {name.replace('_', ' ')} "
+                                    f"{values[name]} is negative")
+            nd = etype.n_deformations()
+            prestress = [0.0] * nd
+            for k, sigma0 in self._prestress.get(number, {}).items():
+                if isinstance(k, (int, np.integer)) and 1 <= k <= nd:
+                    prestress[k - 1] = sigma0
+                else:
+                    problems.append(f"set_prestress element {number}: deformation {k!r} does "
+                                    f"not exist; a {etype.name} has deformations 1 to {nd}")
+            if number in self._prestress:
+                values["prestress"] = tuple(prestress)
+            out[number] = ElementProperties(**values)
+        return out
+
+    def _check_nodal_loads(self, nodes, problems) -> None:
+        for what, table in (("add_point_mass", self._nodal_masses),
+                            ("add_force", self._nodal_forces)):
+            for number, value in table.items():
+                if number not in nodes:
+                    problems.append(f"{what}: node {number} is not in the model")
+                elif what == "add_force" and len(value) != len(nodes[number].coordinates):
+                    problems.append(
+                        f"add_force node {number}: a {nodes[number].kind} node takes "
+                        f"{len(nodes[number].coordinates)} component(s), got {len(value)}")
 
     def _classify_coordinates(self, nodes, labels, classes, laws, problems):
         assigned: dict[int, str] = {}

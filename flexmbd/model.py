@@ -23,6 +23,7 @@ import numpy as np
 
 from .elements import ROTATIONAL, ElementType, Reference
 from .motion import Law
+from .properties import ElementProperties, GroupProperties, group_properties
 
 
 class CoordinateClass(IntEnum):
@@ -108,6 +109,12 @@ class Model:
         coordinate_labels: ``x<node>.<k>`` for each coordinate.
         deformation_labels: ``e<element>.<k>`` for each deformation.
         input_laws: default law of each prescribed coordinate or deformation, by label.
+        element_properties: mass, stiffness, damping and pre-stress by element number.
+        nodal_masses: point mass [kg] of a translational node or rotary inertia
+            [kg m^2] of a rotational node, by node number.
+        nodal_forces: constant applied force ``(Fx, Fy)`` [N] or torque ``(M,)`` [N m]
+            by node number.
+        gravity: ``(gx, gy)`` [m/s^2].
     """
 
     name: str
@@ -120,6 +127,10 @@ class Model:
     coordinate_labels: tuple[str, ...]
     deformation_labels: tuple[str, ...]
     input_laws: Mapping[str, Law] = field(default_factory=dict)
+    element_properties: Mapping[int, ElementProperties] = field(default_factory=dict)
+    nodal_masses: Mapping[int, float] = field(default_factory=dict)
+    nodal_forces: Mapping[int, tuple[float, ...]] = field(default_factory=dict)
+    gravity: tuple[float, float] = (0.0, 0.0)
 
     # --- sizes and index sets -------------------------------------------------
     @property
@@ -216,6 +227,16 @@ class Model:
             if node.kind == ROTATIONAL:
                 scale[list(node.coordinates)] = 1.0 / self.characteristic_length
         return frozen_array(scale)
+
+    @cached_property
+    def group_properties(self) -> tuple[GroupProperties, ...]:
+        """Element properties as arrays, aligned with :attr:`groups`."""
+        return tuple(group_properties(g, dict(self.element_properties)) for g in self.groups)
+
+    @cached_property
+    def has_mass(self) -> bool:
+        """Whether any element or node carries mass (dynamics needs it)."""
+        return bool(self.nodal_masses) or any(np.any(p.mass != 0) for p in self.group_properties)
 
     # --- labels and look-up ---------------------------------------------------
     def coordinate_index(self, label: str | tuple[int, int | str]) -> int:

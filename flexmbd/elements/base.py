@@ -128,6 +128,16 @@ class ElementType:
         return np.zeros((len(xe), cls.n_coordinates()))
 
 
+    # --- generalized stresses (THEORY section 6) -------------------------------------
+    @classmethod
+    def stress(cls, e: np.ndarray, ed: np.ndarray, ref: Reference, props) -> np.ndarray:
+        """``sigma = S e + C edot + sigma0`` per deformation, shape ``(n, nd)`` [N, N m].
+
+        ``props`` is the group's :class:`~flexmbd.properties.GroupProperties`.
+        """
+        return np.broadcast_to(props.prestress, e.shape).copy()
+
+
 # --- planar geometry shared by the kernels ---------------------------------------
 def unit_and_normal(beta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``e(beta) = (cos, sin)`` and ``n(beta) = (-sin, cos)``, each shape ``(n, 2)``."""
@@ -202,3 +212,8 @@ def rod_gravity_load(n_coordinates: int, ends, mass: np.ndarray, gravity: np.nda
     out = np.zeros((len(mass), n_coordinates))
     out[:, list(ends[0])] = out[:, list(ends[1])] = 0.5 * mass[:, None] * gravity
     return out
+
+
+def elongation_stress(e1: np.ndarray, ed1: np.ndarray, ref: Reference, props) -> np.ndarray:
+    """``EA / l0 e1 + c_A / l0 e1dot`` [N]."""
+    return (props.axial_stiffness * e1 + props.axial_damping * ed1) / ref.length

@@ -18,6 +18,7 @@ from .base import (
     elongation_hessian,
     elongation_jacobian,
     elongation_quadratic_velocity,
+    elongation_stress,
     normal_distance_hessian,
     rod_gravity_load,
     rod_mass_matrix,
@@ -143,3 +144,21 @@ class Beam(ElementType):
         consistent = np.einsum("i,inak,a->nk", HERMITE_INTEGRALS, blocks, gravity)
         return np.where(lumped[:, None], rod_gravity_load(6, cls.ends, mass, gravity),
                         consistent * mass[:, None])
+
+    @classmethod
+    def stress(cls, e, ed, ref, props):
+        """Elongation ``EA/l0 e1``; bending ``EI/((1+Phi) l0^3) [[4+Phi, Phi-2], [Phi-2, 4+Phi]]``
+        on ``(e2, e3)`` with ``Phi = 12 EI / (G A_s l0^2)`` (0 without shear), THEORY 6.
+        Damping uses the Euler-Bernoulli matrix with ``c_I`` for ``EI``."""
+        sigma = props.prestress.copy()
+        sigma[:, 0] += elongation_stress(e[:, 0], ed[:, 0], ref, props)
+        l0 = ref.length
+        with np.errstate(divide="ignore"):
+            phi = np.where(props.shear_stiffness > 0,
+                           12 * props.bending_stiffness / (props.shear_stiffness * l0**2), 0.0)
+        factor = props.bending_stiffness / ((1 + phi) * l0**3)
+        diag, off = factor * (4 + phi), factor * (phi - 2)
+        damping = props.bending_damping / l0**3
+        sigma[:, 1] += diag * e[:, 1] + off * e[:, 2] + damping * (4 * ed[:, 1] - 2 * ed[:, 2])
+        sigma[:, 2] += off * e[:, 1] + diag * e[:, 2] + damping * (4 * ed[:, 2] - 2 * ed[:, 1])
+        return sigma

@@ -34,3 +34,9 @@ class Hinge(ElementType):
     @classmethod
     def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference) -> np.ndarray:
         return np.zeros((len(xe), 1))
+
+    @classmethod
+    def stress(cls, e, ed, ref, props):
+        """Torque ``k e1 + c e1dot + sigma0`` [N m]."""
+        return props.prestress + (props.hinge_stiffness * e[:, 0]
+                                  + props.hinge_damping * ed[:, 0])[:, None]

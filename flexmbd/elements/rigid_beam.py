@@ -20,6 +20,7 @@ from .base import (
     elongation_hessian,
     elongation_jacobian,
     elongation_quadratic_velocity,
+    elongation_stress,
     normal_distance_hessian,
     rod_gravity_load,
     rod_mass_matrix,
@@ -94,3 +95,10 @@ class RigidBeam(ElementType):
     @classmethod
     def gravity_load(cls, xe, ref, mass, lumped, gravity):
         return rod_gravity_load(5, cls.ends, mass, gravity)
+
+    @classmethod
+    def stress(cls, e, ed, ref, props):
+        """Only the elongation has a stiffness; the normal offset has pre-stress only."""
+        sigma = props.prestress.copy()
+        sigma[:, 0] += elongation_stress(e[:, 0], ed[:, 0], ref, props)
+        return sigma

@@ -12,6 +12,7 @@ from .base import (
     elongation_hessian,
     elongation_jacobian,
     elongation_quadratic_velocity,
+    elongation_stress,
     rod_gravity_load,
     rod_mass_matrix,
 )
@@ -55,3 +56,7 @@ class Truss(ElementType):
     @classmethod
     def gravity_load(cls, xe, ref, mass, lumped, gravity):
         return rod_gravity_load(4, cls.ends, mass, gravity)
+
+    @classmethod
+    def stress(cls, e, ed, ref, props):
+        return props.prestress + elongation_stress(e[:, 0], ed[:, 0], ref, props)[:, None]

@@ -1,0 +1,110 @@
+"""Reduced equations, inverse dynamics and reactions against independent derivations."""
+
+import math
+
+import numpy as np
+import pytest
+import sympy as sp
+
+import flexmbd as fm
+from flexmbd import dynamics
+from flexmbd.inertia import mass_matrix
+
+L1, L2 = 0.15, 0.30
+M1, M2, M5 = 0.05, 0.06676, 0.03338  # crank, rod (uniform), slider [kg]
+GRAVITY = (0.0, -9.81)
+
+
+def rigid_slider_crank(formulation="consistent", gravity=GRAVITY, law=None):
+    b = fm.ModelBuilder("slider-crank")
+    b.add_node(1, 0.0, 0.0).add_node(3, L1, 0.0).add_node(5, L1 + L2, 0.0)
+    b.add_rigid_beam(1, 1, 2, 3).add_rigid_beam(2, 3, 4, 5)
+    b.fix(1).fix(5, "y")
+    b.input_coordinate(2, law=law or fm.Polynomial(0.0, 150.0))
+    b.set_mass(1, M1 / L1, formulation).set_mass(2, M2 / L2, formulation)
+    b.add_point_mass(5, M5)
+    b.set_gravity(*gravity)
+    return b.build()
+
+
+@pytest.fixture(scope="module")
+def lagrange_torque():
+    """Driving torque ``tau(phi, omega, alpha)`` from Lagrange's equation, by SymPy."""
+    t = sp.symbols("t")
+    phi = sp.Function("phi")(t)
+    gx, gy = GRAVITY
+    a = sp.Matrix([L1 * sp.cos(phi), L1 * sp.sin(phi)])
+    psi = -sp.asin(L1 * sp.sin(phi) / L2)
+    b = sp.Matrix([L1 * sp.cos(phi) + L2 * sp.cos(psi), 0])
+    rod_centre, crank_centre = (a + b) / 2, a / 2
+    kinetic = (sp.Rational(1, 2) * (M1 * L1**2 / 3) * phi.diff(t) ** 2
+               + sp.Rational(1, 2) * M2 * rod_centre.diff(t).dot(rod_centre.diff(t))
+               + sp.Rational(1, 2) * (M2 * L2**2 / 12) * psi.diff(t) ** 2
+               + sp.Rational(1, 2) * M5 * b.diff(t).dot(b.diff(t)))
+    g = sp.Matrix([gx, gy])
+    potential = -(M1 * g.dot(crank_centre) + M2 * g.dot(rod_centre) + M5 * g.dot(b))
+    lagrangian = kinetic - potential
+    tau = lagrangian.diff(phi.diff(t)).diff(t) - lagrangian.diff(phi)
+    p, w, al = sp.symbols("p w al")
+    tau = tau.subs(phi.diff(t, 2), al).subs(phi.diff(t), w).subs(phi, p)
+    return sp.lambdify((p, w, al), tau, "numpy")
+
+
+@pytest.mark.parametrize("formulation", ["consistent", "lumped"])
+@pytest.mark.parametrize(("omega", "alpha"), [(150.0, 0.0), (20.0, 300.0)])
+def test_driving_torque_matches_lagrange(lagrange_torque, formulation, omega, alpha):
+    model = rigid_slider_crank(formulation)
+    x = np.array(model.x0)
+    for phi in np.linspace(0.0, 2 * math.pi, 25):
+        terms = dynamics.dynamic_terms(model, np.array([phi]), np.array([omega]), x_guess=x)
+        x = terms.x
+        tau = dynamics.driving_forces(model, terms, np.array([alpha]))[0]
+        expected = lagrange_torque(phi, omega, alpha)
+        scale = M2 * L1 * L1 * max(omega**2, abs(alpha))
+        assert tau == pytest.approx(expected, rel=1e-9, abs=1e-9 * scale)
+
+
+def test_lumped_and_consistent_reduced_mass_agree():
+    consistent, lumped = rigid_slider_crank("consistent"), rigid_slider_crank("lumped")
+    x = fm.solve_position(consistent, np.array([0.9]))
+    F_q = fm.first_order_transfer(consistent, x)
+    m_c = F_q.T @ mass_matrix(consistent, x) @ F_q
+    m_l = F_q.T @ mass_matrix(lumped, x) @ F_q
+    np.testing.assert_allclose(m_l, m_c, rtol=1e-13)
+    assert not np.allclose(mass_matrix(consistent, x), mass_matrix(lumped, x))
+
+
+@pytest.mark.parametrize("formulation", ["consistent", "lumped"])
+def test_reactions_balance_linear_momentum(formulation):
+    """Support reactions plus gravity equal the rate of linear momentum of all bodies."""
+    omega, alpha = 40.0, 500.0
+    model = rigid_slider_crank(formulation)
+    phi = 1.1
+    terms = dynamics.dynamic_terms(model, np.array([phi]), np.array([omega]))
+    qdd = np.array([alpha])
+    result = dynamics.reactions(model, terms, qdd)
+    # centres of mass accelerations: closed-form positions differentiated twice by
+    # central differences with Richardson extrapolation (error of order h^4)
+
+    def centres(s):
+        p = phi + omega * s + 0.5 * alpha * s * s
+        a = np.array([L1 * math.cos(p), L1 * math.sin(p)])
+        psi = -math.asin(L1 * math.sin(p) / L2)
+        b = np.array([L1 * math.cos(p) + L2 * math.cos(psi), 0.0])
+        return np.concatenate([a / 2, (a + b) / 2, b])
+
+    def second_difference(h):
+        return (centres(h) - 2 * centres(0) + centres(-h)) / h**2
+
+    h = 1e-3
+    acc = (4 * second_difference(h / 2) - second_difference(h)) / 3
+    masses = np.repeat([M1, M2, M5], 2)
+    momentum_rate = (masses * acc).reshape(3, 2).sum(axis=0)
+    weight = (M1 + M2 + M5) * np.array(GRAVITY)
+    support = result.nodal[[model.coordinate_index("x1.1"), model.coordinate_index("x1.2")]]
+    support = support + np.array([0.0, result.nodal[model.coordinate_index("x5.2")]])
+    # 1e-6: the limit of the finite differences, whose own error here is about 6e-8
+    np.testing.assert_allclose(support + weight, momentum_rate, rtol=1e-6)
+    # the drive's torque on the input coordinate is the inverse-dynamics torque
+    tau = dynamics.driving_forces(model, terms, qdd)[0]
+    assert result.nodal[model.coordinate_index("x2.1")] == pytest.approx(tau, rel=1e-10)
