@@ -33,7 +33,8 @@ from .kinematics import (
 )
 from .model import CoordinateClass, DeformationClass, Model
 from .motion import Custom, Polynomial
-from .results import KinematicResult
+from .results import KinematicResult, SimulationResult
+from .simulation import simulate
 
 __version__ = "0.1.0"
 
@@ -53,6 +54,7 @@ __all__ = [
     "Polynomial",
     "RigidBeam",
     "SimulationError",
+    "SimulationResult",
     "SingularConfigurationError",
     "Truss",
     "__version__",
@@ -68,6 +70,7 @@ __all__ = [
     "position_analysis",
     "quadratic_velocity",
     "second_order_transfer",
+    "simulate",
     "solve_position",
     "velocities",
 ]

@@ -20,6 +20,7 @@ from .model import Model
 from .motion import Law
 from .progress import progress_bar
 from .results import KinematicResult
+from .threads import blas_threads_for
 
 
 def kinematic_analysis(
@@ -65,7 +66,7 @@ def kinematic_analysis(
 
     x_guess = np.array(model.x0, dtype=float)
     done, error = 0, None
-    with progress_bar(nt, "kinematics", progress) as bar:
+    with progress_bar(nt, "kinematics", progress) as bar, blas_threads_for(nx):
         for k, t in enumerate(times):
             try:
                 q, qd, qdd = evaluate_laws(laws, t)

@@ -7,7 +7,7 @@ and second time derivatives with prefixes ``xd``, ``xdd``, ``ed``, ``edd``.
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -83,3 +83,50 @@ class KinematicResult:
         """Raise the error that stopped the run, if any."""
         if self.error is not None:
             raise self.error
+
+
+@dataclass(eq=False)
+class SimulationResult(KinematicResult):
+    """A forward simulation or inverse-dynamics run: kinematics plus dynamics.
+
+    Additional attributes:
+        q, qd, qdd: generalized coordinates ``[x(m); e(m)]`` and their derivatives
+            ``(nt, nq)``, labelled by ``model.q_labels``.
+        sigma: generalized stresses ``(nt, ne)`` [N, N m]: the elastic law on dynamic
+            and released deformations; with reactions, also constraint and actuator
+            stresses on rigid and input deformations.
+        reactions: loads of supports (fixed coordinates) and drives (input
+            coordinates) ``(nt, nx)`` [N, N m], zero elsewhere; ``None`` when not computed.
+        driving: generalized driving forces of the prescribed entries of ``q``
+            ``(nt, n_prescribed)``; ``None`` when not computed.
+        stats: solver counters (``nfev``, ``njev``, ``nlu``, ``nsteps``) and the method.
+    """
+
+    q: np.ndarray = None  # type: ignore[assignment]
+    qd: np.ndarray = None  # type: ignore[assignment]
+    qdd: np.ndarray = None  # type: ignore[assignment]
+    sigma: np.ndarray = None  # type: ignore[assignment]
+    reactions: np.ndarray | None = None
+    driving: np.ndarray | None = None
+    stats: dict = field(default_factory=dict)
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        """As :meth:`KinematicResult.__getitem__`, plus ``sig<elem>.<k>`` and ``f<node>.<k>``."""
+        stripped = name.strip()
+        if stripped.startswith("sig"):
+            return self.sigma[:, self.model.deformation_index("e" + stripped[3:])]
+        if stripped.startswith("f") and self.reactions is not None:
+            return self.reactions[:, self.model.coordinate_index("x" + stripped[1:])]
+        return super().__getitem__(name)
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """All columns: those of :class:`KinematicResult`, stresses ``sig..`` and, when
+        computed, the loads ``f..`` on fixed and input coordinates."""
+        out = super().columns()
+        for j, label in enumerate(self.model.deformation_labels):
+            out["sig" + label[1:]] = self.sigma[:, j]
+        if self.reactions is not None:
+            supported = np.concatenate([self.model.fixed, self.model.independent_coordinates])
+            for i in sorted(supported):
+                out["f" + self.model.coordinate_labels[i][1:]] = self.reactions[:, i]
+        return out
