@@ -19,7 +19,7 @@ from .kinematics import (
 from .model import Model
 from .motion import Law
 from .progress import progress_bar
-from .results import KinematicResult
+from .results import KinematicResult, check_on_failure, conclude
 from .threads import blas_threads_for
 
 
@@ -57,8 +57,7 @@ def kinematic_analysis(
     times = np.asarray(times, dtype=float).ravel()
     if times.size == 0 or np.any(np.diff(times) <= 0) or not np.all(np.isfinite(times)):
         raise ValueError("times must be a non-empty, finite, strictly increasing sequence")
-    if on_failure not in ("raise", "return"):
-        raise ValueError(f"on_failure must be 'raise' or 'return', not {on_failure!r}")
+    check_on_failure(on_failure)
     laws = resolve_laws(model, inputs)
     nt, nx, ne = len(times), model.n_coordinates, model.n_deformations
     out = {name: np.empty((nt, n)) for name, n in
@@ -91,12 +90,6 @@ def kinematic_analysis(
             bar.update(1)
 
     result = KinematicResult(model, times[:done], **{k: v[:done] for k, v in out.items()})
-    if error is not None:
-        result.success, result.message, result.error = False, str(error), error
-        if on_failure == "raise":
-            error.partial_result = result
-            raise error
-    else:
-        result.message = f"completed {nt} points from t = {times[0]:.6g} s to {times[-1]:.6g} s"
-    return result
+    return conclude(result, error, on_failure,
+                    f"completed {nt} points from t = {times[0]:.6g} s to {times[-1]:.6g} s")
 

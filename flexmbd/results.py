@@ -130,3 +130,24 @@ class SimulationResult(KinematicResult):
             for i in sorted(supported):
                 out["f" + self.model.coordinate_labels[i][1:]] = self.reactions[:, i]
         return out
+
+
+def conclude(result: KinematicResult, error: SimulationError | None, on_failure: str,
+             completed: str) -> KinematicResult:
+    """Finish a run: on failure raise ``error`` with ``result`` as its partial result
+    (``on_failure="raise"``) or return ``result`` with ``success=False``."""
+    check_on_failure(on_failure)
+    if error is None:
+        result.message = completed
+        return result
+    result.success, result.message, result.error = False, str(error), error
+    if on_failure == "raise":
+        error.partial_result = result
+        raise error
+    return result
+
+
+def check_on_failure(on_failure: str) -> None:
+    """Reject a bad ``on_failure`` before a run does any work."""
+    if on_failure not in ("raise", "return"):
+        raise ValueError(f"on_failure must be 'raise' or 'return', not {on_failure!r}")

@@ -20,7 +20,7 @@ from .integrate import integrate
 from .kinematics import initial_q, quadratic_velocity
 from .model import Model
 from .motion import Law
-from .results import SimulationResult
+from .results import SimulationResult, check_on_failure, conclude
 from .threads import blas_threads_for
 
 
@@ -119,6 +119,7 @@ def simulate(
         :class:`~flexmbd.results.SimulationResult` with ``stats`` of the integrator.
     """
     times = np.asarray(times, dtype=float).ravel()
+    check_on_failure(on_failure)
     if not np.any(~model.q_is_input):
         raise ModelError("the model has no dynamic degree of freedom to simulate; use "
                          "kinematic_analysis or inverse_dynamics for prescribed motion")
@@ -136,15 +137,9 @@ def simulate(
     error = run.error
     if error is None and not run.success:
         error = SimulationError(run.message, float(run.t[-1]) if len(run.t) else None)
-    if error is not None:
-        result.success, result.message, result.error = False, str(error), error
-        if on_failure == "raise":
-            error.partial_result = result
-            raise error
-    else:
-        result.message = (f"completed {len(times)} points to t = {times[-1]:.6g} s "
-                          f"({run.stats['nsteps']} steps, {run.stats['nfev']} evaluations)")
-    return result
+    return conclude(result, error, on_failure,
+                    f"completed {len(times)} points to t = {times[-1]:.6g} s "
+                    f"({run.stats['nsteps']} steps, {run.stats['nfev']} evaluations)")
 
 
 def _post_process(model, rhs, t, y, with_reactions) -> SimulationResult:
