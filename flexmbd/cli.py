@@ -40,16 +40,16 @@ def _one_line(error: BaseException) -> str:
     return " ".join(str(error).replace("\n  - ", "; ").split())
 
 
-def _run_example(args: argparse.Namespace, rest: list[str], parser) -> int:
+def _run_example(args: argparse.Namespace, rest: list[str]) -> int:
     from .examples import EXAMPLES
 
-    if args.list or (args.name is None and not args.help):
+    if args.list or args.name is None:
+        if args.help:
+            print("usage: flexmbd example NAME [options]   (flexmbd example NAME --help)\n")
         width = max(len(n) for n in EXAMPLES)
         for name, (_, _, text) in EXAMPLES.items():
             print(f"  {name:<{width}}  {text}")
         return 0
-    if args.name is None:
-        parser.parse_args(["example", "--help"])  # pragma: no cover - argparse exits
     if args.name not in EXAMPLES:
         print(f"flexmbd: error: unknown example {args.name!r}; choose from "
               f"{', '.join(EXAMPLES)}", file=sys.stderr)
@@ -69,7 +69,7 @@ def main(argv: list[str] | None = None) -> int:
     args, rest = parser.parse_known_args(argv)
     try:
         if args.command == "example":
-            return _run_example(args, rest, parser)
+            return _run_example(args, rest)
         if rest:
             parser.error(f"unrecognized arguments: {' '.join(rest)}")
         parser.print_help()

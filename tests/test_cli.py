@@ -17,6 +17,12 @@ def test_list_examples(capsys):
         assert name in out
 
 
+def test_example_help_without_a_name_lists_the_examples(capsys):
+    assert cli.main(["example", "--help"]) == 0
+    out = capsys.readouterr().out
+    assert "usage: flexmbd example NAME" in out and "slider-crank-kin" in out
+
+
 def test_unknown_example_is_a_usage_error(capsys):
     assert cli.main(["example", "nope"]) == 2
     assert "unknown example 'nope'" in capsys.readouterr().err
