@@ -180,8 +180,7 @@ def reactions(model: Model, terms: DynamicTerms, qdd: np.ndarray) -> Reactions:
     if len(rows):
         sigma[rows] = scipy.linalg.solve(terms.jacobian.D_c.T, rhs, check_finite=False)
     nodal = D_x.T @ sigma - unbalanced
-    supported = np.concatenate([model.fixed, model.independent_coordinates[
-        model.q_is_input[:len(model.independent_coordinates)]]])
+    supported = np.concatenate([model.fixed, model.input_coordinates])
     out = np.zeros(model.n_coordinates)
     out[supported] = nodal[supported]
     return Reactions(sigma, out)

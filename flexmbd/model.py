@@ -163,6 +163,11 @@ class Model:
         return self._coordinates_of(CoordinateClass.INPUT, CoordinateClass.DYNAMIC)
 
     @cached_property
+    def input_coordinates(self) -> np.ndarray:
+        """Indices of the prescribed coordinates (the inputs among ``x(m)``)."""
+        return self._coordinates_of(CoordinateClass.INPUT)
+
+    @cached_property
     def rigid(self) -> np.ndarray:
         """Indices of ``e(o)``."""
         return self._deformations_of(DeformationClass.RIGID)

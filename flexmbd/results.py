@@ -126,8 +126,8 @@ class SimulationResult(KinematicResult):
         for j, label in enumerate(self.model.deformation_labels):
             out["sig" + label[1:]] = self.sigma[:, j]
         if self.reactions is not None:
-            supported = np.concatenate([self.model.fixed, self.model.independent_coordinates])
-            for i in sorted(supported):
+            model = self.model
+            for i in sorted(np.concatenate([model.fixed, model.input_coordinates])):
                 out["f" + self.model.coordinate_labels[i][1:]] = self.reactions[:, i]
         return out
 
