@@ -15,11 +15,13 @@ import numpy as np
 from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, Radau
 
 from .errors import SimulationError
+from .generalized_alpha import GeneralizedAlpha
 from .progress import progress_bar
 
-#: integration methods by name (the course's ode45 is RK45, the default)
+#: integration methods by name (the course's ode45 is RK45, the default); all but
+#: GeneralizedAlpha (fixed step, for second-order systems y = [q; v]) are scipy's
 METHODS = {"RK45": RK45, "RK23": RK23, "DOP853": DOP853, "Radau": Radau, "BDF": BDF,
-           "LSODA": LSODA}
+           "LSODA": LSODA, "GeneralizedAlpha": GeneralizedAlpha}
 
 
 @dataclass(eq=False)

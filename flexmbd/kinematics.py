@@ -28,6 +28,8 @@ from .model import Model
 
 #: default Newton tolerance relative to the model's characteristic length (THEORY 3)
 RELATIVE_TOLERANCE = 1e-10
+#: residuals below this share of the tolerance are round-off: x no longer moves
+_ROUND_OFF = 1e-6
 #: scaled smallest singular value of ``D_c`` below which a factorisation fails
 SINGULAR_RCOND = 1e-13
 
@@ -284,10 +286,12 @@ def position_analysis(model: Model, q: np.ndarray, x_guess: np.ndarray | None = 
                       max_iterations: int = 25) -> PositionSolution:
     """:func:`solve_position` that also returns the Jacobian at the solution.
 
-    Once the residual is below the tolerance, one more correction with the
-    last factorisation (a chord step, no new Jacobian) makes the error of ``x``
-    second order in the residual, so positions are accurate well below the
-    tolerance.
+    Once the residual is below the tolerance, one more correction (with the last
+    factorisation, or a new one when the guess was already within tolerance)
+    makes the error of ``x`` second order in the residual, so positions are
+    accurate far below the tolerance and do not depend on the starting guess
+    (the dynamics differentiates through them). The returned Jacobian is
+    evaluated at the returned ``x``.
     """
     if tolerance is None:
         tolerance = RELATIVE_TOLERANCE * model.characteristic_length
@@ -302,9 +306,12 @@ def position_analysis(model: Model, q: np.ndarray, x_guess: np.ndarray | None = 
         residual = deformations(model, x)[rows] - target
         residual_norm = float(np.max(np.abs(residual), initial=0.0))
         if residual_norm <= tolerance:
-            if jac is not None:
-                x[dep] -= jac.solve(residual)
-            jac = partition_jacobian(model, x, time)
+            at_x = jac is None  # converged from the guess: factorise here
+            if at_x:
+                jac = partition_jacobian(model, x, time)
+            x[dep] -= jac.solve(residual)
+            if not at_x or residual_norm > _ROUND_OFF * tolerance:
+                jac = partition_jacobian(model, x, time)  # at the corrected x
             _check_regular(model, jac, time, tolerance)
             return PositionSolution(x, jac, iteration, residual_norm)
         if not np.isfinite(residual_norm) or iteration == max_iterations:

@@ -220,8 +220,7 @@ def plot_motion(result: KinematicResult, columns: list[str], *, against: str = "
     axes[0].set_title(title or result.model.name)
     axes[-1].set_xlabel("t [s]" if against == "t" else against)
     fig.tight_layout()
-    if filename is not None:
-        fig.savefig(filename, dpi=120)
+    save_figure(fig, filename)
     return fig
 
 
@@ -246,21 +245,56 @@ def plot_columns(result: KinematicResult, columns: list[str], against: str = "t"
 
     Returns the ``matplotlib.figure.Figure``; saved to ``filename`` when given.
     """
-    fig = _new_figure(window, figsize=(7, 4.5))
-    ax = fig.add_subplot()
-    xs = result[against]
-    for k, name in enumerate(columns):
-        ax.plot(xs, result[name], label=labels[k] if labels else name)
-    ax.set_xlabel("t [s]" if against == "t" else against)
-    if ylabel:
-        ax.set_ylabel(ylabel)
-    ax.set_title(title or result.model.name)
-    ax.grid(True, alpha=0.3)
-    ax.legend()
+    curves = {labels[k] if labels else name: result[name] for k, name in enumerate(columns)}
+    return plot_curves(result[against], curves, xlabel="t [s]" if against == "t" else against,
+                       ylabel=ylabel, title=title or result.model.name, filename=filename,
+                       window=window)
+
+
+def plot_curves(x: np.ndarray, curves: dict[str, np.ndarray], *, xlabel: str,
+                ylabel: str | None = None, title: str | None = None,
+                filename: str | Path | None = None, window: bool = False):
+    """Plot named curves ``{label: y}`` (each shaped like ``x``) against ``x`` in one axes.
+
+    Returns the ``matplotlib.figure.Figure``; saved to ``filename`` when given.
+    """
+    return plot_panels(x, [curves], xlabel=xlabel, ylabels=[ylabel], title=title,
+                       filename=filename, window=window)
+
+
+def plot_panels(x: np.ndarray, panels: list[dict[str, np.ndarray]], *, xlabel: str,
+                ylabels: list[str | None] | None = None, title: str | None = None,
+                filename: str | Path | None = None, window: bool = False):
+    """Stacked axes sharing ``x``; panel ``k`` plots the curves ``{label: y}`` of ``panels[k]``.
+
+    Returns the ``matplotlib.figure.Figure``; saved to ``filename`` when given.
+    """
+    fig = _new_figure(window, figsize=(7, 2.0 + 2.5 * len(panels)))
+    axes = np.atleast_1d(fig.subplots(len(panels), 1, sharex=True))
+    for ax, curves, ylabel in zip(axes, panels, ylabels or [None] * len(panels), strict=True):
+        for label, y in curves.items():
+            ax.plot(x, y, label=label)
+        if ylabel:
+            ax.set_ylabel(ylabel)
+        ax.grid(True, alpha=0.3)
+        ax.legend()
+    if title:
+        axes[0].set_title(title)
+    axes[-1].set_xlabel(xlabel)
     fig.tight_layout()
-    if filename is not None:
-        fig.savefig(filename, dpi=120)
+    save_figure(fig, filename)
     return fig
+
+
+def save_figure(fig, filename: str | Path | None) -> None:
+    """Save ``fig`` when ``filename`` is given; a file that cannot be written is an
+    :class:`~flexmbd.errors.OutputError`, not a traceback."""
+    if filename is None:
+        return
+    try:
+        fig.savefig(filename, dpi=120)
+    except (OSError, ValueError) as exc:
+        raise OutputError(f"cannot save the figure as {str(filename)!r}: {exc}") from None
 
 
 def show() -> None:

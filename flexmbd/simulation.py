@@ -91,6 +91,7 @@ def simulate(
     rtol: float = 1e-6,
     atol: float = 1e-9,
     max_step: float = np.inf,
+    step: float | None = None,
     tolerance: float | None = None,
     with_reactions: bool = False,
     progress: bool | None = None,
@@ -106,9 +107,13 @@ def simulate(
             ``{"x2.1": torque}`` [N, N m], on top of the model's constant loads.
         initial: ``{label: (value, rate)}`` for dynamic entries of ``q``.
         method: ``"RK45"`` (default, as ode45), ``"Radau"``, ``"BDF"``, ``"LSODA"``,
-            ``"DOP853"``, ``"RK23"``; implicit ones suit stiff models (flexible elongation).
-        rtol, atol: integrator tolerances on ``[q_d, qdot_d]``.
+            ``"DOP853"``, ``"RK23"`` (scipy's, error-controlled) or ``"GeneralizedAlpha"``
+            (fixed ``step``, numerically damped: the choice for models with stiff,
+            barely excited modes such as a rod of many beams or a flexible elongation).
+        rtol, atol: integrator tolerances on ``[q_d, qdot_d]`` (for GeneralizedAlpha:
+            of its Newton iteration).
         max_step: largest integrator step [s].
+        step: step size [s] of GeneralizedAlpha (default: the output interval).
         tolerance: Newton tolerance of the position solve [m, rad].
         with_reactions: also compute constraint stresses and support/drive loads.
         progress: progress bar (default: long interactive runs only).
@@ -129,9 +134,16 @@ def simulate(
     laws = resolve_laws(model, inputs)
     rhs = _RightHandSide(model, laws, forces, tolerance)
     q0, qd0 = initial_state(model, initial)
+    options = {}
+    if method == "GeneralizedAlpha":
+        interval = float(np.diff(times).min()) if times.size > 1 else None
+        options["step"] = step if step is not None else interval
+    elif step is not None:
+        raise ValueError(f"step is the fixed step of GeneralizedAlpha; {method} chooses its "
+                         f"own steps (bound them with max_step)")
     with blas_threads_for(model.n_coordinates):
         run = integrate(rhs, np.concatenate([q0, qd0]), times, method=method, rtol=rtol,
-                        atol=atol, max_step=max_step, progress=progress)
+                        atol=atol, max_step=max_step, progress=progress, **options)
         result = _post_process(model, rhs, run.t, run.y, with_reactions)
     result.stats = {**run.stats, "method": method}
     error = run.error

@@ -39,6 +39,10 @@ def test_slider_crank_example_checks_and_revolution():
     assert slider_crank_kinematics.revolution_error(fm.kinematic_analysis(model, times)) < 1e-10
 
 
+#: arguments that keep each example's run short in the tests
+QUICK = {"slider-crank-flex": ["--revolutions", "0.1"]}
+
+
 @pytest.mark.parametrize("name", sorted(EXAMPLES))
 def test_every_example_runs_and_saves_plot_and_movie(name, tmp_path, capsys):
     import importlib
@@ -46,7 +50,8 @@ def test_every_example_runs_and_saves_plot_and_movie(name, tmp_path, capsys):
     module_name, preset, _ = EXAMPLES[name]
     module = importlib.import_module(f"flexmbd.examples.{module_name}")
     plot, movie = tmp_path / "plot.png", tmp_path / "movie.gif"
-    code = module.main([*preset, "--points", "30", "--plot", str(plot), "--movie", str(movie)])
+    quick = QUICK.get(name, ["--points", "30"])
+    code = module.main([*preset, *quick, "--plot", str(plot), "--movie", str(movie)])
     out = capsys.readouterr().out
     assert code == 0, out
     assert "checks passed" in out and "NOT all" not in out

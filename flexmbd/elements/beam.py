@@ -102,6 +102,20 @@ class Beam(ElementType):
         )
 
 
+    @classmethod
+    def interpolate(cls, xe: np.ndarray, ref: Reference, xi: float) -> np.ndarray:
+        """Point at ``xi`` in [0, 1] along each beam by the cubic Hermite interpolation
+        of THEORY section 5: ``H1 r_p + H2 l0 e_p + H3 r_q + H4 l0 e_q``, shape ``(n, 2)`` [m].
+
+        ``xe`` has shape ``(n, 6)`` (or ``(6,)`` for one beam)."""
+        xe = np.atleast_2d(xe)
+        e_p, _ = unit_and_normal(ref.angle + xe[:, _PHI_P])
+        e_q, _ = unit_and_normal(ref.angle + xe[:, _PHI_Q])
+        h1, h2 = 1 - 3 * xi**2 + 2 * xi**3, xi - 2 * xi**2 + xi**3
+        h3, h4 = 3 * xi**2 - 2 * xi**3, -(xi**2) + xi**3
+        length = ref.length[:, None]
+        return h1 * xe[:, _RP] + h2 * length * e_p + h3 * xe[:, _RQ] + h4 * length * e_q
+
     # --- inertia: cubic Hermite interpolation r(xi) = sum_i H_i(xi) A_i x (THEORY 5) ------
     @classmethod
     def _shape_blocks(cls, xe, ref):
