@@ -20,6 +20,10 @@ EXAMPLES: dict[str, tuple[str, list[str], str]] = {
         "slider_crank_kinematics", [],
         "EXERCISES 2: slider-crank kinematics, transfer functions and closed-form checks",
     ),
+    "slider-crank-dyn": (
+        "slider_crank_dynamics", [],
+        "EXERCISES 3: rigid slider-crank dynamics, torque, reactions, PD-controlled crank",
+    ),
     "slider-crank-flex": (
         "slider_crank_flex", [],
         "EXERCISES 4: slider-crank with a flexible rod of --nbeams beams, v/l2 against crank angle",

@@ -15,6 +15,7 @@ from .errors import (
     SimulationError,
     SingularConfigurationError,
 )
+from .inverse import inverse_dynamics
 from .kinematic_run import kinematic_analysis
 from .kinematics import (
     accelerations,
@@ -64,6 +65,7 @@ __all__ = [
     "first_order_transfer",
     "hessian",
     "initial_q",
+    "inverse_dynamics",
     "jacobian",
     "kinematic_analysis",
     "partition_jacobian",

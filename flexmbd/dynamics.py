@@ -140,12 +140,14 @@ def generalized_accelerations(model: Model, terms: DynamicTerms, qdd_prescribed:
 
 
 def driving_forces(model: Model, terms: DynamicTerms, qdd: np.ndarray) -> np.ndarray:
-    """Inverse dynamics: ``tau_r = Mbar_r. qddot - g_r`` for the prescribed entries of ``q``.
+    """Inverse dynamics: ``tau = Mbar qddot - g``, the generalized force the drives supply.
 
-    Returns an array over the prescribed entries (``model.q_is_input``) [N, N m].
+    Returns an array over all entries of ``q`` (``model.q_labels``) [N, N m]: the
+    driving forces of the prescribed entries; on dynamic entries it is the force
+    that would be needed beyond the model's own loads, zero for a motion that
+    solves the equations of motion.
     """
-    r = model.q_is_input
-    return terms.reduced_mass[r] @ qdd - terms.generalized_force[r]
+    return terms.reduced_mass @ qdd - terms.generalized_force
 
 
 @dataclass(frozen=True, eq=False)

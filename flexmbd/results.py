@@ -97,8 +97,9 @@ class SimulationResult(KinematicResult):
             stresses on rigid and input deformations.
         reactions: loads of supports (fixed coordinates) and drives (input
             coordinates) ``(nt, nx)`` [N, N m], zero elsewhere; ``None`` when not computed.
-        driving: generalized driving forces of the prescribed entries of ``q``
-            ``(nt, n_prescribed)``; ``None`` when not computed.
+        driving: generalized driving forces ``tau = Mbar qddot - g`` on every entry
+            of ``q`` ``(nt, nq)`` [N, N m]: what the drives of the prescribed entries
+            supply; zero (to solver accuracy) on freely moving dynamic entries.
         stats: solver counters (``nfev``, ``njev``, ``nlu``, ``nsteps``) and the method.
     """
 

@@ -13,13 +13,14 @@ from typing import Literal
 
 import numpy as np
 
-from .dynamics import Forces, dynamic_terms, generalized_accelerations, reactions
+from .dynamics import Forces, dynamic_terms, generalized_accelerations
 from .errors import ModelError, SimulationError
 from .inputs import evaluate_laws, q_index, resolve_laws
 from .integrate import integrate
-from .kinematics import initial_q, quadratic_velocity
+from .kinematics import initial_q
 from .model import Model
 from .motion import Law
+from .records import DynamicRecord
 from .results import SimulationResult, check_on_failure, conclude
 from .threads import blas_threads_for
 
@@ -155,25 +156,12 @@ def simulate(
 
 
 def _post_process(model, rhs, t, y, with_reactions) -> SimulationResult:
-    """Full kinematics, stresses and (optionally) reactions at the output times."""
-    nt, nx, ne, nq = len(t), model.n_coordinates, model.n_deformations, model.n_dof
-    arrays = {name: np.zeros((nt, n)) for name, n in (
-        ("x", nx), ("xd", nx), ("xdd", nx), ("e", ne), ("ed", ne), ("edd", ne),
-        ("q", nq), ("qd", nq), ("qdd", nq), ("sigma", ne))}
-    nodal = np.zeros((nt, nx)) if with_reactions else None
-    for k in range(nt):
+    """Full kinematics, stresses, driving forces and (optionally) reactions at the output
+    times."""
+    record = DynamicRecord(model, len(t), with_reactions)
+    for k in range(len(t)):
         # start from the integration's own solution near t[k]: the position problem
         # has other branches (an end tangent turned by pi), so never extrapolate far
         terms, q, qd, qdd = rhs.terms(t[k], y[k], start=rhs.start_near(t[k]))
-        xdd = terms.F_q @ qdd + terms.convective
-        sigma = terms.sigma
-        if with_reactions:
-            found = reactions(model, terms, qdd)
-            sigma, nodal[k] = found.sigma, found.nodal
-        for name, value in (("x", terms.x), ("xd", terms.xd), ("xdd", xdd), ("e", terms.e),
-                            ("ed", terms.ed), ("q", q), ("qd", qd), ("qdd", qdd),
-                            ("sigma", sigma)):
-            arrays[name][k] = value
-        arrays["edd"][k] = terms.jacobian.full @ xdd + quadratic_velocity(model, terms.x,
-                                                                          terms.xd)
-    return SimulationResult(model, t, **arrays, reactions=nodal)
+        record.add(t[k], terms, q, qd, qdd)
+    return record.result()

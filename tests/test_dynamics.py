@@ -108,3 +108,37 @@ def test_reactions_balance_linear_momentum(formulation):
     # the drive's torque on the input coordinate is the inverse-dynamics torque
     tau = dynamics.driving_forces(model, terms, qdd)[0]
     assert result.nodal[model.coordinate_index("x2.1")] == pytest.approx(tau, rel=1e-10)
+
+
+@pytest.mark.parametrize("formulation", ["consistent", "lumped"])
+def test_inverse_dynamics_over_a_revolution_matches_lagrange(lagrange_torque, formulation):
+    omega0, alpha = 20.0, 300.0  # phi = omega0 t + alpha t^2 / 2
+    t_rev = (-omega0 + math.sqrt(omega0**2 + 4 * math.pi * alpha)) / alpha
+    model = rigid_slider_crank(formulation, law=fm.Polynomial(0.0, omega0, alpha))
+    result = fm.inverse_dynamics(model, np.linspace(0.0, t_rev, 90))
+    assert result.success and result["x2.1"][-1] == pytest.approx(2 * math.pi)
+    omega = omega0 + alpha * result.t
+    expected = lagrange_torque(result["x2.1"], omega, alpha)
+    scale = np.max(np.abs(expected))
+    np.testing.assert_allclose(result["f2.1"], expected, rtol=0, atol=1e-9 * scale)
+    np.testing.assert_allclose(result.driving[:, 0], result["f2.1"], rtol=1e-12)
+    assert "f1.2" in result.columns() and "f5.2" in result.columns()
+
+
+def test_inverse_dynamics_failures():
+    b = fm.ModelBuilder("rod shorter than the crank")  # cannot pass phi = 30 deg
+    b.add_node(1, 0, 0).add_node(3, 1, 0).add_node(5, 1.5, 0)
+    b.add_rigid_beam(1, 1, 2, 3).add_rigid_beam(2, 3, 4, 5).fix(1).fix(5, "y")
+    b.input_coordinate(2, law=fm.Polynomial(0.0, 1.0))
+    massless = b.build()
+    with pytest.raises(fm.ModelError, match="no mass"):
+        fm.inverse_dynamics(massless, [0.0, 1.0])
+    b.set_mass(2, 1.0)
+    model = b.build()
+    times = np.linspace(0.0, 3.0, 31)
+    result = fm.inverse_dynamics(model, times, on_failure="return")
+    assert not result.success and isinstance(result.error, fm.SimulationError)
+    assert 0 < len(result.t) < len(times) and result.t[-1] < math.pi / 6
+    assert math.pi / 6 - 0.1 <= result.error.time <= math.pi / 6 + 0.1
+    with pytest.raises(ValueError, match="increasing"):
+        fm.inverse_dynamics(model, [1.0, 0.5])
