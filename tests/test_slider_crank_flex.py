@@ -13,21 +13,32 @@ from flexmbd.examples import slider_crank_flex as example
 
 import flexmbd as fm
 
-_RUNS: dict[int, np.ndarray] = {}
+_RUNS: dict[int, fm.SimulationResult] = {}
 
 
-def history(nbeams: int) -> np.ndarray:
-    """``v/l2`` over two revolutions at 400 points per turn (cached)."""
+def run(nbeams: int) -> fm.SimulationResult:
+    """Two revolutions at 400 points per turn (cached)."""
     if nbeams not in _RUNS:
         result = example.simulate(nbeams, revolutions=2.0)
         assert result.success and len(result.t) == 801
-        _RUNS[nbeams] = example.midpoint_deflection(result.model, result.x)
+        _RUNS[nbeams] = result
     return _RUNS[nbeams]
+
+
+def history(nbeams: int) -> np.ndarray:
+    """``v/l2`` over two revolutions."""
+    result = run(nbeams)
+    return example.midpoint_deflection(result.model, result.x)
 
 
 def test_refinement_converges():
     assert np.max(np.abs(history(4) - history(8))) < 5e-4
     assert np.max(np.abs(history(2) - history(8))) < 2e-3
+
+
+def test_energy_changes_only_by_the_work_of_the_drive():
+    # kinetic + elastic energy against the integral of torque times crank speed
+    assert example.energy_balance(run(8)) < 1e-3
 
 
 def test_odd_beam_counts_use_the_hermite_mid_point():
