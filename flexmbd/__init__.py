@@ -6,6 +6,7 @@ functions of the nodal coordinates (THEORY.md). Build a :class:`Model` with
 """
 
 from .builder import ModelBuilder
+from .dat import read_dat, write_dat
 from .elements import Beam, Hinge, RigidBeam, Truss
 from .errors import (
     ConvergenceError,
@@ -71,8 +72,10 @@ __all__ = [
     "partition_jacobian",
     "position_analysis",
     "quadratic_velocity",
+    "read_dat",
     "second_order_transfer",
     "simulate",
     "solve_position",
     "velocities",
+    "write_dat",
 ]

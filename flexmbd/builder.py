@@ -31,6 +31,7 @@ from .model import (
 )
 from .motion import Law
 from .properties import ElementProperties, MassFormulation
+from .settings import AnalysisSettings
 
 _ZERO_LENGTH = 1e-12  # relative to the model size
 
@@ -95,6 +96,8 @@ class ModelBuilder:
         self._nodal_masses: dict[int, float] = {}
         self._nodal_forces: dict[int, tuple[float, ...]] = {}
         self._gravity: tuple[float, float] = (0.0, 0.0)
+        self._settings: dict[str, object] = {}
+        self._initial: dict[str, tuple[float, float]] = {}
         self._problems: list[str] = []
 
     # --- nodes and elements -----------------------------------------------------
@@ -273,6 +276,50 @@ class ModelBuilder:
         self._gravity = (float(gx), float(gy))
         return self
 
+    # --- analysis settings (SPACAR TIMESTEP, STARTDE, ERROR, ITERSTEP) -----------------
+    def set_time_grid(self, t_end: float, steps: int) -> ModelBuilder:
+        """Default output grid: ``steps + 1`` times from 0 to ``t_end`` [s] (TIMESTEP)."""
+        if not (_finite_number(t_end) and float(t_end) > 0):
+            self._problems.append(f"set_time_grid: end time {t_end!r} is not a positive number")
+        elif not isinstance(steps, (int, np.integer)) or isinstance(steps, bool) or steps < 1:
+            self._problems.append(f"set_time_grid: step count {steps!r} is not a positive "
+                                  f"integer")
+        else:
+            self._settings.update(t_end=float(t_end), steps=int(steps))
+        return self
+
+    def set_initial(self, label: str, value: float, rate: float = 0.0) -> ModelBuilder:
+        """Initial value and rate of a dynamic degree of freedom (``"e2.2"``, ``"x2.1"``)
+        [m or rad, per s] (STARTDE); :func:`flexmbd.simulate` starts from it."""
+        if not (_finite_number(value) and _finite_number(rate)):
+            self._problems.append(f"set_initial {label}: ({value!r}, {rate!r}) is not two "
+                                  f"finite numbers")
+            return self
+        self._initial[str(label)] = (float(value), float(rate))
+        return self
+
+    def set_tolerances(self, *, atol: float | None = None, rtol: float | None = None,
+                       max_iterations: int | None = None, tolerance: float | None = None
+                       ) -> ModelBuilder:
+        """Default tolerances of runs: integrator ``atol``, ``rtol`` (ERROR); position
+        solve ``max_iterations`` and ``tolerance`` [m, rad] (ITERSTEP)."""
+        for name, value in (("atol", atol), ("rtol", rtol), ("tolerance", tolerance)):
+            if value is None:
+                continue
+            if not (_finite_number(value) and float(value) > 0):
+                self._problems.append(f"set_tolerances: {name} = {value!r} is not a positive "
+                                      f"number")
+            else:
+                self._settings[name] = float(value)
+        if max_iterations is not None:
+            if (not isinstance(max_iterations, (int, np.integer))
+                    or isinstance(max_iterations, bool) or max_iterations < 1):
+                self._problems.append(f"set_tolerances: max_iterations = {max_iterations!r} "
+                                      f"is not a positive integer")
+            else:
+                self._settings["max_iterations"] = int(max_iterations)
+        return self
+
     # --- building -------------------------------------------------------------------
     def build(self) -> Model:
         """Check the description and return the immutable :class:`Model`.
@@ -404,7 +451,26 @@ class ModelBuilder:
             nodal_masses=MappingProxyType(dict(self._nodal_masses)),
             nodal_forces=MappingProxyType(dict(self._nodal_forces)),
             gravity=self._gravity,
+            settings=self._analysis_settings(labels, deformation_labels, coordinate_class,
+                                             deformation_class, problems),
         )
+
+    def _analysis_settings(self, labels, deformation_labels, coordinate_class,
+                           deformation_class, problems) -> AnalysisSettings:
+        """The settings, with initial values checked to name dynamic degrees of freedom."""
+        dynamic = {label for label, c in zip(labels, coordinate_class, strict=True)
+                   if c == CoordinateClass.DYNAMIC}
+        dynamic |= {label for label, c in zip(deformation_labels, deformation_class, strict=True)
+                    if c == DeformationClass.DYNAMIC}
+        initial = {}
+        for label, pair in self._initial.items():
+            canonical = _canonical_label(label)
+            if canonical not in dynamic:
+                problems.append(f"set_initial {label}: not a dynamic degree of freedom of the "
+                                f"model (those are: {', '.join(sorted(dynamic)) or 'none'})")
+            else:
+                initial[canonical] = pair
+        return AnalysisSettings(initial=MappingProxyType(initial), **self._settings)
 
     def _element_properties(self, elements, problems) -> dict[int, ElementProperties]:
         """Properties by element, with every one checked against the element's type."""
@@ -519,6 +585,12 @@ def _assign(i, label, req, classes, assigned, problems):
         return
     assigned[i] = word
     classes[i] = req.what
+
+
+def _canonical_label(label: str) -> str:
+    """``"E2.2 "`` -> ``"e2.2"``; a label without ``.k`` means entry 1."""
+    text = label.strip().lower()
+    return text if "." in text else f"{text}.1"
 
 
 def _group_elements(elements: dict[int, Element], x0: np.ndarray) -> tuple[ElementGroup, ...]:

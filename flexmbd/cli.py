@@ -33,6 +33,13 @@ def _parser() -> argparse.ArgumentParser:
     example.add_argument("name", nargs="?", help="example name")
     example.add_argument("--list", action="store_true", help="list the examples")
     example.add_argument("-h", "--help", action="store_true", help="show help")
+    run = commands.add_parser(
+        "run", help="run a SPACAR input file (flexmbd run FILE.dat --out results.csv)",
+        description="Run a planar SPACAR input file: kinematics, forward or inverse dynamics "
+                    "over the file's TIMESTEP grid.")
+    from .run_file import add_arguments
+
+    add_arguments(run)
     return parser
 
 
@@ -70,6 +77,12 @@ def main(argv: list[str] | None = None) -> int:
     try:
         if args.command == "example":
             return _run_example(args, rest)
+        if args.command == "run":
+            if rest:
+                parser.error(f"unrecognized arguments: {' '.join(rest)}")
+            from .run_file import run
+
+            return run(args)
         if rest:
             parser.error(f"unrecognized arguments: {' '.join(rest)}")
         parser.print_help()

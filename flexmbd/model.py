@@ -24,6 +24,7 @@ import numpy as np
 from .elements import ROTATIONAL, ElementType, Reference
 from .motion import Law
 from .properties import ElementProperties, GroupProperties, group_properties
+from .settings import AnalysisSettings
 
 
 class CoordinateClass(IntEnum):
@@ -115,6 +116,8 @@ class Model:
         nodal_forces: constant applied force ``(Fx, Fy)`` [N] or torque ``(M,)`` [N m]
             by node number.
         gravity: ``(gx, gy)`` [m/s^2].
+        settings: how the model is meant to be run (time grid, initial values,
+            tolerances), e.g. from a SPACAR input file.
     """
 
     name: str
@@ -131,6 +134,7 @@ class Model:
     nodal_masses: Mapping[int, float] = field(default_factory=dict)
     nodal_forces: Mapping[int, tuple[float, ...]] = field(default_factory=dict)
     gravity: tuple[float, float] = (0.0, 0.0)
+    settings: AnalysisSettings = field(default_factory=AnalysisSettings)
 
     # --- sizes and index sets -------------------------------------------------
     @property

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import SimulationError
+from .errors import OptionalDependencyError, OutputError, SimulationError
 from .model import Model
 
 _COLUMN = re.compile(r"^(xdd|xd|x|edd|ed|e)(\d+)(?:\.(\d+))?$")
@@ -73,11 +73,57 @@ class KinematicResult:
 
     def to_csv(self, path: str | Path) -> Path:
         """Write all columns to a CSV file with a header row; returns the path."""
-        path = Path(path)
         cols = self.columns()
-        data = np.column_stack(list(cols.values())) if cols else np.empty((0, 0))
-        np.savetxt(path, data, delimiter=",", header=",".join(cols), comments="", fmt="%.17g")
-        return path
+        data = np.column_stack(list(cols.values())) if len(self.t) else np.empty((0, len(cols)))
+        return _writing(path, lambda p: np.savetxt(p, data, delimiter=",", header=",".join(cols),
+                                                   comments="", fmt="%.17g"))
+
+    def to_npz(self, path: str | Path) -> Path:
+        """Write all columns to a compressed NumPy archive: one array per column name
+        (``np.load(path)["x5.1"]``) and ``columns``, the names in order."""
+        cols = self.columns()
+        return _writing(path, lambda p: np.savez_compressed(p, columns=np.array(list(cols)),
+                                                            **cols))
+
+    def to_hdf5(self, path: str | Path) -> Path:
+        """Write all columns as datasets of an HDF5 file (needs h5py: the ``hdf5`` extra)."""
+        try:
+            import h5py
+        except ImportError:
+            raise OptionalDependencyError("writing .h5 needs h5py: pip install "
+                                          "'flexmbd[hdf5]' (or write .csv or .npz)") from None
+
+        def write(p):
+            with h5py.File(p, "w") as f:
+                f.attrs["model"] = self.model.name
+                f.attrs["columns"] = list(self.columns())
+                for name, values in self.columns().items():
+                    f.create_dataset(name, data=values)
+        return _writing(path, write)
+
+    def to_pandas(self):
+        """All columns as a ``pandas.DataFrame`` (needs pandas)."""
+        try:
+            import pandas
+        except ImportError:
+            raise OptionalDependencyError("to_pandas needs pandas: pip install pandas") from None
+        return pandas.DataFrame(self.columns())
+
+    def save(self, path: str | Path) -> Path:
+        """Write the columns in the format of the file name: ``.csv``, ``.npz``, ``.h5``."""
+        writers = {".csv": self.to_csv, ".npz": self.to_npz, ".h5": self.to_hdf5,
+                   ".hdf5": self.to_hdf5}
+        suffix = Path(path).suffix.lower()
+        if suffix not in writers:
+            raise OutputError(f"cannot write results as {Path(path).name!r}: use .csv, .npz "
+                              f"or .h5")
+        return writers[suffix](path)
+
+    def plot(self, columns: list[str], against: str = "t", **options):
+        """Plot columns against time or another column (see :func:`flexmbd.plot.plot_columns`)."""
+        from .plot import plot_columns
+
+        return plot_columns(self, columns, against, **options)
 
     def raise_for_status(self) -> None:
         """Raise the error that stopped the run, if any."""
@@ -131,6 +177,16 @@ class SimulationResult(KinematicResult):
             for i in sorted(np.concatenate([model.fixed, model.input_coordinates])):
                 out["f" + self.model.coordinate_labels[i][1:]] = self.reactions[:, i]
         return out
+
+
+def _writing(path: str | Path, write) -> Path:
+    """Run ``write(path)``; a file that cannot be written is an :class:`OutputError`."""
+    path = Path(path)
+    try:
+        write(path)
+    except OSError as error:
+        raise OutputError(f"cannot write {path}: {error.strerror or error}") from None
+    return path
 
 
 def conclude(result: KinematicResult, error: SimulationError | None, on_failure: str,

@@ -27,11 +27,12 @@ from .threads import blas_threads_for
 
 def initial_state(model: Model, initial: Mapping[str, tuple[float, float]] | None
                   ) -> tuple[np.ndarray, np.ndarray]:
-    """``q_d(0), qdot_d(0)``: the initial configuration at rest unless ``initial`` says
-    otherwise (``{"e2.2": (value, rate)}`` [m or rad, per s])."""
+    """``q_d(0), qdot_d(0)``: the initial configuration at rest unless the model's
+    settings or ``initial`` (which wins) say otherwise (``{"e2.2": (value, rate)}``
+    [m or rad, per s])."""
     d = ~model.q_is_input
     q0, qd0 = initial_q(model), np.zeros(model.n_dof)
-    for label, pair in (initial or {}).items():
+    for label, pair in {**model.settings.initial, **(initial or {})}.items():
         j = q_index(model, label)
         if not d[j]:
             raise ModelError(f"initial value given for {label}, which is prescribed, not "
@@ -106,7 +107,8 @@ def simulate(
         inputs: laws of prescribed entries by label, overriding the model's.
         forces: applied loads ``forces(t, x, xdot)`` -> array ``(nx,)`` or
             ``{"x2.1": torque}`` [N, N m], on top of the model's constant loads.
-        initial: ``{label: (value, rate)}`` for dynamic entries of ``q``.
+        initial: ``{label: (value, rate)}`` for dynamic entries of ``q``, on top of
+            the model's ``settings.initial``.
         method: ``"RK45"`` (default, as ode45), ``"Radau"``, ``"BDF"``, ``"LSODA"``,
             ``"DOP853"``, ``"RK23"`` (scipy's, error-controlled) or ``"GeneralizedAlpha"``
             (fixed ``step``, numerically damped: the choice for models with stiff,

@@ -1,0 +1,201 @@
+"""The planar SPACAR input format: statements, blocks and the arguments of each keyword.
+
+A file is free format, one keyword per line followed by numbers; comments start
+with ``#``, ``%`` or ``*`` and run to the end of the line; keywords are
+case-insensitive. Block 1 (kinematics) ends with ``END`` then ``HALT``; block 2
+(dynamics) ends with ``END``; the file ends with a second ``END``. Anything
+after that (a ``VISUALIZATION`` trailer, say) is ignored. A kinematics-only file
+may end right after block 1 with ``END END``.
+
+Numbers may use a Fortran ``D`` exponent (``2.0D11``); integers may be written
+with a zero fraction (``3.``).
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..errors import InputFileError
+
+_COMMENT = re.compile(r"[#%*]")
+
+
+@dataclass(frozen=True)
+class Argument:
+    """One argument of a keyword: a name for messages and its type (int or float)."""
+
+    name: str
+    type: type
+
+
+@dataclass(frozen=True)
+class Syntax:
+    """Arguments of a keyword: required ones, optional ones, then any number of ``rest``
+    (at least ``min_rest``)."""
+
+    required: tuple[Argument, ...]
+    optional: tuple[Argument, ...] = ()
+    rest: Argument | None = None
+    min_rest: int = 0
+
+    def usage(self, keyword: str) -> str:
+        words = [keyword, *(a.name for a in self.required),
+                 *(f"[{a.name}]" for a in self.optional)]
+        if self.rest is not None:
+            words.append(f"{self.rest.name} ..." if self.min_rest else f"[{self.rest.name} ...]")
+        return " ".join(words)
+
+
+def _args(spec: str) -> tuple[Argument, ...]:
+    """``"e:int p:int"`` -> arguments."""
+    types = {"int": int, "float": float}
+    return tuple(Argument(name, types[kind]) for name, kind in
+                 (word.split(":") for word in spec.split()))
+
+
+def _syntax(required: str, optional: str = "", rest: str = "", min_rest: int = 0) -> Syntax:
+    return Syntax(_args(required), _args(optional), _args(rest)[0] if rest else None, min_rest)
+
+
+#: block 1: elements, positions and the classification of coordinates and deformations
+KINEMATICS = {
+    "PLBEAM": _syntax("element:int p:int phi_p:int q:int phi_q:int"),
+    "PLTRUSS": _syntax("element:int p:int q:int"),
+    "PLHINGE": _syntax("element:int phi_p:int phi_q:int"),
+    "PLRBEAM": _syntax("element:int p:int phi_p:int q:int"),  # flexmbd's rigid beam
+    "X": _syntax("node:int x:float y:float"),
+    "FIX": _syntax("node:int", rest="direction:int"),
+    "INPUTX": _syntax("node:int", rest="direction:int"),
+    "DYNX": _syntax("node:int", rest="direction:int"),
+    "INPUTE": _syntax("element:int", rest="deformation:int"),
+    "DYNE": _syntax("element:int", rest="deformation:int"),
+    "RLSE": _syntax("element:int", rest="deformation:int"),
+}
+
+#: block 2: properties, loads, input laws, initial values and run settings
+DYNAMICS = {
+    "EM": _syntax("element:int rhoA:float", "rhoI:float"),
+    "EMLUMP": _syntax("element:int rhoA:float"),  # flexmbd: lumped instead of consistent
+    "ESTIFF": _syntax("element:int", rest="stiffness:float", min_rest=1),
+    "EDAMP": _syntax("element:int", rest="damping:float", min_rest=1),
+    "ESIG": _syntax("element:int deformation:int sigma0:float"),
+    "XM": _syntax("node:int mass:float"),
+    "XF": _syntax("node:int", rest="load:float", min_rest=1),
+    "GRAVITY": _syntax("gx:float gy:float"),
+    "INPUTX": _syntax("node:int direction:int x0:float", "v0:float a0:float"),
+    "INPUTE": _syntax("element:int deformation:int e0:float", "v0:float a0:float"),
+    "STARTDE": _syntax("element:int deformation:int e0:float", "edot0:float"),
+    "STARTDX": _syntax("node:int direction:int x0:float", "xdot0:float"),
+    "TIMESTEP": _syntax("t_end:float steps:int"),
+    "ITERSTEP": _syntax("max_iterations:int", "tolerance:float"),
+    "ERROR": _syntax("atol:float rtol:float"),
+}
+
+#: spatial (3D) keywords of SPACAR that flexmbd does not read
+SPATIAL = {"BEAM", "TRUSS", "HINGE", "PINBAR", "CYLINDER", "PLATE", "RBEAM", "SBEAM",
+           "CONTACT", "WHEEL", "BELT", "SPRING", "RNODE", "XSTIFF", "XDAMP"}
+
+
+@dataclass(frozen=True)
+class Statement:
+    """One keyword line: the keyword (upper case), its converted arguments, its line."""
+
+    keyword: str
+    values: tuple[float | int, ...]
+    line: int
+
+
+@dataclass(frozen=True)
+class DatText:
+    """The statements of both blocks of a file."""
+
+    kinematics: tuple[Statement, ...]
+    dynamics: tuple[Statement, ...]
+    path: str | None
+
+
+def _number(word: str, kind: type, what: str, keyword: str, path, line):
+    try:
+        value = float(word.replace("d", "e").replace("D", "E"))
+    except ValueError:
+        raise InputFileError(f"{keyword}: {what} must be a number, got {word!r}",
+                             path, line) from None
+    if kind is int:
+        if not value.is_integer():
+            raise InputFileError(f"{keyword}: {what} must be a whole number, got {word!r}",
+                                 path, line)
+        return int(value)
+    return value
+
+
+def _statement(keyword: str, words: list[str], syntax: Syntax, path, line) -> Statement:
+    need, optional = len(syntax.required), len(syntax.optional)
+    top = None if syntax.rest is not None else need + optional
+    if len(words) < need + syntax.min_rest or (top is not None and len(words) > top):
+        raise InputFileError(f"{keyword} takes {syntax.usage(keyword)}; got {len(words)} "
+                             f"value(s)", path, line)
+    arguments = list(syntax.required + syntax.optional)
+    values = []
+    for i, word in enumerate(words):
+        argument = arguments[i] if i < len(arguments) else syntax.rest
+        values.append(_number(word, argument.type, argument.name, keyword, path, line))
+    return Statement(keyword, tuple(values), line)
+
+
+def parse_text(text: str, path: str | Path | None = None) -> DatText:
+    """Split a SPACAR input text into the statements of its two blocks.
+
+    Raises:
+        InputFileError: an unknown or spatial keyword, a word where a number
+            belongs, a wrong number of values, or a missing ``END``/``HALT``.
+    """
+    path = None if path is None else str(path)
+    blocks: dict[str, list[Statement]] = {"kinematics": [], "dynamics": []}
+    state, last = "kinematics", 0
+    for number, raw in enumerate(text.splitlines(), start=1):
+        words = _COMMENT.split(raw, maxsplit=1)[0].split()
+        if not words:
+            continue
+        last = number
+        keyword, rest = words[0].upper(), words[1:]
+        if state == "done":
+            break
+        if keyword == "END":
+            state = {"kinematics": "after kinematics", "after kinematics": "done",
+                     "dynamics": "after dynamics", "after dynamics": "done"}[state]
+            continue
+        if keyword == "HALT":
+            if state != "after kinematics":
+                raise InputFileError("HALT belongs right after the END of the kinematics "
+                                     "block", path, number)
+            state = "dynamics"
+            continue
+        if state in ("after kinematics", "after dynamics"):
+            expected = "HALT (dynamics follow) or END" if state == "after kinematics" else "END"
+            raise InputFileError(f"expected {expected} after the END of the {state[6:]} block, "
+                                 f"got {keyword}", path, number)
+        table = KINEMATICS if state == "kinematics" else DYNAMICS
+        if keyword not in table:
+            raise InputFileError(_unknown(keyword, state), path, number)
+        blocks[state].append(_statement(keyword, rest, table[keyword], path, number))
+    if state != "done":
+        missing = {"kinematics": "END ending the kinematics block",
+                   "after kinematics": "the final END (or HALT and a dynamics block)",
+                   "dynamics": "END ending the dynamics block",
+                   "after dynamics": "the final END"}[state]
+        raise InputFileError(f"the file ends without {missing}", path, last or None)
+    return DatText(tuple(blocks["kinematics"]), tuple(blocks["dynamics"]), path)
+
+
+def _unknown(keyword: str, block: str) -> str:
+    if keyword in SPATIAL:
+        return f"spatial element or keyword {keyword} is not supported (flexmbd is planar)"
+    other = DYNAMICS if block == "kinematics" else KINEMATICS
+    if keyword in other:
+        where = "dynamics block (after END and HALT)" if block == "kinematics" else \
+            "kinematics block (before the first END)"
+        return f"{keyword} belongs in the {where}"
+    return (f"unknown keyword {keyword} in the {block} block; known: "
+            f"{', '.join(sorted({*KINEMATICS, *DYNAMICS}))}")

@@ -1,0 +1,134 @@
+"""Writing a :class:`~flexmbd.model.Model` as a planar SPACAR input file.
+
+Numbers are written as the shortest text that reads back exactly, so :func:`read_dat` gives back
+an equal model. Models that SPACAR's format cannot hold are refused with
+:class:`~flexmbd.errors.OutputError`: input laws that are not polynomials
+(:class:`~flexmbd.motion.Custom`). Rigid beams and lumped masses are written
+with flexmbd's own keywords ``PLRBEAM`` and ``EMLUMP``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..elements import ROTATIONAL
+from ..errors import OutputError
+from ..model import CoordinateClass, DeformationClass, Model
+from ..motion import Polynomial
+from .reader import _DAMPING, _STIFFNESS
+
+
+def _number(value: float) -> str:
+    return repr(float(value))  # the shortest text that reads back as the same float
+
+
+def _line(keyword: str, *values) -> str:
+    words = [v if isinstance(v, str) else (str(v) if isinstance(v, int) else _number(v))
+             for v in values]
+    return " ".join([f"{keyword:<8}", *words]).rstrip()
+
+
+def dat_text(model: Model) -> str:
+    """The input-file text of ``model``."""
+    lines = [f"# {model.name}: written by flexmbd", "", "# elements"]
+    for number, element in sorted(model.elements.items()):
+        lines.append(_line(element.type.keyword, number, *element.nodes))
+    lines += ["", "# initial positions of the translational nodes"]
+    for number, node in sorted(model.nodes.items()):
+        if node.kind != ROTATIONAL:
+            lines.append(_line("X", number, *node.position))
+    lines += ["", "# classification"]
+    lines += _classification(model)
+    lines += ["END", "HALT", "", "# properties and loads"]
+    lines += _properties(model)
+    lines += _laws_and_settings(model)
+    lines += ["END", "END", ""]
+    return "\n".join(lines)
+
+
+def write_dat(model: Model, path: str | Path) -> Path:
+    """Write ``model`` as a SPACAR input file; returns the path.
+
+    Raises:
+        OutputError: the model has a non-polynomial input law, or the file
+            cannot be written.
+    """
+    path = Path(path)
+    text = dat_text(model)
+    try:
+        path.write_text(text, encoding="utf-8")
+    except OSError as error:
+        raise OutputError(f"cannot write {path}: {error.strerror or error}") from None
+    return path
+
+
+def _classification(model: Model) -> list[str]:
+    lines = []
+    coordinate_keywords = {CoordinateClass.FIXED: "FIX", CoordinateClass.INPUT: "INPUTX",
+                           CoordinateClass.DYNAMIC: "DYNX"}
+    for keyword_class, keyword in coordinate_keywords.items():
+        for number, node in sorted(model.nodes.items()):
+            ks = [k for k, i in enumerate(node.coordinates, 1)
+                  if model.coordinate_class[i] == keyword_class]
+            if ks:
+                lines.append(_line(keyword, number, *ks))
+    deformation_keywords = {DeformationClass.INPUT: "INPUTE", DeformationClass.DYNAMIC: "DYNE",
+                            DeformationClass.RELEASED: "RLSE"}
+    for keyword_class, keyword in deformation_keywords.items():
+        for number, element in sorted(model.elements.items()):
+            ks = [k for k, i in enumerate(element.deformations, 1)
+                  if model.deformation_class[i] == keyword_class]
+            if ks:
+                lines.append(_line(keyword, number, *ks))
+    return lines
+
+
+def _properties(model: Model) -> list[str]:
+    lines = []
+    for number, props in sorted(model.element_properties.items()):
+        keyword = model.elements[number].type.keyword
+        if props.mass_per_length:
+            lines.append(_line("EMLUMP" if props.mass_formulation == "lumped" else "EM", number,
+                               props.mass_per_length))
+        for table, name, suffix in ((_STIFFNESS, "ESTIFF", "stiffness"),
+                                    (_DAMPING, "EDAMP", "damping")):
+            values = [getattr(props, f"{field}_{suffix}") for field in table[keyword]]
+            while values and not values[-1]:  # trailing zeros and an absent shear term
+                values.pop()
+            if values:
+                lines.append(_line(name, number, *(v or 0.0 for v in values)))
+        for k, sigma0 in enumerate(props.prestress or (), 1):
+            if sigma0:
+                lines.append(_line("ESIG", number, k, sigma0))
+    for number, mass in sorted(model.nodal_masses.items()):
+        lines.append(_line("XM", number, mass))
+    for number, load in sorted(model.nodal_forces.items()):
+        lines.append(_line("XF", number, *load))
+    if any(model.gravity):
+        lines.append(_line("GRAVITY", *model.gravity))
+    return lines
+
+
+def _laws_and_settings(model: Model) -> list[str]:
+    lines = []
+    for label, law in sorted(model.input_laws.items()):
+        if not isinstance(law, Polynomial):
+            raise OutputError(f"the input law of {label} is {type(law).__name__}, which a "
+                              f"SPACAR file cannot hold; only Polynomial(x0, v0, a0) laws "
+                              f"can be written")
+        number, k = (int(part) for part in label[1:].split("."))
+        keyword = "INPUTX" if label.startswith("x") else "INPUTE"
+        lines.append(_line(keyword, number, k, law.x0, law.v0, law.a0))
+    settings = model.settings
+    for label, (value, rate) in sorted(settings.initial.items()):
+        number, k = (int(part) for part in label[1:].split("."))
+        lines.append(_line("STARTDE" if label.startswith("e") else "STARTDX", number, k,
+                           value, rate))
+    if settings.t_end is not None:
+        lines.append(_line("TIMESTEP", settings.t_end, settings.steps))
+    if settings.atol is not None or settings.rtol is not None:
+        lines.append(_line("ERROR", settings.atol or 1e-9, settings.rtol or 1e-6))
+    if settings.max_iterations is not None or settings.tolerance is not None:
+        extra = () if settings.tolerance is None else (settings.tolerance,)
+        lines.append(_line("ITERSTEP", settings.max_iterations or 25, *extra))
+    return lines
