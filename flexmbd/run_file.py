@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from .dat import read_dat
+from .dat.syntax import LARGEST_INTEGER
 from .errors import ModelError
 from .integrate import METHODS
 from .inverse import inverse_dynamics
@@ -48,8 +49,9 @@ def output_times(model: Model, steps: int | None, t_end: float | None) -> np.nda
     t_end = model.settings.t_end if t_end is None else t_end
     if steps is None or t_end is None:
         raise ModelError("the file has no TIMESTEP line: give --t-end and --steps")
-    if steps < 1 or not t_end > 0:
-        raise ModelError(f"need --steps >= 1 and --t-end > 0, got {steps} and {t_end:g}")
+    if not 1 <= steps <= LARGEST_INTEGER or not 0 < t_end < np.inf:
+        raise ModelError(f"need 1 <= --steps <= {LARGEST_INTEGER} and a finite --t-end > 0, "
+                         f"got {steps} and {t_end:g}")
     return np.linspace(0.0, t_end, steps + 1)
 
 

@@ -20,6 +20,8 @@ from pathlib import Path
 from ..errors import InputFileError
 
 _COMMENT = re.compile(r"[#%*]")
+#: node, element and step numbers above this are refused (they would not fit in memory)
+LARGEST_INTEGER = 10**8
 
 
 @dataclass(frozen=True)
@@ -125,6 +127,9 @@ def _number(word: str, kind: type, what: str, keyword: str, path, line):
     if kind is int:
         if not value.is_integer():
             raise InputFileError(f"{keyword}: {what} must be a whole number, got {word!r}",
+                                 path, line)
+        if abs(value) > LARGEST_INTEGER:
+            raise InputFileError(f"{keyword}: {what} {word} is larger than {LARGEST_INTEGER}",
                                  path, line)
         return int(value)
     return value

@@ -1,0 +1,249 @@
+"""SPACAR input files: reading every keyword, round trips, malformed files, flexmbd run."""
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from flexmbd.examples import slider_crank_dynamics, slider_crank_flex
+
+import flexmbd as fm
+from flexmbd.cli import main as cli
+from flexmbd.dat import dat_text, model_from_text
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+DAT_FILES = sorted(EXAMPLES.glob("*.dat"))
+
+#: a file that uses every keyword of the planar subset
+EVERYTHING = """\
+* every keyword: a four-bar with a flexible coupler, a spring hinge and a loaded slider
+PLRBEAM 1  1 2 3          % crank, flexmbd's rigid beam
+plbeam  2  3 4 5 6        # coupler (keywords are case-insensitive)
+PLBEAM  3  5 7 8 9
+PLHINGE 4  6 7
+PLTRUSS 5  8 10
+X 1 0 0
+X 3 0.1 0.0
+X 5 0.3 0.0
+X 8 0.5 0.0
+X 10 0.5D0 -0.2D0         % Fortran exponents
+FIX 1
+FIX 10
+INPUTX 2 1
+DYNE 2 2 3.
+RLSE 4 1
+INPUTE 5 1
+DYNX 5 2
+END
+HALT
+EM 2 0.5
+EMLUMP 3 0.25
+EM 1 0.1 0.0
+ESTIFF 2 1e6 10.0 2e5
+ESTIFF 3 1e6 10.0
+ESTIFF 4 3.5
+EDAMP 2 0.0 0.01
+EDAMP 4 0.2
+ESIG 5 1 12.5
+XM 5 0.02
+XM 6 1e-4
+XF 5 1.0 -2.0
+XF 6 0.3
+GRAVITY 0 -9.81
+INPUTX 2 1 0.0 10.0 5.0
+INPUTE 5 1 0.0 0.01
+STARTDE 2 2 1e-4 0.0
+STARTDX 5 2 0.0 0.5
+TIMESTEP 0.5 50
+ITERSTEP 30 1e-11
+ERROR 1e-10 1e-7
+END
+END
+VISUALIZATION
+anything here is ignored 1 2 3
+"""
+
+
+def state(model: fm.Model) -> dict:
+    """Everything a model describes, in comparable form."""
+    return {
+        "nodes": {n: (v.kind, v.position, v.coordinates) for n, v in model.nodes.items()},
+        "elements": {n: (e.type, e.nodes) for n, e in model.elements.items()},
+        "x0": model.x0.tolist(),
+        "classes": (model.coordinate_class.tolist(), model.deformation_class.tolist()),
+        "laws": dict(model.input_laws),
+        "properties": dict(model.element_properties),
+        "masses": dict(model.nodal_masses),
+        "forces": dict(model.nodal_forces),
+        "gravity": model.gravity,
+        "settings": (model.settings.t_end, model.settings.steps, dict(model.settings.initial),
+                     model.settings.atol, model.settings.rtol, model.settings.max_iterations,
+                     model.settings.tolerance),
+    }
+
+
+def test_every_keyword_is_read():
+    model = model_from_text(EVERYTHING, "everything.dat")
+    assert model.name == "everything"
+    assert [model.elements[n].type for n in range(1, 6)] == [
+        fm.RigidBeam, fm.Beam, fm.Beam, fm.Hinge, fm.Truss]
+    assert model.nodes[10].position == (0.5, -0.2)
+    assert model.q_labels == ("x2.1", "x5.2", "e2.2", "e2.3", "e5.1")
+    assert model.q_is_input.tolist() == [True, False, False, False, True]
+    released = model.deformation_index("e4.1")
+    assert model.deformation_class[released] == fm.DeformationClass.RELEASED
+    p = model.element_properties
+    assert (p[2].mass_per_length, p[2].mass_formulation) == (0.5, "consistent")
+    assert p[3].mass_formulation == "lumped" and p[1].mass_per_length == 0.1
+    assert (p[2].axial_stiffness, p[2].bending_stiffness, p[2].shear_stiffness) == (
+        1e6, 10.0, 2e5)
+    assert p[3].shear_stiffness is None and p[4].hinge_stiffness == 3.5
+    assert (p[2].bending_damping, p[4].hinge_damping) == (0.01, 0.2)
+    assert p[5].prestress == (12.5,)
+    assert model.nodal_masses == {5: 0.02, 6: 1e-4}
+    assert model.nodal_forces == {5: (1.0, -2.0), 6: (0.3,)}
+    assert model.gravity == (0.0, -9.81)
+    assert model.input_laws["x2.1"] == fm.Polynomial(0.0, 10.0, 5.0)
+    assert model.input_laws["e5.1"] == fm.Polynomial(0.0, 0.01, 0.0)
+    s = model.settings
+    assert dict(s.initial) == {"e2.2": (1e-4, 0.0), "x5.2": (0.0, 0.5)}
+    assert (s.t_end, s.steps, s.max_iterations, s.tolerance, s.atol, s.rtol) == (
+        0.5, 50, 30, 1e-11, 1e-10, 1e-7)
+    assert len(s.output_times()) == 51
+
+
+@pytest.mark.parametrize("text", [EVERYTHING, *(p.read_text() for p in DAT_FILES)],
+                         ids=["everything", *(p.name for p in DAT_FILES)])
+def test_write_then_read_gives_an_equal_model(text, tmp_path):
+    model = model_from_text(text, "m.dat")
+    path = fm.write_dat(model, tmp_path / "m.dat")
+    again = fm.read_dat(path)
+    assert state(again) == state(model)
+    assert dat_text(again) == dat_text(model)
+
+
+def test_python_models_round_trip(tmp_path):
+    for model in (slider_crank_flex.build_model(3, eps1flex=True),
+                  slider_crank_dynamics.build_model("lumped", gravity=True)):
+        again = fm.read_dat(fm.write_dat(model, tmp_path / "m.dat"))
+        assert state(again) == state(model)
+
+
+def test_models_the_format_cannot_hold_are_refused(tmp_path):
+    b = fm.ModelBuilder()
+    b.add_node(1, 0, 0).add_node(3, 1, 0).add_rigid_beam(1, 1, 2, 3).fix(1)
+    b.input_coordinate(2, law=fm.Custom(math.sin, math.cos, lambda t: -math.sin(t)))
+    with pytest.raises(fm.FlexmbdError, match="Polynomial"):
+        fm.write_dat(b.build(), tmp_path / "m.dat")
+
+
+MALFORMED = {
+    "truncated": ("PLTRUSS 1 1 2\nX 1 0 0\nX 2 1 0\nFIX 1\nINPUTX 2", 5, "ends without"),
+    "word for a number": ("PLTRUSS 1 1 two\nEND\nEND\n", 1, "must be a number"),
+    "unknown node": ("PLTRUSS 1 1 2\nX 1 0 0\nX 2 1 0\nFIX 7\nEND\nEND\n", 4,
+                     "node 7 is not used"),
+    "missing END": ("PLTRUSS 1 1 2\nX 1 0 0\nX 2 1 0\nFIX 1\nFIX 2\nEND\nHALT\nXM 2 1.0\n",
+                    8, "END ending the dynamics block"),
+    "duplicate element": ("PLTRUSS 1 1 2\nPLTRUSS 1 2 3\nEND\nEND\n", 2,
+                          "already defined on line 1"),
+    "node without coordinates": ("PLTRUSS 1 1 2\nX 1 0 0\nFIX 1\nEND\nEND\n", 1,
+                                 "node 2 has no coordinates"),
+    "negative step count": ("PLTRUSS 1 1 2\nX 1 0 0\nX 2 1 0\nFIX 1 2\nINPUTX 2 1\nFIX 2 2\n"
+                            "END\nHALT\nINPUTX 2 1 1 0.1\nTIMESTEP 1.0 -5\nEND\nEND\n", 10,
+                            "must be positive"),
+    "spatial element": ("PLTRUSS 1 1 2\nBEAM 2 1 2 3 4 5 6\nEND\nEND\n", 2,
+                        "spatial element or keyword BEAM"),
+    "too many values": ("PLTRUSS 1 1 2 3\nEND\nEND\n", 1, "takes PLTRUSS element p q"),
+    "fractional node": ("PLTRUSS 1 1 2.5\nEND\nEND\n", 1, "whole number"),
+    "huge node number": ("PLTRUSS 1 1 1e308\nEND\nEND\n", 1, "is larger than"),
+    "bad direction": ("PLTRUSS 1 1 2\nX 1 0 0\nX 2 1 0\nFIX 1 3\nEND\nEND\n", 4,
+                      "directions are 1 and 2"),
+    "block-2 keyword in block 1": ("PLTRUSS 1 1 2\nEM 1 2.0\nEND\nEND\n", 2,
+                                   "belongs in the dynamics block"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(MALFORMED))
+def test_malformed_files_name_line_and_reason(case, tmp_path, capsys):
+    text, line, reason = MALFORMED[case]
+    path = tmp_path / "bad.dat"
+    path.write_text(text)
+    with pytest.raises(fm.InputFileError) as info:
+        fm.read_dat(path)
+    assert info.value.line == line and reason in str(info.value)
+    assert str(info.value).startswith(f"{path}:{line}: ")
+    assert cli(["run", str(path)]) == 1
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and reason in err and "Traceback" not in err
+
+
+def test_a_model_error_after_reading_names_the_file(tmp_path):
+    path = tmp_path / "loose.dat"
+    path.write_text("PLTRUSS 1 1 2\nX 1 0 0\nX 2 1 0\nFIX 1\nEND\nEND\n")  # q is free
+    with pytest.raises(fm.InputFileError, match="degree-of-freedom count"):
+        fm.read_dat(path)
+
+
+def test_flexible_slider_crank_file_matches_the_python_model(tmp_path, capsys):
+    out = tmp_path / "flex.csv"
+    assert cli(["run", str(EXAMPLES / "slider_crank_flex.dat"), "--out", str(out)]) == 0
+    assert "801 rows written" in capsys.readouterr().out
+    header = out.read_text().splitlines()[0].split(",")
+    data = np.loadtxt(out, delimiter=",", skiprows=1)
+    model = fm.read_dat(EXAMPLES / "slider_crank_flex.dat")
+    x = data[:, [header.index(label) for label in model.coordinate_labels]]
+    v_file = slider_crank_flex.midpoint_deflection(model, x)
+    python = slider_crank_flex.simulate(1, revolutions=2.0, method="RK45", rtol=1e-6)
+    v_python = slider_crank_flex.midpoint_deflection(python.model, python.x)
+    assert len(v_file) == 801 and np.ptp(v_file) > 0.02
+    assert np.max(np.abs(v_file - v_python)) < 1e-8
+
+
+def test_rigid_slider_crank_file_gives_the_lagrange_torque(tmp_path):
+    out = tmp_path / "torque.npz"
+    assert cli(["run", str(EXAMPLES / "slider_crank_rigid.dat"), "--mode", "inverse",
+                "--out", str(out), "--plot", str(tmp_path / "t.png")]) == 0
+    data = np.load(out)
+    assert "f2.1" in data["columns"] and len(data["t"]) == 73
+    expected = slider_crank_dynamics.lagrange_torque(data["x2.1"], 150.0, 0.0, gravity=True)
+    np.testing.assert_allclose(data["f2.1"], expected, atol=1e-9 * np.abs(expected).max())
+
+
+def test_sliding_bar_file_runs_kinematics_by_default(tmp_path):
+    out = tmp_path / "bar.h5"
+    assert cli(["run", str(EXAMPLES / "sliding_bar.dat"), "--out", str(out), "--steps", "8",
+                "--movie", str(tmp_path / "bar.gif")]) == 0
+    h5py = pytest.importorskip("h5py")
+    with h5py.File(out) as f:
+        x_p, y_q = f["x1.1"][:], f["x2.2"][:]
+    assert len(x_p) == 9
+    np.testing.assert_allclose(x_p**2 + y_q**2, 4.0, rtol=1e-12)  # the bar keeps its length
+
+
+def test_run_options_are_checked(tmp_path, capsys):
+    dat = str(EXAMPLES / "sliding_bar.dat")
+    assert cli(["run", dat, "--out", str(tmp_path / "r.xlsx")]) == 1
+    assert "must end in" in capsys.readouterr().err
+    assert cli(["run", dat, "--steps", "0"]) == 1
+    assert "1 <= --steps" in capsys.readouterr().err
+    no_grid = tmp_path / "nogrid.dat"
+    no_grid.write_text("PLTRUSS 1 1 2\nX 1 -0.8 0\nX 2 0 0.6\nFIX 1 2\nFIX 2 1\nINPUTX 1 1\n"
+                       "END\nHALT\nINPUTX 1 1 -0.8 0.1\nEND\nEND\n")
+    assert cli(["run", str(no_grid)]) == 1
+    assert "no TIMESTEP" in capsys.readouterr().err
+    assert cli(["run", str(no_grid), "--t-end", "1", "--steps", "4"]) == 0
+
+
+def test_results_export_and_plot(tmp_path):
+    result = fm.kinematic_analysis(fm.read_dat(EXAMPLES / "sliding_bar.dat"),
+                                   np.linspace(0, 0.5, 6))
+    frame = result.to_pandas()
+    assert list(frame.columns) == list(result.columns()) and len(frame) == 6
+    np.testing.assert_array_equal(np.load(result.save(tmp_path / "r.npz"))["xd2.2"],
+                                  result["xd2.2"])
+    with pytest.raises(fm.FlexmbdError, match=r"use \.csv"):
+        result.save(tmp_path / "r.txt")
+    with pytest.raises(fm.FlexmbdError, match="cannot write"):
+        result.to_csv(tmp_path / "missing" / "r.csv")
+    figure = result.plot(["x2.2"], against="x1.1", filename=tmp_path / "r.png")
+    assert figure.axes[0].get_xlabel() == "x1.1" and (tmp_path / "r.png").stat().st_size > 5000
