@@ -6,6 +6,11 @@ against closed-form results and can save a plot and a movie. Run them as
 imports them, so they cannot rot.
 """
 
+from pathlib import Path
+
+#: the folder of the example scripts and SPACAR input files (``*.dat``)
+EXAMPLES_DIR = Path(__file__).resolve().parent
+
 #: name -> (module, preset arguments, description)
 EXAMPLES: dict[str, tuple[str, list[str], str]] = {
     "sliding-truss": (

@@ -103,6 +103,7 @@ def run(args: argparse.Namespace) -> int:
     if len(result.t) >= 2:
         if args.plot:
             columns = args.columns or default_columns(result, mode)
+            _check_columns(result, columns)
             result.plot(columns, filename=args.plot, title=f"{model.name} ({mode})")
             print(f"plot saved to {args.plot}")
         if args.movie:
@@ -111,3 +112,14 @@ def run(args: argparse.Namespace) -> int:
             animate(result, args.movie, title=f"{model.name} ({mode})")
             print(f"movie saved to {args.movie}")
     return 0 if result.success else 1
+
+
+def _check_columns(result: KinematicResult, columns: list[str]) -> None:
+    """Unknown column names are a usage error naming what exists."""
+    for name in columns:
+        try:
+            result[name]
+        except KeyError:
+            known = ", ".join(list(result.columns())[:8])
+            raise ModelError(f"--columns: {name!r} is not a result column (they are "
+                             f"{known}, ...)") from None

@@ -232,6 +232,12 @@ def test_run_options_are_checked(tmp_path, capsys):
     assert cli(["run", str(no_grid)]) == 1
     assert "no TIMESTEP" in capsys.readouterr().err
     assert cli(["run", str(no_grid), "--t-end", "1", "--steps", "4"]) == 0
+    capsys.readouterr()
+    assert cli(["run", dat, "--plot", str(tmp_path / "p.png"), "--columns", "x9.9"]) == 1
+    assert "'x9.9' is not a result column" in capsys.readouterr().err
+    with pytest.raises(SystemExit) as done:
+        cli(["run", "--help"])
+    assert done.value.code == 0 and "TIMESTEP" in capsys.readouterr().out
 
 
 def test_results_export_and_plot(tmp_path):
