@@ -231,8 +231,9 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
 
     result, torque, law = pd_simulation(args.revolutions, args.omega, args.gravity,
                                         args.points)
-    print(f"\nPD-controlled crank (gains Kp = {pd_gains()[0]:.4g} N m/rad, Kd = "
-          f"{pd_gains()[1]:.4g} N m s/rad): {result.message}")
+    kp, kd = pd_gains()
+    print(f"\nPD-controlled crank (gains Kp = {kp:.4g} N m/rad, Kd = {kd:.4g} N m s/rad): "
+          f"{result.message}")
     if len(result.t) < 2:
         return 1
     phi_ref = np.array([law.value(t) for t in result.t])

@@ -38,7 +38,7 @@ from flexmbd.examples._support import (
 )
 
 import flexmbd as fm
-from flexmbd import plot
+from flexmbd import plot, results
 from flexmbd.integrate import METHODS
 
 L1 = 0.15  #: crank length [m]
@@ -145,12 +145,7 @@ def deflection_table(result: fm.SimulationResult) -> dict[str, np.ndarray]:
 
 def write_csv(result: fm.SimulationResult, path: str) -> None:
     """Write :func:`deflection_table` as CSV with a header row."""
-    table = deflection_table(result)
-    data = np.column_stack(list(table.values())) if len(result.t) else np.empty((0, len(table)))
-    try:
-        np.savetxt(path, data, delimiter=",", header=",".join(table), comments="", fmt="%.17g")
-    except OSError as exc:
-        raise fm.FlexmbdError(f"cannot write {path}: {exc.strerror or exc}") from None
+    results.write_csv(path, deflection_table(result))
 
 
 def energy_balance(result: fm.SimulationResult) -> float:

@@ -14,7 +14,7 @@ from .model import Model
 from .motion import Law
 from .progress import progress_bar
 from .records import DynamicRecord
-from .results import SimulationResult, check_on_failure, conclude
+from .results import SimulationResult, check_on_failure, check_times, conclude
 from .threads import blas_threads_for
 
 
@@ -51,9 +51,7 @@ def inverse_dynamics(
         ``tau = Mbar qddot - g`` per entry of ``q`` and ``reactions`` the loads on
         fixed and input coordinates (columns ``f<node>.<k>``).
     """
-    times = np.asarray(times, dtype=float).ravel()
-    if times.size == 0 or np.any(np.diff(times) <= 0) or not np.all(np.isfinite(times)):
-        raise ValueError("times must be a non-empty, finite, strictly increasing sequence")
+    times = check_times(times)
     check_on_failure(on_failure)
     if not model.has_mass:
         raise ModelError("the model has no mass: give elements set_mass() or nodes "

@@ -19,7 +19,7 @@ from .kinematics import (
 from .model import Model
 from .motion import Law
 from .progress import progress_bar
-from .results import KinematicResult, check_on_failure, conclude
+from .results import KinematicResult, check_on_failure, check_times, conclude
 from .threads import blas_threads_for
 
 
@@ -54,9 +54,7 @@ def kinematic_analysis(
     Returns:
         :class:`~flexmbd.results.KinematicResult`.
     """
-    times = np.asarray(times, dtype=float).ravel()
-    if times.size == 0 or np.any(np.diff(times) <= 0) or not np.all(np.isfinite(times)):
-        raise ValueError("times must be a non-empty, finite, strictly increasing sequence")
+    times = check_times(times)
     check_on_failure(on_failure)
     laws = resolve_laws(model, inputs)
     nt, nx, ne = len(times), model.n_coordinates, model.n_deformations

@@ -73,10 +73,7 @@ class KinematicResult:
 
     def to_csv(self, path: str | Path) -> Path:
         """Write all columns to a CSV file with a header row; returns the path."""
-        cols = self.columns()
-        data = np.column_stack(list(cols.values())) if len(self.t) else np.empty((0, len(cols)))
-        return _writing(path, lambda p: np.savetxt(p, data, delimiter=",", header=",".join(cols),
-                                                   comments="", fmt="%.17g"))
+        return write_csv(path, self.columns())
 
     def to_npz(self, path: str | Path) -> Path:
         """Write all columns to a compressed NumPy archive: one array per column name
@@ -177,6 +174,27 @@ class SimulationResult(KinematicResult):
             for i in sorted(np.concatenate([model.fixed, model.input_coordinates])):
                 out["f" + self.model.coordinate_labels[i][1:]] = self.reactions[:, i]
         return out
+
+
+def write_csv(path: str | Path, columns: dict[str, np.ndarray]) -> Path:
+    """Write equally long columns ``{name: values}`` as CSV with a header row (full
+    precision); returns the path."""
+    rows = len(next(iter(columns.values()))) if columns else 0
+    data = np.column_stack(list(columns.values())) if rows else np.empty((0, len(columns)))
+    return _writing(path, lambda p: np.savetxt(p, data, delimiter=",", header=",".join(columns),
+                                               comments="", fmt="%.17g"))
+
+
+def check_times(times) -> np.ndarray:
+    """Output times as a float array ``(nt,)``; they must be finite and increase.
+
+    Raises:
+        ValueError: empty, non-finite or not strictly increasing times.
+    """
+    times = np.asarray(times, dtype=float).ravel()
+    if times.size == 0 or np.any(np.diff(times) <= 0) or not np.all(np.isfinite(times)):
+        raise ValueError("times must be a non-empty, finite, strictly increasing sequence")
+    return times
 
 
 def _writing(path: str | Path, write) -> Path:
