@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .model import DeformationClass, Model
+from .model import Model
 
 
 def mass_matrix(model: Model, x: np.ndarray) -> np.ndarray:
@@ -66,6 +66,4 @@ def elastic_stresses(model: Model, e: np.ndarray, ed: np.ndarray) -> np.ndarray:
     for g, props in zip(model.groups, model.group_properties, strict=True):
         sigma[g.deformations] = g.type.stress(e[g.deformations], ed[g.deformations],
                                               g.reference, props)
-    carries = np.isin(model.deformation_class,
-                      (DeformationClass.DYNAMIC, DeformationClass.RELEASED))
-    return np.where(carries, sigma, 0.0)
+    return np.where(model.carries_elastic_stress, sigma, 0.0)

@@ -17,7 +17,6 @@ coordinates ``q = [x(m); e(m)]``. Units: m and rad, seconds for time.
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -28,6 +27,7 @@ from .model import Model
 
 #: default Newton tolerance relative to the model's characteristic length (THEORY 3)
 RELATIVE_TOLERANCE = 1e-10
+_GETRF, _GETRS = scipy.linalg.lapack.dgetrf, scipy.linalg.lapack.dgetrs
 #: residuals below this share of the tolerance are round-off: x no longer moves
 _ROUND_OFF = 1e-6
 #: scaled smallest singular value of ``D_c`` below which a factorisation fails
@@ -113,7 +113,8 @@ class PartitionedJacobian:
         lu, row_scale, column_scale = self._factors
         rhs = np.asarray(rhs, dtype=float)
         shape = (-1,) + (1,) * (rhs.ndim - 1)
-        y = scipy.linalg.lu_solve(lu, row_scale.reshape(shape) * rhs, check_finite=False)
+        # LAPACK directly: scipy.linalg's wrappers cost more than the solve at this size
+        y, _ = _GETRS(*lu, row_scale.reshape(shape) * rhs)
         return column_scale.reshape(shape) * y
 
 
@@ -158,11 +159,10 @@ def _factorize(model: Model, D_x: np.ndarray, D_c: np.ndarray, time: float | Non
     row_scale = 1.0 / np.maximum(np.linalg.norm(scaled_rows, axis=1), 1e-300)
     column_scale = model.coordinate_scale[model.dependent]
     scaled = row_scale[:, None] * D_c * column_scale
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
-        lu = scipy.linalg.lu_factor(scaled, check_finite=False)
+    factors, pivots, info = _GETRF(scaled)
+    lu = (factors, pivots)
     anorm = np.abs(scaled).sum(axis=0).max()
-    rcond, _ = scipy.linalg.lapack.dgecon(lu[0], anorm, norm="1")
+    rcond = scipy.linalg.lapack.dgecon(factors, anorm, norm="1")[0] if info == 0 else 0.0
     conditioning = float(rcond * anorm)  # 1 / ||scaled^-1||_1 ~ smallest singular value
     if not conditioning > SINGULAR_RCOND:
         raise _singular(model, D_c, time, "D_c is singular")

@@ -172,6 +172,13 @@ class Model:
         return self._coordinates_of(CoordinateClass.INPUT)
 
     @cached_property
+    def carries_elastic_stress(self) -> np.ndarray:
+        """Mask ``(ne,)`` of the deformations whose stress follows the elastic law
+        (dynamic and released ones)."""
+        return frozen_array(np.isin(self.deformation_class,
+                                    (DeformationClass.DYNAMIC, DeformationClass.RELEASED)))
+
+    @cached_property
     def rigid(self) -> np.ndarray:
         """Indices of ``e(o)``."""
         return self._deformations_of(DeformationClass.RIGID)
