@@ -2,8 +2,9 @@
 
 For each number of beams (default 1, 2, 4, 8, 10) and each elongation (rigid,
 flexible) it times ``flexmbd.simulate`` (model building excluded, output at 400
-points per turn) and prints a Markdown table with the wall time, right-hand-side
-evaluations, steps and Jacobians, and the extremes of ``v/l2``.
+points per turn; median of ``--repeat`` runs) and prints a Markdown table with
+the wall time, right-hand-side evaluations, steps and Jacobians, and the
+extremes of ``v/l2``.
 
 Run: ``python benchmarks/slider_crank_flex.py [--nbeams 1 2 4 8 10] [--method RK45]``.
 Numbers depend on the machine; run nothing else meanwhile.
@@ -22,16 +23,19 @@ import flexmbd as fm
 
 
 def run_case(nbeams: int, eps1flex: bool, method: str, steps_per_revolution: int,
-             rtol: float, revolutions: float) -> dict:
-    """One timed simulation; returns the row of the table."""
+             rtol: float, revolutions: float, repeat: int = 1) -> dict:
+    """Timed simulations (the median wall time of ``repeat`` runs); the row of the table."""
     model = example.build_model(nbeams, eps1flex)
     times = example.output_times(revolutions)
     step = example.turn_time(1.0) / steps_per_revolution
-    start = time.perf_counter()
-    result = fm.simulate(model, times, method=method, rtol=rtol, atol=rtol * 1e-3,
-                         step=step if method == "GeneralizedAlpha" else None,
-                         on_failure="return")
-    wall = time.perf_counter() - start
+    walls = []
+    for _ in range(repeat):
+        start = time.perf_counter()
+        result = fm.simulate(model, times, method=method, rtol=rtol, atol=rtol * 1e-3,
+                             step=step if method == "GeneralizedAlpha" else None,
+                             on_failure="return")
+        walls.append(time.perf_counter() - start)
+    wall = float(np.median(walls))
     v = example.midpoint_deflection(model, result.x)
     return {"nbeams": nbeams, "elongation": "flexible" if eps1flex else "rigid",
             "dof": model.n_dof, "wall [s]": wall, **{k: result.stats[k] for k in
@@ -58,16 +62,17 @@ def main() -> None:
                         default=example.STEPS_PER_REVOLUTION)
     parser.add_argument("--rtol", type=float, default=1e-6)
     parser.add_argument("--revolutions", type=float, default=2.0)
+    parser.add_argument("--repeat", type=int, default=3, help="runs per case (median time)")
     args = parser.parse_args()
     rows = []
     for eps1flex in (False, True):
         for nbeams in args.nbeams:
             rows.append(run_case(nbeams, eps1flex, args.method, args.steps_per_revolution,
-                                 args.rtol, args.revolutions))
+                                 args.rtol, args.revolutions, args.repeat))
             print(f"  done: {rows[-1]['nbeams']} beams, {rows[-1]['elongation']} elongation, "
                   f"{rows[-1]['wall [s]']:.2f} s", flush=True)
     setting = (f"{args.steps_per_revolution} steps per turn" if args.method == "GeneralizedAlpha"
-               else f"rtol {args.rtol:g}")
+               else f"rtol {args.rtol:g}") + f", median of {args.repeat} runs"
     print(f"\nflexible slider-crank, {args.revolutions:g} revolutions, {args.method} ({setting}); "
           f"flexmbd {fm.__version__}, numpy {np.__version__}, Python "
           f"{platform.python_version()}, {platform.machine()}\n")

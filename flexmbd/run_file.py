@@ -31,6 +31,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--plot", metavar="FILE.png", help="plot columns against time")
     parser.add_argument("--columns", nargs="+", metavar="NAME",
                         help="columns to plot (default: the degrees of freedom of the run)")
+    parser.add_argument("--against", default="t", metavar="NAME",
+                        help="column of the plot's horizontal axis (default t)")
     parser.add_argument("--movie", metavar="FILE.mp4", help="animate the mechanism (.mp4, .gif)")
     parser.add_argument("--steps", type=int, help="output intervals (default: TIMESTEP)")
     parser.add_argument("--t-end", type=float, help="end time [s] (default: TIMESTEP)")
@@ -103,8 +105,8 @@ def run(args: argparse.Namespace) -> int:
     if len(result.t) >= 2:
         if args.plot:
             columns = args.columns or default_columns(result, mode)
-            _check_columns(result, columns)
-            result.plot(columns, filename=args.plot, title=f"{model.name} ({mode})")
+            _check_columns(result, [*columns, args.against])
+            result.plot(columns, args.against, filename=args.plot, title=f"{model.name} ({mode})")
             print(f"plot saved to {args.plot}")
         if args.movie:
             from .plot import animate

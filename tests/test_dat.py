@@ -212,7 +212,9 @@ def test_rigid_slider_crank_file_gives_the_lagrange_torque(tmp_path):
 def test_sliding_bar_file_runs_kinematics_by_default(tmp_path):
     out = tmp_path / "bar.h5"
     assert cli(["run", str(EXAMPLES / "sliding_bar.dat"), "--out", str(out), "--steps", "8",
-                "--movie", str(tmp_path / "bar.gif")]) == 0
+                "--movie", str(tmp_path / "bar.gif"), "--plot", str(tmp_path / "bar.png"),
+                "--columns", "x2.2", "--against", "x1.1"]) == 0
+    assert (tmp_path / "bar.png").stat().st_size > 5000
     h5py = pytest.importorskip("h5py")
     with h5py.File(out) as f:
         x_p, y_q = f["x1.1"][:], f["x2.2"][:]
