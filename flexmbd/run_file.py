@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 import argparse
+from importlib.util import find_spec
 from pathlib import Path
 
 import numpy as np
 
 from .dat import read_dat
 from .dat.syntax import LARGEST_INTEGER
-from .errors import ModelError
+from .errors import ModelError, OptionalDependencyError
 from .integrate import METHODS
 from .inverse import inverse_dynamics
 from .kinematic_run import kinematic_analysis
@@ -91,6 +92,10 @@ def run(args: argparse.Namespace) -> int:
         value = getattr(args, name[2:])
         if value and not value.lower().endswith(types):
             raise ModelError(f"{name} {value!r} must end in {', '.join(types)}")
+    if args.out and args.out.lower().endswith((".h5", ".hdf5")) and not find_spec("h5py"):
+        # refuse before the run, not after it: results are never computed to be lost
+        raise OptionalDependencyError("writing .h5 needs h5py: pip install 'flexmbd[hdf5]' "
+                                      "(or write .csv or .npz)")
     model = read_dat(args.file)
     mode = args.mode or default_mode(model)
     times = output_times(model, args.steps, args.t_end)

@@ -222,6 +222,15 @@ def test_sliding_bar_file_runs_kinematics_by_default(tmp_path):
     np.testing.assert_allclose(x_p**2 + y_q**2, 4.0, rtol=1e-12)  # the bar keeps its length
 
 
+def test_a_missing_hdf5_writer_is_reported_before_the_run(tmp_path, capsys, monkeypatch):
+    import flexmbd.run_file
+
+    monkeypatch.setattr(flexmbd.run_file, "find_spec", lambda name: None)
+    assert cli(["run", str(EXAMPLES / "sliding_bar.dat"), "--out", str(tmp_path / "r.h5")]) == 1
+    captured = capsys.readouterr()
+    assert "needs h5py" in captured.err and "analysis" not in captured.out
+
+
 def test_run_options_are_checked(tmp_path, capsys):
     dat = str(EXAMPLES / "sliding_bar.dat")
     assert cli(["run", dat, "--out", str(tmp_path / "r.xlsx")]) == 1
