@@ -132,27 +132,20 @@ class GeneralizedAlpha(OdeSolver):
     # --- OdeSolver interface ------------------------------------------------------------
     def _step_impl(self):
         h = min(self.h_nominal, abs(self.t_bound - self.t))
-        last_error = None
         if self.jacobian is None:
             self._update_jacobian(self.t, self.y, self.a)
+        outcome = None
         for _ in range(_MAX_HALVINGS):
             outcome = self._newton(h)
             if outcome is not None:
                 break
-            if self.jacobian is None or not self.jacobian_fresh:
-                try:
-                    self._update_jacobian(self.t, self.y,
-                                          self.fun(self.t, self.y)[self.m:])
-                except SimulationError as err:
-                    last_error = err
-                    break
+            if not self.jacobian_fresh:  # first renew the Jacobian, then halve the step
+                self._update_jacobian(self.t, self.y, self.fun(self.t, self.y)[self.m:])
                 continue
             h /= 2
-        else:
-            outcome = None
         if outcome is None:
-            if last_error or self.trial_error:
-                raise last_error or self.trial_error
+            if self.trial_error is not None:
+                raise self.trial_error
             return False, (f"Newton iteration of the generalized-alpha step failed at "
                            f"t = {self.t:.6g} s even with step {h:.3g} s")
         y_new, a_new, aa_new = outcome

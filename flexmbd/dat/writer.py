@@ -62,24 +62,24 @@ def write_dat(model: Model, path: str | Path) -> Path:
     return path
 
 
+#: classification keywords of coordinates (by node) and deformations (by element)
+_COORDINATE_KEYWORDS = {CoordinateClass.FIXED: "FIX", CoordinateClass.INPUT: "INPUTX",
+                        CoordinateClass.DYNAMIC: "DYNX"}
+_DEFORMATION_KEYWORDS = {DeformationClass.INPUT: "INPUTE", DeformationClass.DYNAMIC: "DYNE",
+                         DeformationClass.RELEASED: "RLSE"}
+
+
 def _classification(model: Model) -> list[str]:
     lines = []
-    coordinate_keywords = {CoordinateClass.FIXED: "FIX", CoordinateClass.INPUT: "INPUTX",
-                           CoordinateClass.DYNAMIC: "DYNX"}
-    for keyword_class, keyword in coordinate_keywords.items():
-        for number, node in sorted(model.nodes.items()):
-            ks = [k for k, i in enumerate(node.coordinates, 1)
-                  if model.coordinate_class[i] == keyword_class]
-            if ks:
-                lines.append(_line(keyword, number, *ks))
-    deformation_keywords = {DeformationClass.INPUT: "INPUTE", DeformationClass.DYNAMIC: "DYNE",
-                            DeformationClass.RELEASED: "RLSE"}
-    for keyword_class, keyword in deformation_keywords.items():
-        for number, element in sorted(model.elements.items()):
-            ks = [k for k, i in enumerate(element.deformations, 1)
-                  if model.deformation_class[i] == keyword_class]
-            if ks:
-                lines.append(_line(keyword, number, *ks))
+    for keywords, owners, entries, classes in (
+            (_COORDINATE_KEYWORDS, model.nodes, "coordinates", model.coordinate_class),
+            (_DEFORMATION_KEYWORDS, model.elements, "deformations", model.deformation_class)):
+        for entry_class, keyword in keywords.items():
+            for number, owner in sorted(owners.items()):
+                ks = [k for k, i in enumerate(getattr(owner, entries), 1)
+                      if classes[i] == entry_class]
+                if ks:
+                    lines.append(_line(keyword, number, *ks))
     return lines
 
 
