@@ -116,3 +116,19 @@ def test_beam_bending_signs_follow_theory():
     e = Beam.deformations(xe, ref)[0]
     np.testing.assert_allclose(e[1], theta, rtol=1e-6)
     np.testing.assert_allclose(e[2], theta, rtol=1e-6)
+
+
+@pytest.mark.parametrize("cls", ELEMENTS, ids=lambda c: c.name)
+def test_kernels_take_leading_batch_axes(cls):
+    """A batch of states ``(nb, n, nc)`` gives the same as one call per state."""
+    rng = np.random.default_rng(8)
+    ref, xe, xde = random_state(cls, rng)
+    batch = xe + rng.normal(scale=0.1, size=(3, *xe.shape))
+    rates = xde + rng.normal(size=(3, *xde.shape))
+    for kernel in ("deformations", "jacobian", "hessian"):
+        together = getattr(cls, kernel)(batch, ref)
+        for k in range(3):
+            np.testing.assert_array_equal(together[k], getattr(cls, kernel)(batch[k], ref))
+    together = cls.quadratic_velocity(batch, rates, ref)
+    for k in range(3):
+        np.testing.assert_array_equal(together[k], cls.quadratic_velocity(batch[k], rates[k], ref))

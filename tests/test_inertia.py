@@ -92,3 +92,21 @@ def test_lumped_mass_is_half_at_each_end(cls):
     assert np.count_nonzero(cls.inertia_velocity(xe[None], xde[None], ref, mass, lumped)) == 0
     if cls is RigidBeam:
         assert M[2, 2] == pytest.approx(-3.0 * ref.length[0] ** 2 / 6)
+
+
+@pytest.mark.parametrize("cls", [Truss, RigidBeam, Beam], ids=lambda c: c.name)
+@pytest.mark.parametrize("lumped", [False, True])
+def test_inertia_force_is_mass_matrix_times_acceleration_plus_h(cls, lumped):
+    """The closed-form ``inertia_force`` against the assembled ``M xddot + h``, batched."""
+    rng = np.random.default_rng(6)
+    elements = [random_element(cls, rng) for _ in range(4)]
+    ref = type(elements[0][0])(*(np.concatenate([getattr(e[0], f) for e in elements])
+                                 for f in ("length", "angle")))
+    # two states of the four elements: shapes (2, 4, nc)
+    xe, xde, xdde = (np.stack([e[k] for e in elements]) + rng.normal(scale=0.1, size=(2, 4, 1))
+                     for k in (1, 2, 3))
+    mass, lumps = rng.uniform(0.5, 2.0, 4), np.array([lumped, False, lumped, True])
+    expected = (np.einsum("bnij,bnj->bni", cls.mass_matrix(xe, ref, mass, lumps), xdde)
+                + cls.inertia_velocity(xe, xde, ref, mass, lumps))
+    np.testing.assert_allclose(cls.inertia_force(xe, xde, xdde, ref, mass, lumps), expected,
+                               rtol=1e-12, atol=1e-12)

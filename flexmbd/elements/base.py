@@ -2,8 +2,10 @@
 
 An element type is a tiny class with declarative attributes and vectorised
 kernels. Every kernel takes the coordinates of *all* elements of that type at
-once, ``xe`` of shape ``(n, n_coordinates)`` in the element's coordinate order
-(THEORY section 2), and the reference data from :meth:`ElementType.reference`.
+once, ``xe`` of shape ``(..., n, n_coordinates)`` in the element's coordinate
+order (THEORY section 2), and the reference data from
+:meth:`ElementType.reference` (arrays of shape ``(n,)``). Leading axes are
+batches (e.g. output times): a run evaluates many states in one call.
 
 The deformation functions are written once, in :meth:`ElementType.formula`,
 with the math functions passed in as a module (``numpy`` or ``sympy``); the
@@ -89,22 +91,23 @@ class ElementType:
     # --- numeric kernels --------------------------------------------------------
     @classmethod
     def deformations(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
-        """Deformation parameters ``e = D(x)``, shape ``(n, nd)``."""
-        return np.stack(cls.formula(list(xe.T), ref.length, ref.angle, np), axis=1)
+        """Deformation parameters ``e = D(x)``, shape ``(..., n, nd)``."""
+        columns = [xe[..., k] for k in range(xe.shape[-1])]
+        return np.stack(cls.formula(columns, ref.length, ref.angle, np), axis=-1)
 
     @classmethod
     def jacobian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
-        """``D_x = dD/dx`` per element, shape ``(n, nd, nc)``."""
+        """``D_x = dD/dx`` per element, shape ``(..., n, nd, nc)``."""
         raise NotImplementedError
 
     @classmethod
     def hessian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
-        """``D_xx`` per element, shape ``(n, nd, nc, nc)``, symmetric in the last two axes."""
+        """``D_xx`` per element, shape ``(..., n, nd, nc, nc)``, symmetric in the last two axes."""
         raise NotImplementedError
 
     @classmethod
     def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference) -> np.ndarray:
-        """``(D_xx xdot) xdot`` per deformation, shape ``(n, nd)`` (THEORY section 2)."""
+        """``(D_xx xdot) xdot`` per deformation, shape ``(..., n, nd)`` (THEORY section 2)."""
         raise NotImplementedError
 
 
@@ -112,82 +115,100 @@ class ElementType:
     @classmethod
     def mass_matrix(cls, xe: np.ndarray, ref: Reference, mass: np.ndarray,
                     lumped: np.ndarray) -> np.ndarray:
-        """Element mass matrices ``(n, nc, nc)`` [kg, kg m, kg m^2] for element masses ``mass``."""
-        return np.zeros((len(xe), cls.n_coordinates(), cls.n_coordinates()))
+        """Element mass matrices ``(..., n, nc, nc)`` [kg, kg m, kg m^2] for element masses
+        ``mass`` ``(n,)``."""
+        return np.zeros((*xe.shape, cls.n_coordinates()))
 
     @classmethod
     def inertia_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference,
                          mass: np.ndarray, lumped: np.ndarray) -> np.ndarray:
-        """Velocity-dependent inertia ``h`` ``(n, nc)``: inertia force ``M xddot + h``."""
-        return np.zeros((len(xe), cls.n_coordinates()))
+        """Velocity-dependent inertia ``h`` ``(..., n, nc)``: inertia force ``M xddot + h``."""
+        return np.zeros(xe.shape)
+
+    @classmethod
+    def inertia_force(cls, xe: np.ndarray, xde: np.ndarray, xdde: np.ndarray, ref: Reference,
+                      mass: np.ndarray, lumped: np.ndarray) -> np.ndarray:
+        """The inertia force ``M xddot + h`` ``(..., n, nc)`` [N, N m] without forming ``M``
+        (types override this with a cheaper closed form)."""
+        M = cls.mass_matrix(xe, ref, mass, lumped)
+        return (M @ xdde[..., None])[..., 0] + cls.inertia_velocity(xe, xde, ref, mass, lumped)
 
     @classmethod
     def gravity_load(cls, xe: np.ndarray, ref: Reference, mass: np.ndarray,
                      lumped: np.ndarray, gravity: np.ndarray) -> np.ndarray:
-        """Nodal loads ``(n, nc)`` of gravity ``g`` [m/s^2] on the element's own mass."""
-        return np.zeros((len(xe), cls.n_coordinates()))
-
+        """Nodal loads ``(..., n, nc)`` of gravity ``g`` [m/s^2] on the element's own mass."""
+        return np.zeros(xe.shape)
 
     # --- generalized stresses (THEORY section 6) -------------------------------------
     @classmethod
-    def stress(cls, e: np.ndarray, ed: np.ndarray, ref: Reference, props) -> np.ndarray:
-        """``sigma = S e + C edot + sigma0`` per deformation, shape ``(n, nd)`` [N, N m].
+    def elastic_matrices(cls, ref: Reference, props) -> tuple[np.ndarray, np.ndarray]:
+        """Stiffness ``S`` and damping ``C`` of the linear law ``sigma = S e + C edot +
+        sigma0``, each ``(n, nd, nd)`` [N/m, N m/rad, ...; times s for ``C``].
 
-        ``props`` is the group's :class:`~flexmbd.properties.GroupProperties`.
+        ``props`` is the group's :class:`~flexmbd.properties.GroupProperties`. This
+        is the one definition of the law: the stresses and the stiffness of the
+        implicit integrator both use it.
         """
-        return np.broadcast_to(props.prestress, e.shape).copy()
+        nd = cls.n_deformations()
+        return np.zeros((len(ref.length), nd, nd)), np.zeros((len(ref.length), nd, nd))
+
+    @classmethod
+    def stress(cls, e: np.ndarray, ed: np.ndarray, ref: Reference, props) -> np.ndarray:
+        """``sigma = S e + C edot + sigma0`` per deformation, shape ``(..., n, nd)`` [N, N m]."""
+        S, C = cls.elastic_matrices(ref, props)
+        return (S @ e[..., None] + C @ ed[..., None])[..., 0] + props.prestress
 
 
-# --- planar geometry shared by the kernels ---------------------------------------
+# --- planar geometry shared by the kernels (all shapes with leading batch axes) -----
 def unit_and_normal(beta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``e(beta) = (cos, sin)`` and ``n(beta) = (-sin, cos)``, each shape ``(n, 2)``."""
+    """``e(beta) = (cos, sin)`` and ``n(beta) = (-sin, cos)``, each shape ``(..., 2)``."""
     # filled in place: np.stack costs more than the trigonometry for small n
-    e, n = np.empty((len(beta), 2)), np.empty((len(beta), 2))
-    np.cos(beta, out=e[:, 0])
-    np.sin(beta, out=e[:, 1])
-    n[:, 0], n[:, 1] = -e[:, 1], e[:, 0]
+    e, n = np.empty((*beta.shape, 2)), np.empty((*beta.shape, 2))
+    np.cos(beta, out=e[..., 0])
+    np.sin(beta, out=e[..., 1])
+    n[..., 0], n[..., 1] = -e[..., 1], e[..., 0]
     return e, n
 
 
 def chord(xe: np.ndarray, ends) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``d = r_q - r_p`` ``(n, 2)``, its length ``l`` ``(n,)`` and direction ``e_l`` ``(n, 2)``."""
+    """``d = r_q - r_p`` ``(..., 2)``, its length ``l`` ``(...,)`` and direction ``e_l``."""
     (px, py), (qx, qy) = ends
-    d = np.empty((len(xe), 2))
-    np.subtract(xe[:, qx], xe[:, px], out=d[:, 0])
-    np.subtract(xe[:, qy], xe[:, py], out=d[:, 1])
-    length = np.hypot(d[:, 0], d[:, 1])
-    return d, length, d / length[:, None]
+    d = np.empty((*xe.shape[:-1], 2))
+    np.subtract(xe[..., qx], xe[..., px], out=d[..., 0])
+    np.subtract(xe[..., qy], xe[..., py], out=d[..., 1])
+    length = np.hypot(d[..., 0], d[..., 1])
+    return d, length, d / length[..., None]
 
 
 def dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Row-wise dot product of ``(n, 2)`` arrays."""
-    return a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1]
+    """Dot product over the last axis of ``(..., 2)`` arrays."""
+    return a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1]
 
 
 def elongation_jacobian(e_l: np.ndarray) -> np.ndarray:
-    """Gradient of ``l`` with respect to ``(r_p, r_q)``, shape ``(n, 4)``."""
-    return np.concatenate([-e_l, e_l], axis=1)
+    """Gradient of ``l`` with respect to ``(r_p, r_q)``, shape ``(..., 4)``."""
+    return np.concatenate([-e_l, e_l], axis=-1)
 
 
 def elongation_hessian(length: np.ndarray, e_l: np.ndarray) -> np.ndarray:
-    """Hessian of ``l`` with respect to ``(r_p, r_q)``, shape ``(n, 4, 4)``."""
-    a = (np.eye(2)[None] - e_l[:, :, None] * e_l[:, None, :]) / length[:, None, None]
-    h = np.empty((len(a), 4, 4))
-    h[:, :2, :2] = a
-    h[:, 2:, 2:] = a
-    h[:, :2, 2:] = -a
-    h[:, 2:, :2] = -a
+    """Hessian of ``l`` with respect to ``(r_p, r_q)``, shape ``(..., 4, 4)``."""
+    a = (np.eye(2) - e_l[..., :, None] * e_l[..., None, :]) / length[..., None, None]
+    h = np.empty((*a.shape[:-2], 4, 4))
+    h[..., :2, :2] = a
+    h[..., 2:, 2:] = a
+    h[..., :2, 2:] = -a
+    h[..., 2:, :2] = -a
     return h
 
 
 def elongation_quadratic_velocity(length: np.ndarray, e_l: np.ndarray,
                                   dv: np.ndarray) -> np.ndarray:
-    """``(d2 l / dr2 rdot) rdot = (dv.dv - (e_l.dv)^2) / l``, shape ``(n,)``."""
+    """``(d2 l / dr2 rdot) rdot = (dv.dv - (e_l.dv)^2) / l``, shape ``(...,)``."""
     return (dot(dv, dv) - dot(e_l, dv) ** 2) / length
 
 
 def normal_distance_hessian(hess, ends, phi, n_d, e_r, sign):
-    """Write the Hessian of ``sign * n(beta0 + phi) . d`` into ``hess`` ``(n, nc, nc)``.
+    """Write the Hessian of ``sign * n(beta0 + phi) . d`` into ``hess`` ``(..., nc, nc)``.
 
     ``d = r_q - r_p`` with ``r_p, r_q`` at the column pairs ``ends``; ``phi`` is
     the column of the node angle; ``n_d = n . d`` and ``e_r = e(beta0 + phi)``.
@@ -195,15 +216,16 @@ def normal_distance_hessian(hess, ends, phi, n_d, e_r, sign):
     ``d2/dphi2 = -sign n.d``, ``d2/dphi dr_p = sign e`` and ``d2/dphi dr_q = -sign e``.
     """
     rp, rq = list(ends[0]), list(ends[1])
-    hess[:, phi, phi] = -sign * n_d
-    hess[:, phi, rp] = hess[:, rp, phi] = sign * e_r
-    hess[:, phi, rq] = hess[:, rq, phi] = -sign * e_r
+    hess[..., phi, phi] = -sign * n_d
+    hess[..., phi, rp] = hess[..., rp, phi] = sign * e_r
+    hess[..., phi, rq] = hess[..., rq, phi] = -sign * e_r
 
 
 # --- inertia of a rod with a linear velocity field (truss, rigid beam) ----------------
 def rod_mass_matrix(n_coordinates: int, ends, mass: np.ndarray, lumped: np.ndarray
                     ) -> np.ndarray:
-    """``m/6 [[2I, I], [I, 2I]]`` (consistent) or ``m/2 I`` (lumped) on ``r_p, r_q``."""
+    """``m/6 [[2I, I], [I, 2I]]`` (consistent) or ``m/2 I`` (lumped) on ``r_p, r_q``,
+    shape ``(n, nc, nc)``."""
     cols = list(ends[0]) + list(ends[1])
     consistent = np.kron(np.array([[2.0, 1.0], [1.0, 2.0]]) / 6.0, np.eye(2))
     lumped_block = 0.5 * np.eye(4)
@@ -213,14 +235,33 @@ def rod_mass_matrix(n_coordinates: int, ends, mass: np.ndarray, lumped: np.ndarr
     return out
 
 
-def rod_gravity_load(n_coordinates: int, ends, mass: np.ndarray, gravity: np.ndarray
+def rod_gravity_load(xe: np.ndarray, ends, mass: np.ndarray, gravity: np.ndarray
                      ) -> np.ndarray:
-    """Half the weight ``m g`` at each end node."""
-    out = np.zeros((len(mass), n_coordinates))
-    out[:, list(ends[0])] = out[:, list(ends[1])] = 0.5 * mass[:, None] * gravity
+    """Half the weight ``m g`` at each end node, shape ``(..., n, nc)``."""
+    out = np.zeros(xe.shape)
+    out[..., list(ends[0])] = out[..., list(ends[1])] = 0.5 * mass[:, None] * gravity
     return out
 
 
-def elongation_stress(e1: np.ndarray, ed1: np.ndarray, ref: Reference, props) -> np.ndarray:
-    """``EA / l0 e1 + c_A / l0 e1dot`` [N]."""
-    return (props.axial_stiffness * e1 + props.axial_damping * ed1) / ref.length
+def rod_inertia_force(xdde: np.ndarray, ends, mass: np.ndarray, lumped: np.ndarray
+                      ) -> np.ndarray:
+    """Inertia force ``M xddot`` of a rod with a linear velocity field, ``(..., n, nc)``:
+    consistent ``m/6 (2 a_p + a_q, a_p + 2 a_q)``, lumped ``m/2 (a_p, a_q)``."""
+    rp, rq = list(ends[0]), list(ends[1])
+    a_p, a_q = xdde[..., rp], xdde[..., rq]
+    m = mass[:, None]
+    own = np.where(lumped[:, None], 0.5, 1.0 / 3.0) * m  # weight of the node's own end
+    other = np.where(lumped[:, None], 0.0, 1.0 / 6.0) * m  # and of the other end
+    out = np.zeros(xdde.shape)
+    out[..., rp] = own * a_p + other * a_q
+    out[..., rq] = other * a_p + own * a_q
+    return out
+
+
+def elongation_matrices(ref: Reference, props, nd: int) -> tuple[np.ndarray, np.ndarray]:
+    """``S``, ``C`` ``(n, nd, nd)`` with ``EA / l0`` and ``c_A / l0`` on the elongation
+    (deformation 1) and zeros elsewhere."""
+    S, C = np.zeros((2, len(ref.length), nd, nd))
+    S[:, 0, 0] = props.axial_stiffness / ref.length
+    C[:, 0, 0] = props.axial_damping / ref.length
+    return S, C

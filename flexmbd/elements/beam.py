@@ -17,10 +17,11 @@ from .base import (
     dot,
     elongation_hessian,
     elongation_jacobian,
+    elongation_matrices,
     elongation_quadratic_velocity,
-    elongation_stress,
     normal_distance_hessian,
     rod_gravity_load,
+    rod_inertia_force,
     rod_mass_matrix,
     unit_and_normal,
 )
@@ -64,43 +65,44 @@ class Beam(ElementType):
     @classmethod
     def _frames(cls, xe, ref):
         d, length, e_l = chord(xe, cls.ends)
-        e_p, n_p = unit_and_normal(ref.angle + xe[:, _PHI_P])
-        e_q, n_q = unit_and_normal(ref.angle + xe[:, _PHI_Q])
+        e_p, n_p = unit_and_normal(ref.angle + xe[..., _PHI_P])
+        e_q, n_q = unit_and_normal(ref.angle + xe[..., _PHI_Q])
         return d, length, e_l, e_p, n_p, e_q, n_q
 
     @classmethod
     def jacobian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
         d, _, e_l, e_p, n_p, e_q, n_q = cls._frames(xe, ref)
-        jac = np.zeros((len(xe), 3, 6))
-        jac[:, 0, _RP + _RQ] = elongation_jacobian(e_l)
-        jac[:, 1, _RP], jac[:, 1, _RQ], jac[:, 1, _PHI_P] = n_p, -n_p, dot(e_p, d)
-        jac[:, 2, _RP], jac[:, 2, _RQ], jac[:, 2, _PHI_Q] = -n_q, n_q, -dot(e_q, d)
+        jac = np.zeros((*xe.shape[:-1], 3, 6))
+        jac[..., 0, _RP + _RQ] = elongation_jacobian(e_l)
+        jac[..., 1, _RP], jac[..., 1, _RQ], jac[..., 1, _PHI_P] = n_p, -n_p, dot(e_p, d)
+        jac[..., 2, _RP], jac[..., 2, _RQ], jac[..., 2, _PHI_Q] = -n_q, n_q, -dot(e_q, d)
         return jac
 
     @classmethod
     def hessian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
         d, length, e_l, e_p, n_p, e_q, n_q = cls._frames(xe, ref)
-        hess = np.zeros((len(xe), 3, 6, 6))
-        hess[:, 0, _TRANS[:, None], _TRANS] = elongation_hessian(length, e_l)
+        hess = np.zeros((*xe.shape[:-1], 3, 6, 6))
+        hess[..., 0, _TRANS[:, None], _TRANS] = elongation_hessian(length, e_l)
         # e2 = -n_p . d and e3 = +n_q . d
-        normal_distance_hessian(hess[:, 1], cls.ends, _PHI_P, dot(n_p, d), e_p, sign=-1.0)
-        normal_distance_hessian(hess[:, 2], cls.ends, _PHI_Q, dot(n_q, d), e_q, sign=1.0)
+        normal_distance_hessian(hess[..., 1, :, :], cls.ends, _PHI_P, dot(n_p, d), e_p,
+                                sign=-1.0)
+        normal_distance_hessian(hess[..., 2, :, :], cls.ends, _PHI_Q, dot(n_q, d), e_q,
+                                sign=1.0)
         return hess
 
     @classmethod
     def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference) -> np.ndarray:
         d, length, e_l, e_p, n_p, e_q, n_q = cls._frames(xe, ref)
-        dv = xde[:, _RQ] - xde[:, _RP]
-        w_p, w_q = xde[:, _PHI_P], xde[:, _PHI_Q]
+        dv = xde[..., _RQ] - xde[..., _RP]
+        w_p, w_q = xde[..., _PHI_P], xde[..., _PHI_Q]
         return np.stack(
             [
                 elongation_quadratic_velocity(length, e_l, dv),
                 w_p**2 * dot(n_p, d) + 2.0 * w_p * dot(e_p, dv),
                 -(w_q**2) * dot(n_q, d) - 2.0 * w_q * dot(e_q, dv),
             ],
-            axis=1,
+            axis=-1,
         )
-
 
     @classmethod
     def interpolate(cls, xe: np.ndarray, ref: Reference, xi: float) -> np.ndarray:
@@ -117,62 +119,88 @@ class Beam(ElementType):
         return h1 * xe[:, _RP] + h2 * length * e_p + h3 * xe[:, _RQ] + h4 * length * e_q
 
     # --- inertia: cubic Hermite interpolation r(xi) = sum_i H_i(xi) A_i x (THEORY 5) ------
-    @classmethod
-    def _shape_blocks(cls, xe, ref):
-        """``A_i`` ``(4, n, 2, 6)`` with ``N(xi) = sum_i H_i(xi) A_i`` and the
-        convective accelerations ``c_i`` ``(4, n, 2)`` with ``a = sum_i H_i c_i``."""
-        n = len(xe)
-        e_p, n_p = unit_and_normal(ref.angle + xe[:, _PHI_P])
-        e_q, n_q = unit_and_normal(ref.angle + xe[:, _PHI_Q])
-        length = ref.length[:, None]
-        blocks = np.zeros((4, n, 2, 6))
-        blocks[0, :, :, 0:2] = blocks[2, :, :, 3:5] = np.eye(2)  # r_p and r_q columns
-        blocks[1, :, :, _PHI_P] = length * n_p
-        blocks[3, :, :, _PHI_Q] = length * n_q
-        return blocks, e_p, e_q, length
-
+    # A_1, A_3 pick r_p, r_q; A_2 = l0 n_p on phi_p and A_4 = l0 n_q on phi_q. With
+    # P_ij = int H_i H_j the consistent mass matrix is m sum_ij P_ij A_i^T A_j and the
+    # inertia force m sum_ij P_ij A_i^T c_j, c_j = A_j xddot + (convective part of
+    # the acceleration of the interpolation points).
     @classmethod
     def mass_matrix(cls, xe, ref, mass, lumped):
         """Consistent: ``m int N^T N dxi``; lumped: ``m/2`` at each end, no rotary inertia."""
-        blocks, *_ = cls._shape_blocks(xe, ref)
-        consistent = np.einsum("ij,inak,jnal->nkl", HERMITE_PRODUCTS, blocks, blocks)
-        consistent *= mass[:, None, None]
-        return np.where(lumped[:, None, None], rod_mass_matrix(6, cls.ends, mass, lumped),
-                        consistent)
+        _, n_p = unit_and_normal(ref.angle + xe[..., _PHI_P])
+        _, n_q = unit_and_normal(ref.angle + xe[..., _PHI_Q])
+        P, m, l0 = HERMITE_PRODUCTS, mass[:, None], ref.length[:, None]
+        out = np.zeros((*xe.shape, 6))
+        for axis in (0, 1):  # x and y: the translational blocks are multiples of I
+            p, q = _RP[axis], _RQ[axis]
+            out[..., p, p] = P[0, 0] * mass
+            out[..., q, q] = P[2, 2] * mass
+            out[..., p, q] = out[..., q, p] = P[0, 2] * mass
+        for i, rows in ((0, _RP), (2, _RQ)):  # translations against rotations
+            out[..., rows, _PHI_P] = out[..., _PHI_P, rows] = P[i, 1] * m * l0 * n_p
+            out[..., rows, _PHI_Q] = out[..., _PHI_Q, rows] = P[i, 3] * m * l0 * n_q
+        rotary = mass * ref.length**2
+        out[..., _PHI_P, _PHI_P] = P[1, 1] * rotary
+        out[..., _PHI_Q, _PHI_Q] = P[3, 3] * rotary
+        out[..., _PHI_P, _PHI_Q] = out[..., _PHI_Q, _PHI_P] = P[1, 3] * rotary * dot(n_p, n_q)
+        return np.where(lumped[:, None, None], rod_mass_matrix(6, cls.ends, mass, lumped), out)
 
     @classmethod
     def inertia_velocity(cls, xe, xde, ref, mass, lumped):
         """``h = m int N^T a dxi`` with ``a = -l0 (w_p^2 H2 e_p + w_q^2 H4 e_q)``."""
-        blocks, e_p, e_q, length = cls._shape_blocks(xe, ref)
-        convective = np.zeros((4, len(xe), 2))
-        convective[1] = -length * xde[:, [_PHI_P]] ** 2 * e_p
-        convective[3] = -length * xde[:, [_PHI_Q]] ** 2 * e_q
-        h = np.einsum("ij,inak,jna->nk", HERMITE_PRODUCTS, blocks, convective)
-        return np.where(lumped[:, None], 0.0, h * mass[:, None])
+        return cls.inertia_force(xe, xde, np.zeros(xe.shape), ref, mass, lumped)
+
+    @classmethod
+    def inertia_force(cls, xe, xde, xdde, ref, mass, lumped):
+        """``M xddot + h = m sum_ij P_ij A_i^T c_j`` with ``c = (a_p, l0 (phidd_p n_p -
+        phid_p^2 e_p), a_q, l0 (phidd_q n_q - phid_q^2 e_q))``; lumped: ``m/2 (a_p, a_q)``."""
+        e_p, n_p = unit_and_normal(ref.angle + xe[..., _PHI_P])
+        e_q, n_q = unit_and_normal(ref.angle + xe[..., _PHI_Q])
+        l0 = ref.length[:, None]
+        c = np.empty((*xe.shape[:-1], 4, 2))
+        c[..., 0, :] = xdde[..., _RP]
+        c[..., 1, :] = l0 * (xdde[..., [_PHI_P]] * n_p - xde[..., [_PHI_P]] ** 2 * e_p)
+        c[..., 2, :] = xdde[..., _RQ]
+        c[..., 3, :] = l0 * (xdde[..., [_PHI_Q]] * n_q - xde[..., [_PHI_Q]] ** 2 * e_q)
+        b = HERMITE_PRODUCTS @ c  # (..., n, 4, 2): sum_j P_ij c_j
+        out = np.empty(xe.shape)
+        out[..., _RP] = b[..., 0, :]
+        out[..., _PHI_P] = ref.length * dot(n_p, b[..., 1, :])
+        out[..., _RQ] = b[..., 2, :]
+        out[..., _PHI_Q] = ref.length * dot(n_q, b[..., 3, :])
+        out *= mass[:, None]
+        if np.any(lumped):
+            out = np.where(lumped[:, None], rod_inertia_force(xdde, cls.ends, mass, lumped), out)
+        return out
 
     @classmethod
     def gravity_load(cls, xe, ref, mass, lumped, gravity):
         """Consistent: ``m int N^T g dxi = m [g/2, l0 (n_p.g)/12, g/2, -l0 (n_q.g)/12]``;
         lumped: ``m g / 2`` at each end."""
-        blocks, *_ = cls._shape_blocks(xe, ref)
-        consistent = np.einsum("i,inak,a->nk", HERMITE_INTEGRALS, blocks, gravity)
-        return np.where(lumped[:, None], rod_gravity_load(6, cls.ends, mass, gravity),
-                        consistent * mass[:, None])
+        _, n_p = unit_and_normal(ref.angle + xe[..., _PHI_P])
+        _, n_q = unit_and_normal(ref.angle + xe[..., _PHI_Q])
+        H = HERMITE_INTEGRALS
+        out = np.empty(xe.shape)
+        out[..., _RP] = H[0] * gravity
+        out[..., _PHI_P] = H[1] * ref.length * dot(n_p, gravity)
+        out[..., _RQ] = H[2] * gravity
+        out[..., _PHI_Q] = H[3] * ref.length * dot(n_q, gravity)
+        return np.where(lumped[:, None], rod_gravity_load(xe, cls.ends, mass, gravity),
+                        out * mass[:, None])
 
     @classmethod
-    def stress(cls, e, ed, ref, props):
-        """Elongation ``EA/l0 e1``; bending ``EI/((1+Phi) l0^3) [[4+Phi, Phi-2], [Phi-2, 4+Phi]]``
+    def elastic_matrices(cls, ref, props):
+        """Elongation ``EA/l0``; bending ``EI/((1+Phi) l0^3) [[4+Phi, Phi-2], [Phi-2, 4+Phi]]``
         on ``(e2, e3)`` with ``Phi = 12 EI / (G A_s l0^2)`` (0 without shear), THEORY 6.
-        Damping uses the Euler-Bernoulli matrix with ``c_I`` for ``EI``."""
-        sigma = props.prestress.copy()
-        sigma[:, 0] += elongation_stress(e[:, 0], ed[:, 0], ref, props)
+        Damping: ``c_A / l0`` and the Euler-Bernoulli matrix with ``c_I`` for ``EI``."""
+        S, C = elongation_matrices(ref, props, 3)
         l0 = ref.length
-        with np.errstate(divide="ignore"):
+        with np.errstate(divide="ignore", invalid="ignore"):
             phi = np.where(props.shear_stiffness > 0,
                            12 * props.bending_stiffness / (props.shear_stiffness * l0**2), 0.0)
         factor = props.bending_stiffness / ((1 + phi) * l0**3)
-        diag, off = factor * (4 + phi), factor * (phi - 2)
+        S[:, 1, 1] = S[:, 2, 2] = factor * (4 + phi)
+        S[:, 1, 2] = S[:, 2, 1] = factor * (phi - 2)
         damping = props.bending_damping / l0**3
-        sigma[:, 1] += diag * e[:, 1] + off * e[:, 2] + damping * (4 * ed[:, 1] - 2 * ed[:, 2])
-        sigma[:, 2] += off * e[:, 1] + diag * e[:, 2] + damping * (4 * ed[:, 2] - 2 * ed[:, 1])
-        return sigma
+        C[:, 1, 1] = C[:, 2, 2] = 4 * damping
+        C[:, 1, 2] = C[:, 2, 1] = -2 * damping
+        return S, C

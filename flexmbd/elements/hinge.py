@@ -25,18 +25,19 @@ class Hinge(ElementType):
 
     @classmethod
     def jacobian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
-        return np.broadcast_to(_JACOBIAN, (len(xe), 1, 2)).copy()
+        return np.broadcast_to(_JACOBIAN, (*xe.shape[:-1], 1, 2)).copy()
 
     @classmethod
     def hessian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
-        return np.zeros((len(xe), 1, 2, 2))
+        return np.zeros((*xe.shape[:-1], 1, 2, 2))
 
     @classmethod
     def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference) -> np.ndarray:
-        return np.zeros((len(xe), 1))
+        return np.zeros((*xe.shape[:-1], 1))
 
     @classmethod
-    def stress(cls, e, ed, ref, props):
-        """Torque ``k e1 + c e1dot + sigma0`` [N m]."""
-        return props.prestress + (props.hinge_stiffness * e[:, 0]
-                                  + props.hinge_damping * ed[:, 0])[:, None]
+    def elastic_matrices(cls, ref, props):
+        """Torsional spring ``k`` [N m/rad] and damper ``c`` [N m s/rad]: torque
+        ``k e1 + c e1dot + sigma0`` [N m]."""
+        return (props.hinge_stiffness[:, None, None].copy(),
+                props.hinge_damping[:, None, None].copy())

@@ -19,10 +19,11 @@ from .base import (
     dot,
     elongation_hessian,
     elongation_jacobian,
+    elongation_matrices,
     elongation_quadratic_velocity,
-    elongation_stress,
     normal_distance_hessian,
     rod_gravity_load,
+    rod_inertia_force,
     rod_mass_matrix,
     unit_and_normal,
 )
@@ -51,36 +52,37 @@ class RigidBeam(ElementType):
     @classmethod
     def _frames(cls, xe, ref):
         d, length, e_l = chord(xe, cls.ends)
-        e_p, n_p = unit_and_normal(ref.angle + xe[:, _PHI_P])
+        e_p, n_p = unit_and_normal(ref.angle + xe[..., _PHI_P])
         return d, length, e_l, e_p, n_p
 
     @classmethod
     def jacobian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
         d, _, e_l, e_p, n_p = cls._frames(xe, ref)
-        jac = np.zeros((len(xe), 2, 5))
-        jac[:, 0, _TRANS] = elongation_jacobian(e_l)
-        jac[:, 1, _RP], jac[:, 1, _RQ], jac[:, 1, _PHI_P] = -n_p, n_p, -dot(e_p, d)
+        jac = np.zeros((*xe.shape[:-1], 2, 5))
+        jac[..., 0, _TRANS] = elongation_jacobian(e_l)
+        jac[..., 1, _RP], jac[..., 1, _RQ], jac[..., 1, _PHI_P] = -n_p, n_p, -dot(e_p, d)
         return jac
 
     @classmethod
     def hessian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
         d, length, e_l, e_p, n_p = cls._frames(xe, ref)
-        hess = np.zeros((len(xe), 2, 5, 5))
-        hess[:, 0, _TRANS[:, None], _TRANS] = elongation_hessian(length, e_l)
-        normal_distance_hessian(hess[:, 1], cls.ends, _PHI_P, dot(n_p, d), e_p, sign=1.0)
+        hess = np.zeros((*xe.shape[:-1], 2, 5, 5))
+        hess[..., 0, _TRANS[:, None], _TRANS] = elongation_hessian(length, e_l)
+        normal_distance_hessian(hess[..., 1, :, :], cls.ends, _PHI_P, dot(n_p, d), e_p,
+                                sign=1.0)
         return hess
 
     @classmethod
     def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference) -> np.ndarray:
         d, length, e_l, e_p, n_p = cls._frames(xe, ref)
-        dv = xde[:, _RQ] - xde[:, _RP]
-        w_p = xde[:, _PHI_P]
+        dv = xde[..., _RQ] - xde[..., _RP]
+        w_p = xde[..., _PHI_P]
         return np.stack(
             [
                 elongation_quadratic_velocity(length, e_l, dv),
                 -(w_p**2) * dot(n_p, d) - 2.0 * w_p * dot(e_p, dv),
             ],
-            axis=1,
+            axis=-1,
         )
 
     @classmethod
@@ -89,16 +91,26 @@ class RigidBeam(ElementType):
         the rotary inertia ``J = m l0^2/12 - m l0^2/4 = -m l0^2/6`` at ``phi_p``, so that
         both give the same reduced mass matrix for a rigid link (THEORY section 5)."""
         out = rod_mass_matrix(5, cls.ends, mass, lumped)
-        out[:, _PHI_P, _PHI_P] = np.where(lumped, -mass * ref.length**2 / 6.0, 0.0)
+        out[:, _PHI_P, _PHI_P] = _rotary_inertia(ref, mass, lumped)
+        return np.broadcast_to(out, (*xe.shape, 5))
+
+    @classmethod
+    def inertia_force(cls, xe, xde, xdde, ref, mass, lumped):
+        out = rod_inertia_force(xdde, cls.ends, mass, lumped)
+        out[..., _PHI_P] = _rotary_inertia(ref, mass, lumped) * xdde[..., _PHI_P]
         return out
 
     @classmethod
     def gravity_load(cls, xe, ref, mass, lumped, gravity):
-        return rod_gravity_load(5, cls.ends, mass, gravity)
+        return rod_gravity_load(xe, cls.ends, mass, gravity)
 
     @classmethod
-    def stress(cls, e, ed, ref, props):
-        """Only the elongation has a stiffness; the normal offset has pre-stress only."""
-        sigma = props.prestress.copy()
-        sigma[:, 0] += elongation_stress(e[:, 0], ed[:, 0], ref, props)
-        return sigma
+    def elastic_matrices(cls, ref, props):
+        """Only the elongation has a stiffness (``EA / l0``, ``c_A / l0``); the normal
+        offset has pre-stress only."""
+        return elongation_matrices(ref, props, 2)
+
+
+def _rotary_inertia(ref: Reference, mass: np.ndarray, lumped: np.ndarray) -> np.ndarray:
+    """``-m l0^2 / 6`` at ``phi_p`` of a lumped rigid beam, 0 for a consistent one."""
+    return np.where(lumped, -mass * ref.length**2 / 6.0, 0.0)

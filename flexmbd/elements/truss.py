@@ -11,9 +11,10 @@ from .base import (
     chord,
     elongation_hessian,
     elongation_jacobian,
+    elongation_matrices,
     elongation_quadratic_velocity,
-    elongation_stress,
     rod_gravity_load,
+    rod_inertia_force,
     rod_mass_matrix,
 )
 
@@ -36,27 +37,33 @@ class Truss(ElementType):
     @classmethod
     def jacobian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
         _, _, e_l = chord(xe, cls.ends)
-        return elongation_jacobian(e_l)[:, None, :]
+        return elongation_jacobian(e_l)[..., None, :]
 
     @classmethod
     def hessian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
         _, length, e_l = chord(xe, cls.ends)
-        return elongation_hessian(length, e_l)[:, None, :, :]
+        return elongation_hessian(length, e_l)[..., None, :, :]
 
     @classmethod
     def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference) -> np.ndarray:
         _, length, e_l = chord(xe, cls.ends)
-        dv = xde[:, 2:4] - xde[:, 0:2]
-        return elongation_quadratic_velocity(length, e_l, dv)[:, None]
+        dv = xde[..., 2:4] - xde[..., 0:2]
+        return elongation_quadratic_velocity(length, e_l, dv)[..., None]
 
     @classmethod
     def mass_matrix(cls, xe, ref, mass, lumped):
-        return rod_mass_matrix(4, cls.ends, mass, lumped)
+        return np.broadcast_to(rod_mass_matrix(4, cls.ends, mass, lumped), (*xe.shape, 4))
+
+    @classmethod
+    def inertia_force(cls, xe, xde, xdde, ref, mass, lumped):
+        """``m/6 (2 a_p + a_q, a_p + 2 a_q)`` (consistent) or ``m/2 (a_p, a_q)`` (lumped)."""
+        return rod_inertia_force(xdde, cls.ends, mass, lumped)
 
     @classmethod
     def gravity_load(cls, xe, ref, mass, lumped, gravity):
-        return rod_gravity_load(4, cls.ends, mass, gravity)
+        return rod_gravity_load(xe, cls.ends, mass, gravity)
 
     @classmethod
-    def stress(cls, e, ed, ref, props):
-        return props.prestress + elongation_stress(e[:, 0], ed[:, 0], ref, props)[:, None]
+    def elastic_matrices(cls, ref, props):
+        """``EA / l0`` and ``c_A / l0`` on the elongation."""
+        return elongation_matrices(ref, props, 1)
