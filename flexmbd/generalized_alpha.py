@@ -1,4 +1,4 @@
-"""Generalized-alpha time stepping for second-order systems, as a scipy ``OdeSolver``.
+"""Generalized-alpha time stepping for second-order systems, in the ``OdeSolver`` style.
 
 The flexible slider-crank with several beams has bending (and, with a flexible
 elongation, axial) modes far above the motion of interest. Explicit methods
@@ -7,33 +7,111 @@ Hulbert (1993) steps over them with controllable numerical damping (spectral
 radius ``rho_inf`` at infinite frequency) and stays second-order accurate for
 the slow motion. This is the integrator of Exudyn and most multibody codes.
 
-The system is ``y = [q; v]``, ``y' = [v; a(t, q, v)]`` (the form of
-:func:`flexmbd.simulate`'s state). Per step the unknown is ``a_{n+1}``; the
-Newmark formulas turn it into ``q_{n+1}, v_{n+1}`` and Newton solves
-``a_{n+1} = a(t_{n+1}, q_{n+1}, v_{n+1})`` with a finite-difference Jacobian
-that is kept as long as Newton converges fast (modified Newton). The step is
-fixed (``step``), halved only when Newton fails.
+The state is ``y = [q; v]``. Per step the unknown is the acceleration
+``a_{n+1}`` at the end of the step; the Newmark formulas turn it into
+``q_{n+1}, v_{n+1}`` and Newton's method drives a residual to zero. The
+problem comes as a :class:`SecondOrderSystem`:
+
+* a mechanical system (what :func:`flexmbd.simulate` passes) supplies its own
+  residual and an approximate inverse of its Newton matrix ``Mbar + c_q K +
+  c_v C`` from the element stiffness, so no Jacobian is differenced;
+* any first-order ``fun(t, y) -> [v; a]`` works too (:class:`FirstOrderSystem`),
+  with the Newton matrix from finite differences.
+
+By default Newton iterates to the tolerance, keeping the Newton matrix while
+it converges fast (modified Newton) and renewing it otherwise. With
+``iterations=1`` the method is *linearly implicit*: one Newton correction per
+step with the Newton matrix renewed at every step's predictor. Because the
+residual is nearly linear in the step's acceleration and the matrix is exact
+up to terms of order ``h``, the error per step stays of the method's order (a
+W-method argument), so the accuracy of the slow motion is that of the fully
+iterated method at the cost of one evaluation per step; measured on the
+flexible slider-crank in ``benchmarks/``. The step is fixed (``step``), halved
+only when Newton fails. Like scipy's solvers, this class has ``step()``, ``status``,
+``dense_output()`` and the counters ``nfev``, ``njev``, ``nlu``; it is driven
+by :func:`flexmbd.integrate.integrate` and needs no SciPy.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import Protocol
+
 import numpy as np
-import scipy.linalg
-from scipy.integrate import DenseOutput, OdeSolver
 
 from .errors import SimulationError
 
 _MAX_NEWTON = 8
-_SLOW_RATE = 0.5  # contraction per Newton iteration above which the Jacobian is renewed
+_SLOW_RATE = 0.5  # contraction per Newton iteration above which an iteration has failed
+_RENEW_AFTER = 3  # Newton iterations after which the Newton matrix is renewed next step
 _MAX_HALVINGS = 12
 
 
-class GeneralizedAlpha(OdeSolver):
+class SecondOrderSystem(Protocol):
+    """What :class:`GeneralizedAlpha` needs of a problem ``R(t, q, v, a) = 0``.
+
+    ``q``, ``v`` and ``a`` have shape ``(m,)``.
+    """
+
+    nfev: int  #: residual and acceleration evaluations so far
+
+    def accelerations(self, t: float, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """The accelerations ``a`` ``(m,)`` that solve the equations at ``(t, q, v)``."""
+
+    def residual(self, t: float, q: np.ndarray, v: np.ndarray, a: np.ndarray):
+        """The residual at ``(t, q, v, a)``, in whatever form the operator takes."""
+
+    def iteration_operator(self, c_q: float, c_v: float) -> Callable:
+        """``op(residual) -> delta a``, an approximate Newton correction at the state
+        evaluated last, for ``dq/da = c_q`` and ``dv/da = c_v``."""
+
+
+class FirstOrderSystem:
+    """``y' = fun(t, y)`` with ``y = [q; v]`` as a second-order system.
+
+    The residual is ``a - fun(t, [q; v])[m:]``; the Newton matrix ``I - c_q da/dq -
+    c_v da/dv`` comes from forward differences at the state evaluated last.
+    """
+
+    def __init__(self, fun: Callable[[float, np.ndarray], np.ndarray], m: int,
+                 rtol: float, atol: float):
+        self.fun, self.m, self.rtol, self.atol = fun, m, rtol, atol
+        self.nfev = 0
+        self._last = None
+
+    def _accel(self, t, y):
+        self.nfev += 1
+        return np.asarray(self.fun(t, y), dtype=float)[self.m:]
+
+    def accelerations(self, t, q, v):
+        y = np.concatenate([q, v])
+        a = self._accel(t, y)
+        self._last = (t, y, a)
+        return a
+
+    def residual(self, t, q, v, a):
+        return a - self.accelerations(t, q, v)
+
+    def iteration_operator(self, c_q, c_v):
+        t, y, f = self._last
+        delta = 1e-6 * np.maximum(np.abs(y), self.atol / self.rtol)
+        jac = np.empty((self.m, 2 * self.m))
+        for j in range(2 * self.m):
+            shifted = y.copy()
+            shifted[j] += delta[j]
+            jac[:, j] = (self._accel(t, shifted) - f) / delta[j]
+        matrix = np.eye(self.m) - c_q * jac[:, :self.m] - c_v * jac[:, self.m:]
+        inverse = np.linalg.inv(matrix)
+        return lambda residual: -(inverse @ residual)
+
+
+class GeneralizedAlpha:
     """Fixed-step generalized-alpha method (Chung-Hulbert) for ``y = [q; v]``.
 
     Args:
-        fun: ``fun(t, y) -> [v; a]``, with ``y`` of even length ``2 n``.
-        t0, y0, t_bound: as for every ``OdeSolver``.
+        fun: ``fun(t, y) -> [v; a]``, with ``y`` of even length ``2 m``; not used
+            when ``system`` is given.
+        t0, y0, t_bound: start time [s], start state, end time [s] (forward only).
         step: step size [s] (default: 1/1000 of the interval). There is no error
             control: choose it from the frequencies that matter (20 or more steps
             per period for about 1e-3 relative accuracy per period).
@@ -41,17 +119,30 @@ class GeneralizedAlpha(OdeSolver):
             unresolved modes) to 1 (none, the trapezoidal rule). Default 0.8.
         rtol, atol: tolerances of the Newton iteration on ``[q; v]``.
         max_step: an upper bound on ``step`` (as in the other solvers).
+        system: a :class:`SecondOrderSystem` with its own residual and Newton
+            operator (default: ``fun`` as a :class:`FirstOrderSystem`).
+        iterations: ``None`` (default) to iterate Newton to ``rtol``/``atol``, or a
+            fixed number of corrections per step with the Newton matrix renewed at
+            every step (``1``: linearly implicit, one evaluation per step).
     """
 
     def __init__(self, fun, t0, y0, t_bound, *, step: float | None = None,
                  rho_inf: float = 0.8, rtol: float = 1e-6, atol: float = 1e-9,
-                 max_step: float = np.inf, vectorized: bool = False, **extraneous):
-        super().__init__(fun, t0, y0, t_bound, vectorized)
+                 max_step: float = np.inf, system: SecondOrderSystem | None = None,
+                 iterations: int | None = None, vectorized: bool = False, **extraneous):
+        self.t, self.y = float(t0), np.array(y0, dtype=float)
+        self.t_bound, self.t_old = float(t_bound), None
+        self.n = len(self.y)
         if self.n % 2:
             raise ValueError("generalized-alpha needs a state [q; v] of even length")
         if not 0.0 <= rho_inf <= 1.0:
             raise ValueError(f"rho_inf must lie in [0, 1], got {rho_inf}")
-        span = abs(t_bound - t0)
+        if iterations is not None and not (isinstance(iterations, int) and iterations >= 1):
+            raise ValueError(f"iterations must be None or a positive integer, got {iterations!r}")
+        self.iterations = iterations
+        if self.t_bound < self.t:
+            raise ValueError("generalized-alpha integrates forward in time only")
+        span = self.t_bound - self.t
         step = span / 1000 if step is None else float(step)
         if not step > 0:
             raise ValueError(f"step must be positive, got {step}")
@@ -63,65 +154,80 @@ class GeneralizedAlpha(OdeSolver):
         self.gamma = 0.5 - self.alpha_m + self.alpha_f
         self.beta = 0.25 * (1 - self.alpha_m + self.alpha_f) ** 2
         self.m = self.n // 2
-        self.a = self.fun(self.t, self.y)[self.m:]
+        self.system = system if system is not None else FirstOrderSystem(fun, self.m, rtol,
+                                                                         atol)
+        self.a = np.asarray(self.system.accelerations(self.t, self.y[:self.m],
+                                                      self.y[self.m:]), dtype=float)
         self.aa = self.a.copy()  # the algorithmic acceleration of the method
-        self.jacobian: np.ndarray | None = None
-        self.jacobian_fresh = False
-        self.lu, self.lu_step = None, None
+        self.operator, self.operator_step, self.operator_fresh = None, None, False
+        self.renew = False
         self.njev = self.nlu = 0
+        self.status = "running" if span > 0 else "finished"
         self._previous = None
         self.trial_error: SimulationError | None = None
 
-    # --- Newton ingredients -------------------------------------------------------------
-    def _update_jacobian(self, t, y, f):
-        """Forward differences of ``a(t, q, v)`` with respect to ``[q; v]``, ``(m, 2m)``."""
-        delta = 1e-6 * np.maximum(np.abs(y), self.atol / self.rtol)
-        J = np.empty((self.m, self.n))
-        for j in range(self.n):
-            yj = y.copy()
-            yj[j] += delta[j]
-            J[:, j] = (self.fun(t, yj)[self.m:] - f) / delta[j]
-        self.jacobian, self.jacobian_fresh, self.lu = J, True, None
-        self.njev += 1
+    @property
+    def nfev(self) -> int:
+        return self.system.nfev
 
-    def _factor(self, h):
-        """LU of ``I - c (beta h^2 da/dq + gamma h da/dv)``, ``c = (1-alpha_f)/(1-alpha_m)``."""
+    # --- Newton ingredients -------------------------------------------------------------
+    def _coefficients(self, h):
+        """``dq/da`` and ``dv/da`` of the Newmark update for step ``h``."""
         c = (1 - self.alpha_f) / (1 - self.alpha_m)
-        J = self.jacobian
-        G = np.eye(self.m) - c * (self.beta * h**2 * J[:, :self.m] + self.gamma * h * J[:, self.m:])
-        self.lu, self.lu_step = scipy.linalg.lu_factor(G, check_finite=False), h
+        return self.beta * h**2 * c, self.gamma * h * c
+
+    def _renew_operator(self, h):
+        """A Newton operator at the state the system evaluated last."""
+        self.operator = self.system.iteration_operator(*self._coefficients(h))
+        self.operator_step, self.operator_fresh, self.renew = h, True, False
+        self.njev += 1
         self.nlu += 1
 
-    def _predict(self, h, a_new):
-        """``q, v`` at the end of the step for the end acceleration ``a_new``."""
+    def _newmark(self, h):
+        """The step's update as affine maps of the end acceleration ``a_new``:
+        ``y_new = y0 + c a_new`` with ``c = [c_q; c_v]`` and ``aa_new = aa0 + k a_new``.
+        Returns ``(y0, c, aa0, k)`` with ``c`` a vector ``(2m,)``."""
         m = self.m
         q, v = self.y[:m], self.y[m:]
-        aa_new = ((1 - self.alpha_f) * a_new + self.alpha_f * self.a
-                  - self.alpha_m * self.aa) / (1 - self.alpha_m)
-        q_new = q + h * v + h**2 * ((0.5 - self.beta) * self.aa + self.beta * aa_new)
-        v_new = v + h * ((1 - self.gamma) * self.aa + self.gamma * aa_new)
-        return np.concatenate([q_new, v_new]), aa_new
+        k = (1 - self.alpha_f) / (1 - self.alpha_m)
+        aa0 = (self.alpha_f * self.a - self.alpha_m * self.aa) / (1 - self.alpha_m)
+        y0 = np.empty(self.n)
+        y0[:m] = q + h * v + h**2 * ((0.5 - self.beta) * self.aa + self.beta * aa0)
+        y0[m:] = v + h * ((1 - self.gamma) * self.aa + self.gamma * aa0)
+        c_q, c_v = self._coefficients(h)
+        c = np.empty(self.n)
+        c[:m], c[m:] = c_q, c_v
+        return y0, c, aa0, k
+
+    def _predict(self, h, a_new):
+        """``[q; v]`` at the end of the step and the algorithmic acceleration there for the
+        end acceleration ``a_new``."""
+        y0, c, aa0, k = self._newmark(h)
+        return y0 + c * np.concatenate([a_new, a_new]), aa0 + k * a_new
 
     def _newton(self, h):
         """Solve the step of size ``h``; returns ``(y, a, aa)`` or ``None`` if it failed."""
-        t_new = self.t + h * self.direction
-        if self.lu is None or self.lu_step != h:
-            self._factor(h)
-        c = (1 - self.alpha_f) / (1 - self.alpha_m)
+        if self.iterations is not None:
+            return self._fixed_newton(h)
+        t_new = self.t + h
+        c_q, c_v = self._coefficients(h)
         a_new = self.a.copy()
         previous = None
-        for _ in range(_MAX_NEWTON):
-            y_new, aa_new = self._predict(h, a_new)
+        for iteration in range(1, _MAX_NEWTON + 1):
+            y_new, _ = self._predict(h, a_new)
             try:
-                residual = a_new - self.fun(t_new, y_new)[self.m:]
+                residual = self.system.residual(t_new, y_new[:self.m], y_new[self.m:], a_new)
             except SimulationError as err:
                 self.trial_error = err  # a state the position solve rejects: retry smaller
                 return None
-            da = -scipy.linalg.lu_solve(self.lu, residual, check_finite=False)
+            if self.operator is None or self.renew or self.operator_step != h:
+                self._renew_operator(h)
+            da = self.operator(residual)
             a_new = a_new + da
-            dy = np.concatenate([self.beta * h**2 * c * da, self.gamma * h * c * da])
+            dy = np.concatenate([c_q * da, c_v * da])
             size = np.sqrt(np.mean((dy / (self.atol + self.rtol * np.abs(y_new))) ** 2))
             if size < 0.1:
+                self.renew = iteration > _RENEW_AFTER
                 y_new, aa_new = self._predict(h, a_new)
                 return y_new, a_new, aa_new
             if previous is not None and size > _SLOW_RATE * previous and size > 1.0:
@@ -129,49 +235,74 @@ class GeneralizedAlpha(OdeSolver):
             previous = size
         return None
 
-    # --- OdeSolver interface ------------------------------------------------------------
-    def _step_impl(self):
-        h = min(self.h_nominal, abs(self.t_bound - self.t))
-        if self.jacobian is None:
-            self._update_jacobian(self.t, self.y, self.a)
-        outcome = None
+    def _fixed_newton(self, h):
+        """``iterations`` corrections with a Newton matrix renewed at the predictor."""
+        m = self.m
+        y0, c, aa0, k = self._newmark(h)
+        a_new = self.a.copy()
+        for iteration in range(self.iterations):
+            y_new = y0 + c * np.concatenate([a_new, a_new])
+            try:
+                residual = self.system.residual(self.t + h, y_new[:m], y_new[m:], a_new)
+            except SimulationError as err:
+                self.trial_error = err
+                return None
+            if iteration == 0:
+                self._renew_operator(h)
+            a_new = a_new + self.operator(residual)
+        if not np.all(np.isfinite(a_new)):
+            return None
+        return y0 + c * np.concatenate([a_new, a_new]), a_new, aa0 + k * a_new
+
+    # --- the OdeSolver interface -----------------------------------------------------------
+    def step(self) -> str | None:
+        """Take one step; returns ``None`` or, when the step failed, the reason."""
+        if self.status != "running":
+            raise RuntimeError("attempt to step on a finished or failed solver")
+        h = min(self.h_nominal, self.t_bound - self.t)
+        outcome, self.trial_error = None, None
         for _ in range(_MAX_HALVINGS):
             outcome = self._newton(h)
             if outcome is not None:
                 break
-            if not self.jacobian_fresh:  # first renew the Jacobian, then halve the step
-                self._update_jacobian(self.t, self.y, self.fun(self.t, self.y)[self.m:])
+            if self.trial_error is None and not self.operator_fresh:
+                self.renew = True  # a stale Newton matrix may be to blame: renew it first
                 continue
             h /= 2
+            self.renew = True
         if outcome is None:
             if self.trial_error is not None:
                 raise self.trial_error
-            return False, (f"Newton iteration of the generalized-alpha step failed at "
-                           f"t = {self.t:.6g} s even with step {h:.3g} s")
+            self.status = "failed"
+            return (f"Newton iteration of the generalized-alpha step failed at "
+                    f"t = {self.t:.6g} s even with step {h:.3g} s")
         y_new, a_new, aa_new = outcome
         self._previous = (self.t, self.y, self.a)
         self.t_old = self.t
-        self.t = self.t + h * self.direction
+        self.t = self.t_bound if self.t_bound - (self.t + h) < 1e-12 * h else self.t + h
         self.y, self.a, self.aa = y_new, a_new, aa_new
-        self.jacobian_fresh, self.trial_error = False, None
-        return True, None
+        self.operator_fresh, self.trial_error = False, None
+        if self.t >= self.t_bound:
+            self.status = "finished"
+        return None
 
-    def _dense_output_impl(self):
+    def dense_output(self) -> HermiteOutput:
+        """Interpolant over the last step."""
         t0, y0, a0 = self._previous
-        return _HermiteOutput(t0, self.t, y0, a0, self.y, self.a)
+        return HermiteOutput(t0, self.t, y0, a0, self.y, self.a)
 
 
-class _HermiteOutput(DenseOutput):
-    """Cubic Hermite interpolation of ``q`` (with ``v``) and of ``v`` (with ``a``)."""
+class HermiteOutput:
+    """Cubic Hermite interpolation of ``q`` (with ``v``) and of ``v`` (with ``a``) over
+    ``[t_old, t]``; call it with a time or an array of times."""
 
     def __init__(self, t0, t1, y0, a0, y1, a1):
-        super().__init__(t0, t1)
         m = len(y0) // 2
-        self.h = t1 - t0
+        self.t_old, self.t, self.h = t0, t1, t1 - t0
         self.values = (y0, y1)
         self.slopes = (np.concatenate([y0[m:], a0]), np.concatenate([y1[m:], a1]))
 
-    def _call_impl(self, t):
+    def __call__(self, t):
         s = (np.asarray(t) - self.t_old) / self.h
         h00, h10 = 2 * s**3 - 3 * s**2 + 1, s**3 - 2 * s**2 + s
         h01, h11 = -2 * s**3 + 3 * s**2, s**3 - s**2

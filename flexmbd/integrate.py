@@ -12,16 +12,26 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, Radau
 
 from .errors import SimulationError
-from .generalized_alpha import GeneralizedAlpha
 from .progress import progress_bar
 
 #: integration methods by name (the course's ode45 is RK45, the default); all but
 #: GeneralizedAlpha (fixed step, for second-order systems y = [q; v]) are scipy's
-METHODS = {"RK45": RK45, "RK23": RK23, "DOP853": DOP853, "Radau": Radau, "BDF": BDF,
-           "LSODA": LSODA, "GeneralizedAlpha": GeneralizedAlpha}
+METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA", "GeneralizedAlpha")
+
+
+def solver_class(method: str) -> type:
+    """The solver class of ``method`` (scipy's are imported only when asked for)."""
+    if method not in METHODS:
+        raise ValueError(f"unknown method {method!r}; choose from {', '.join(METHODS)}")
+    if method == "GeneralizedAlpha":
+        from .generalized_alpha import GeneralizedAlpha
+
+        return GeneralizedAlpha
+    import scipy.integrate
+
+    return getattr(scipy.integrate, method)
 
 
 @dataclass(eq=False)
@@ -45,20 +55,26 @@ class IntegrationResult:
 def integrate(fun: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarray,
               t_eval: np.ndarray, *, method: str = "RK45", rtol: float = 1e-6,
               atol: float | np.ndarray = 1e-9, max_step: float = np.inf,
-              progress: bool | None = None, **options) -> IntegrationResult:
+              progress: bool | None = None, on_output: Callable[[int], None] | None = None,
+              **options) -> IntegrationResult:
     """Integrate ``y' = fun(t, y)`` from ``t_eval[0]`` to ``t_eval[-1]``, output at ``t_eval``.
+
+    ``on_output(k)``, when given, is called as soon as output ``k`` is reached (right
+    after the step that passes ``t_eval[k]``). Other ``options`` go to the solver
+    (e.g. ``step`` and ``system`` of :class:`~flexmbd.generalized_alpha.GeneralizedAlpha`).
 
     Raises:
         ValueError: an unknown ``method`` or bad ``t_eval``.
     """
-    if method not in METHODS:
-        raise ValueError(f"unknown method {method!r}; choose from {', '.join(METHODS)}")
+    solver_type = solver_class(method)
     t_eval = np.asarray(t_eval, dtype=float)
     if t_eval.size < 2 or np.any(np.diff(t_eval) <= 0):
         raise ValueError("output times must be at least two, strictly increasing")
     ys = [np.array(y0, dtype=float)]
-    solver = METHODS[method](fun, t_eval[0], ys[0], t_eval[-1], rtol=rtol, atol=atol,
-                             max_step=max_step, **options)
+    solver = solver_type(fun, t_eval[0], ys[0], t_eval[-1], rtol=rtol, atol=atol,
+                         max_step=max_step, **options)
+    if on_output is not None:
+        on_output(0)
     k, nsteps, error, message = 1, 0, None, "completed"
     span = t_eval[-1] - t_eval[0]
     with progress_bar(1000, f"simulating ({method})", progress) as bar:
@@ -74,13 +90,20 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarray,
                 message = f"the {method} integrator failed at t = {solver.t:.6g} s: {step_message}"
                 break
             if k < len(t_eval) and t_eval[k] <= solver.t:
-                dense = solver.dense_output()
+                dense, end = None, solver.t - 1e-12 * (solver.t - solver.t_old)
                 while k < len(t_eval) and t_eval[k] <= solver.t:
-                    ys.append(dense(t_eval[k]))
+                    if t_eval[k] >= end:  # an output at the end of the step (to round-off)
+                        ys.append(solver.y.copy())
+                    else:
+                        dense = dense or solver.dense_output()
+                        ys.append(dense(t_eval[k]))
+                    if on_output is not None:
+                        on_output(k)
                     k += 1
             permille = int(1000 * (solver.t - t_eval[0]) / span)
-            bar.update(permille - done_permille)
-            done_permille = permille
+            if permille > done_permille:
+                bar.update(permille - done_permille)
+                done_permille = permille
     stats = {"nfev": solver.nfev, "njev": solver.njev, "nlu": solver.nlu, "nsteps": nsteps}
     success = error is None and solver.status == "finished"
     return IntegrationResult(t_eval[:k], np.array(ys), success, message, error, stats)

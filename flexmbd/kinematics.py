@@ -20,14 +20,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg
 
 from .errors import ConvergenceError, SingularConfigurationError
+from .factor import DenseFactor
 from .model import Model
 
 #: default Newton tolerance relative to the model's characteristic length (THEORY 3)
 RELATIVE_TOLERANCE = 1e-10
-_GETRF, _GETRS = scipy.linalg.lapack.dgetrf, scipy.linalg.lapack.dgetrs
 #: residuals below this share of the tolerance are round-off: x no longer moves
 _ROUND_OFF = 1e-6
 #: scaled smallest singular value of ``D_c`` below which a factorisation fails
@@ -104,18 +103,13 @@ class PartitionedJacobian:
     independent: np.ndarray
     D_c: np.ndarray
     conditioning: float
-    _factors: tuple | None
+    _factors: DenseFactor | None
 
     def solve(self, rhs: np.ndarray) -> np.ndarray:
         """``D_c^-1 rhs`` for ``rhs`` of shape ``(n_dependent,)`` or ``(n_dependent, k)``."""
         if self._factors is None:
             return np.zeros_like(rhs)
-        lu, row_scale, column_scale = self._factors
-        rhs = np.asarray(rhs, dtype=float)
-        shape = (-1,) + (1,) * (rhs.ndim - 1)
-        # LAPACK directly: scipy.linalg's wrappers cost more than the solve at this size
-        y, _ = _GETRS(*lu, row_scale.reshape(shape) * rhs)
-        return column_scale.reshape(shape) * y
+        return self._factors.inverse[0] @ np.asarray(rhs, dtype=float)
 
 
 def partition_jacobian(model: Model, x: np.ndarray, time: float | None = None,
@@ -132,7 +126,8 @@ def partition_jacobian(model: Model, x: np.ndarray, time: float | None = None,
     D_c = dependent[model.constrained]
     factors, conditioning = None, 1.0
     if D_c.size:
-        factors, conditioning = _factorize(model, D_x, D_c, time)
+        factors = _factorize(model, D_x, D_c, time)
+        conditioning = float(factors.conditioning[0])
     return PartitionedJacobian(
         model=model,
         full=D_x,
@@ -145,8 +140,9 @@ def partition_jacobian(model: Model, x: np.ndarray, time: float | None = None,
     )
 
 
-def _factorize(model: Model, D_x: np.ndarray, D_c: np.ndarray, time: float | None):
-    """LU of the scaled ``D_c`` and the estimate of its smallest singular value.
+def _factorize(model: Model, D_x: np.ndarray, D_c: np.ndarray, time: float | None
+               ) -> DenseFactor:
+    """Factorise the scaled ``D_c`` and estimate its smallest singular value.
 
     Angles are scaled by the model size and every row by the norm of its full
     ``D_x`` row, so the estimate is free of units: a constraint that can hardly
@@ -157,19 +153,15 @@ def _factorize(model: Model, D_x: np.ndarray, D_c: np.ndarray, time: float | Non
         raise ConvergenceError(f"{_at(time)}: the configuration is not finite", time)
     scaled_rows = D_x[model.constrained] * model.coordinate_scale
     row_scale = 1.0 / np.maximum(np.linalg.norm(scaled_rows, axis=1), 1e-300)
-    column_scale = model.coordinate_scale[model.dependent]
-    scaled = row_scale[:, None] * D_c * column_scale
-    factors, pivots, info = _GETRF(scaled)
-    lu = (factors, pivots)
-    anorm = np.abs(scaled).sum(axis=0).max()
-    rcond = scipy.linalg.lapack.dgecon(factors, anorm, norm="1")[0] if info == 0 else 0.0
-    conditioning = float(rcond * anorm)  # 1 / ||scaled^-1||_1 ~ smallest singular value
-    if not conditioning > SINGULAR_RCOND:
-        raise _singular(model, D_c, time, "D_c is singular")
-    return (lu, row_scale, column_scale), conditioning
+    factor = DenseFactor(D_c[None], row_scale, model.coordinate_scale[model.dependent])
+    if not factor.conditioning[0] > SINGULAR_RCOND:
+        raise singular_error(model, D_c, time, "D_c is singular")
+    return factor
 
 
-def _singular(model: Model, D_c: np.ndarray, time: float | None, what: str):
+def singular_error(model: Model, D_c: np.ndarray, time: float | None, what: str
+                   ) -> SingularConfigurationError:
+    """The error of a singular ``D_c`` at ``time``, naming what no longer holds."""
     return SingularConfigurationError(
         f"singular configuration {_at(time)}: {what}; {weakest_direction(model, D_c)}; the "
         f"mechanism is at a dead point or at the end of its range of motion, where the "
@@ -329,6 +321,12 @@ def position_analysis(model: Model, q: np.ndarray, x_guess: np.ndarray | None = 
     )
 
 
+def regularity_limit(model: Model, tolerance: float) -> float:
+    """Scaled smallest singular value of ``D_c`` below which a position solution at
+    ``tolerance`` counts as singular (see :func:`_check_regular`)."""
+    return 10.0 * float(np.sqrt(tolerance / model.characteristic_length))
+
+
 def _check_regular(model: Model, jac: PartitionedJacobian, time: float | None,
                    tolerance: float) -> None:
     """Reject a converged solution that is singular within the position tolerance.
@@ -338,9 +336,9 @@ def _check_regular(model: Model, jac: PartitionedJacobian, time: float | None,
     scaled smallest singular value below ``10 sqrt(tolerance / L)`` cannot be
     told apart from zero at that tolerance.
     """
-    limit = 10.0 * np.sqrt(tolerance / model.characteristic_length)
+    limit = regularity_limit(model, tolerance)
     if len(model.dependent) and jac.conditioning < limit:
-        raise _singular(model, jac.D_c, time,
+        raise singular_error(model, jac.D_c, time,
                         f"D_c is singular within the position tolerance (scaled smallest "
                         f"singular value {jac.conditioning:.2g} < {limit:.2g})")
 

@@ -250,6 +250,13 @@ class Model:
         return tuple(group_properties(g, dict(self.element_properties)) for g in self.groups)
 
     @cached_property
+    def assembly(self):
+        """Index maps for fast, batched assembly (:class:`flexmbd.assembly.Assembly`)."""
+        from .assembly import Assembly  # built on first use: the kinematics API needs none
+
+        return Assembly(self)
+
+    @cached_property
     def has_mass(self) -> bool:
         """Whether any element or node carries mass (dynamics needs it)."""
         return bool(self.nodal_masses) or any(np.any(p.mass != 0) for p in self.group_properties)

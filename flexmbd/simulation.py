@@ -1,9 +1,12 @@
 """Forward dynamics (THEORY section 7): simulate the dynamic degrees of freedom.
 
-The state is ``y = [q_d, qdot_d]``; every right-hand-side call solves the
-position problem (warm-started from the previous call), evaluates the reduced
-equations and returns ``[qdot_d, qddot_d]``. Prescribed entries of ``q`` follow
-their laws.
+The state is ``y = [q_d, qdot_d]``. Every evaluation solves the position problem
+(warm-started from the previous evaluation) and the equations of motion with
+:class:`~flexmbd.equations.EquationsOfMotion`; prescribed entries of ``q``
+follow their laws. The generalized-alpha integrator iterates on the nodal force
+residual with a Newton matrix built from the element stiffness; scipy's
+methods get ``y' = [qdot_d, qddot_d]``. After the run, all output times are
+evaluated in one batch.
 """
 
 from __future__ import annotations
@@ -13,16 +16,21 @@ from typing import Literal
 
 import numpy as np
 
-from .dynamics import Forces, dynamic_terms, generalized_accelerations
+from .dynamics import Forces
+from .equations import EquationsOfMotion, State
 from .errors import ModelError, SimulationError
-from .inputs import evaluate_laws, q_index, resolve_laws
-from .integrate import integrate
+from .inputs import q_index, resolve_laws
+from .integrate import METHODS, integrate
 from .kinematics import initial_q
 from .model import Model
 from .motion import Law
-from .records import DynamicRecord
 from .results import SimulationResult, check_on_failure, conclude
 from .threads import blas_threads_for
+
+#: output times evaluated together in the output pass (bounds its memory)
+_OUTPUT_BATCH = 256
+#: generalized-alpha's position solves take D_x within this share of the model size
+_GA_JACOBIAN_POINT = 1e-6
 
 
 def initial_state(model: Model, initial: Mapping[str, tuple[float, float]] | None
@@ -45,41 +53,84 @@ def initial_state(model: Model, initial: Mapping[str, tuple[float, float]] | Non
     return q0[d], qd0[d]
 
 
-class _RightHandSide:
-    """``y' = f(t, y)`` with a warm start for the position solve between calls."""
+class MechanicalSystem:
+    """The dynamic degrees of freedom of a model as a second-order system.
 
-    def __init__(self, model, laws, forces, tolerance):
-        self.model, self.laws, self.forces, self.tolerance = model, laws, forces, tolerance
-        self.dynamic = ~model.q_is_input
-        self.x_last, self.xd_last, self.t_last = np.array(model.x0), None, None
-        # (t, x, xdot) whenever time advances: warm starts for the output pass
-        self.checkpoints: list[tuple[float, np.ndarray, np.ndarray]] = []
+    Serves both kinds of integrator: as ``fun(t, y) -> [qdot_d, qddot_d]`` for
+    scipy's, and through ``residual`` / ``iteration_operator`` for
+    :class:`~flexmbd.generalized_alpha.GeneralizedAlpha`. Each evaluation starts the
+    position solve from the previous one's solution, extrapolated in time and
+    corrected to first order for the change of ``q``. ``jacobian_point``, a share
+    of the model size, lets the position solve take ``D_x`` that close to the
+    solution instead of at the tolerance (see
+    :meth:`~flexmbd.equations.EquationsOfMotion.positions`).
+    """
 
-    def terms(self, t, y, start=None):
-        """Solve and evaluate at ``(t, y)``; ``start = (t0, x0, xd0)`` overrides the warm start."""
-        model, d = self.model, self.dynamic
-        n = int(d.sum())
-        q, qd, qdd = evaluate_laws(self.laws, t)
-        q[d], qd[d] = y[:n], y[n:]
-        t0, x0, xd0 = start or (self.t_last, self.x_last, self.xd_last)
-        guess = x0 if xd0 is None else x0 + (t - t0) * xd0
-        terms = dynamic_terms(model, q, qd, t, x_guess=guess, forces=self.forces,
-                              tolerance=self.tolerance)
-        self.x_last, self.xd_last, self.t_last = terms.x, terms.xd, t
-        if not self.checkpoints or t > self.checkpoints[-1][0]:
-            self.checkpoints.append((t, terms.x, terms.xd))
-        qdd = generalized_accelerations(model, terms, qdd[~d])
-        return terms, q, qd, qdd
+    def __init__(self, equations: EquationsOfMotion, n_outputs: int,
+                 jacobian_point: float | None = None):
+        self.equations = equations
+        model = equations.model
+        self.near = (None if jacobian_point is None
+                     else jacobian_point * model.characteristic_length)
+        self.nfev = 0
+        self.last: State | None = None
+        self._x, self._xd, self._xdd = np.array(model.x0, dtype=float), None, None
+        self._t = None
+        #: for each output time, the solution of an evaluation near it (a warm start)
+        self.guesses = np.tile(np.asarray(model.x0, dtype=float), (n_outputs, 1))
 
-    def start_near(self, t):
-        """The checkpoint at or before ``t`` (the first one before all)."""
-        times = [c[0] for c in self.checkpoints]
-        k = max(int(np.searchsorted(times, t, side="right")) - 1, 0)
-        return self.checkpoints[k] if self.checkpoints else None
+    def _state(self, t: float, q_d, qd_d, qdd_d) -> State:
+        eq = self.equations
+        t_arr = np.array([float(t)])
+        q, qd, qdd = eq.compose(t_arr, q_d[None], qd_d[None],
+                                None if qdd_d is None else qdd_d[None])
+        state = eq.kinematics(t_arr, q, qd, qdd, self._guess(t, q), self.near)
+        self.nfev += 1
+        self._x, self._xd, self._xdd = state.x[0], state.xd[0], state.xdd[0]
+        self._t, self.last = t, state
+        return state
 
-    def __call__(self, t, y):
-        _, _, qd, qdd = self.terms(t, y)
-        return np.concatenate([qd[self.dynamic], qdd[self.dynamic]])
+    def _guess(self, t: float, q: np.ndarray) -> np.ndarray:
+        """Start of the position solve: the last solution, extrapolated to ``t`` to second
+        order, plus ``F_q`` times what that extrapolation misses of ``q`` (THEORY 3's
+        predictor): the motion of the dynamic entries is not smooth in time when stiff
+        modes ring."""
+        last = self.last
+        if last is None:
+            return self._x[None]
+        dt = t - self._t
+        guess = self._x + dt * self._xd + (0.5 * dt * dt) * self._xdd
+        missed = q - (last.q + dt * last.qd + (0.5 * dt * dt) * last.qdd)
+        eq = self.equations
+        change = np.zeros((1, len(guess)))
+        change[:, eq.asm.q_coordinates] = missed[:, :eq.n_xm]
+        change = eq.dependent_rates(change, last.jacobian, last.factor, missed[:, eq.n_xm:])
+        return guess[None] + change
+
+    def accelerations(self, t, q_d, qd_d) -> np.ndarray:
+        """``qddot_d`` ``(nd,)`` solving the equations of motion at ``(t, q_d, qdot_d)``."""
+        state = self._state(t, q_d, qd_d, None)
+        qdd_d, _ = self.equations.solve_accelerations(state,
+                                                      self.equations.nodal_force(state))
+        self._xdd = np.zeros_like(self._x)  # xddot above lacks qddot_d: extrapolate linearly
+        return qdd_d[0]
+
+    def residual(self, t, q_d, qd_d, qdd_d) -> np.ndarray:
+        """``R = F_q^T y`` ``(1, nd)`` at ``qddot_d``: zero when it solves the equations."""
+        state = self._state(t, q_d, qd_d, qdd_d)
+        return self.equations.reduced_residual(state, self.equations.nodal_force(state))
+
+    def iteration_operator(self, c_q: float, c_v: float):
+        """Newton correction ``op(y) -> delta qddot_d`` at the last evaluated state."""
+        return self.equations.iteration_operator(self.last, c_q, c_v)
+
+    def __call__(self, t: float, y: np.ndarray) -> np.ndarray:
+        n = len(y) // 2
+        return np.concatenate([y[n:], self.accelerations(t, y[:n], y[n:])])
+
+    def keep_guess(self, k: int) -> None:
+        """Remember the latest solution as the warm start of output ``k``."""
+        self.guesses[k] = self._x
 
 
 def simulate(
@@ -94,6 +145,7 @@ def simulate(
     atol: float = 1e-9,
     max_step: float = np.inf,
     step: float | None = None,
+    iterations: int | None = None,
     tolerance: float | None = None,
     with_reactions: bool = False,
     progress: bool | None = None,
@@ -117,6 +169,10 @@ def simulate(
             of its Newton iteration).
         max_step: largest integrator step [s].
         step: step size [s] of GeneralizedAlpha (default: the output interval).
+        iterations: GeneralizedAlpha's Newton corrections per step: ``None`` (default)
+            iterates to ``rtol``/``atol``; ``1`` is the linearly implicit method, one
+            evaluation and one new Newton matrix per step, as accurate for the slow
+            motion at a fraction of the cost (see :mod:`flexmbd.generalized_alpha`).
         tolerance: Newton tolerance of the position solve [m, rad].
         with_reactions: also compute constraint stresses and support/drive loads.
         progress: progress bar (default: long interactive runs only).
@@ -134,22 +190,30 @@ def simulate(
     if not model.has_mass:
         raise ModelError("the model has no mass: give elements set_mass() or nodes "
                          "add_point_mass() before simulating")
+    if method not in METHODS:
+        raise ValueError(f"unknown method {method!r}; choose from {', '.join(METHODS)}")
     laws = resolve_laws(model, inputs)
-    rhs = _RightHandSide(model, laws, forces, tolerance)
+    # generalized-alpha's residual need not be exact below its truncation error: its
+    # position solves take D_x within 1e-6 of the model size (saves chord steps)
+    system = MechanicalSystem(EquationsOfMotion(model, laws, forces, tolerance), len(times),
+                              _GA_JACOBIAN_POINT if method == "GeneralizedAlpha" else None)
     q0, qd0 = initial_state(model, initial)
     options = {}
     if method == "GeneralizedAlpha":
         interval = float(np.diff(times).min()) if times.size > 1 else None
         options["step"] = step if step is not None else interval
-    elif step is not None:
-        raise ValueError(f"step is the fixed step of GeneralizedAlpha; {method} chooses its "
-                         f"own steps (bound them with max_step)")
+        options["system"], options["iterations"] = system, iterations
+    elif step is not None or iterations is not None:
+        raise ValueError(f"step and iterations belong to GeneralizedAlpha; {method} chooses "
+                         f"its own steps (bound them with max_step)")
     with blas_threads_for(model.n_coordinates):
-        run = integrate(rhs, np.concatenate([q0, qd0]), times, method=method, rtol=rtol,
-                        atol=atol, max_step=max_step, progress=progress, **options)
-        result = _post_process(model, rhs, run.t, run.y, with_reactions)
+        run = integrate(system, np.concatenate([q0, qd0]), times, method=method, rtol=rtol,
+                        atol=atol, max_step=max_step, progress=progress,
+                        on_output=system.keep_guess, **options)
+        result, output_error = _post_process(system.equations, run.t, run.y,
+                                             system.guesses[:len(run.t)], with_reactions)
     result.stats = {**run.stats, "method": method}
-    error = run.error
+    error = run.error or output_error
     if error is None and not run.success:
         error = SimulationError(run.message, float(run.t[-1]) if len(run.t) else None)
     return conclude(result, error, on_failure,
@@ -157,13 +221,47 @@ def simulate(
                     f"({run.stats['nsteps']} steps, {run.stats['nfev']} evaluations)")
 
 
-def _post_process(model, rhs, t, y, with_reactions) -> SimulationResult:
+def _post_process(equations: EquationsOfMotion, t: np.ndarray, y: np.ndarray,
+                  guesses: np.ndarray, with_reactions: bool
+                  ) -> tuple[SimulationResult, SimulationError | None]:
     """Full kinematics, stresses, driving forces and (optionally) reactions at the output
-    times."""
-    record = DynamicRecord(model, len(t), with_reactions)
-    for k in range(len(t)):
-        # start from the integration's own solution near t[k]: the position problem
-        # has other branches (an end tangent turned by pi), so never extrapolate far
-        terms, q, qd, qdd = rhs.terms(t[k], y[k], start=rhs.start_near(t[k]))
-        record.add(t[k], terms, q, qd, qdd)
-    return record.result()
+    times, evaluated in batches; an output that cannot be evaluated (e.g. a state past
+    the last good step of a failing run) ends the result there, with its error."""
+    model, n = equations.model, y.shape[1] // 2
+    columns: dict[str, list[np.ndarray]] = {}
+    error = None
+
+    def evaluate(part):
+        # each output starts from the integration's own solution near it: the position
+        # problem has other branches (an end tangent turned by pi), so never go far
+        for name, values in equations.outputs(t[part], y[part, :n], y[part, n:],
+                                              guesses[part]).items():
+            columns.setdefault(name, []).append(values)
+
+    done = 0
+    for start in range(0, len(t), _OUTPUT_BATCH):
+        try:
+            evaluate(slice(start, start + _OUTPUT_BATCH))
+            done = min(start + _OUTPUT_BATCH, len(t))
+        except SimulationError:
+            for k in range(start, min(start + _OUTPUT_BATCH, len(t))):
+                try:
+                    evaluate(slice(k, k + 1))
+                except SimulationError as err:
+                    error = err
+                    break
+                done = k + 1
+            break
+    if done:
+        arrays = {name: np.concatenate(parts) for name, parts in columns.items()}
+    else:
+        arrays = {name: np.zeros((0, size)) for name, size in _sizes(model).items()}
+    if not with_reactions:
+        arrays["reactions"] = None
+    return SimulationResult(model, t[:done], **arrays), error
+
+
+def _sizes(model: Model) -> dict[str, int]:
+    nx, ne, nq = model.n_coordinates, model.n_deformations, model.n_dof
+    return {"x": nx, "xd": nx, "xdd": nx, "e": ne, "ed": ne, "edd": ne, "q": nq, "qd": nq,
+            "qdd": nq, "sigma": ne, "reactions": nx, "driving": nq}

@@ -132,3 +132,15 @@ def test_kernels_take_leading_batch_axes(cls):
     together = cls.quadratic_velocity(batch, rates, ref)
     for k in range(3):
         np.testing.assert_array_equal(together[k], cls.quadratic_velocity(batch[k], rates[k], ref))
+
+
+@pytest.mark.parametrize("cls", ELEMENTS, ids=lambda c: c.name)
+def test_fast_kernels_evaluate_the_formula(cls):
+    """The numeric kernels' ``e`` are second expressions of ``formula``: they must agree."""
+    ref, xe, _ = random_state(cls, np.random.default_rng(11))
+    columns = [xe[:, k] for k in range(xe.shape[1])]
+    expected = np.stack(cls.formula(columns, ref.length, ref.angle, np), axis=-1)
+    e, jac = cls.deformations_and_jacobian(xe, ref)
+    np.testing.assert_allclose(e, expected, rtol=1e-14, atol=1e-14)
+    np.testing.assert_allclose(cls.deformations(xe, ref), expected, rtol=1e-14, atol=1e-14)
+    np.testing.assert_array_equal(jac, cls.jacobian(xe, ref))

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from types import ModuleType
-from typing import Any, ClassVar
+from typing import Any, ClassVar, NamedTuple
 
 import numpy as np
 
@@ -52,6 +52,7 @@ class ElementType:
         deformation_names: one name per deformation parameter.
         ends: column pairs of ``xe`` holding ``r_p`` and ``r_q``, or ``None``
             for elements without translational nodes.
+        mass_varies: whether :meth:`mass_matrix` depends on the configuration.
     """
 
     name: ClassVar[str]
@@ -60,6 +61,8 @@ class ElementType:
     node_roles: ClassVar[tuple[str, ...]]
     deformation_names: ClassVar[tuple[str, ...]]
     ends: ClassVar[tuple[tuple[int, int], tuple[int, int]] | None] = None
+    #: whether the mass matrix depends on the configuration (else it is computed once)
+    mass_varies: ClassVar[bool] = True
 
     @classmethod
     def n_coordinates(cls) -> int:
@@ -99,6 +102,12 @@ class ElementType:
     def jacobian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
         """``D_x = dD/dx`` per element, shape ``(..., n, nd, nc)``."""
         raise NotImplementedError
+
+    @classmethod
+    def deformations_and_jacobian(cls, xe: np.ndarray, ref: Reference
+                                  ) -> tuple[np.ndarray, np.ndarray]:
+        """``e`` and ``D_x`` together (types override this to share their geometry)."""
+        return cls.deformations(xe, ref), cls.jacobian(xe, ref)
 
     @classmethod
     def hessian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
@@ -170,6 +179,43 @@ def unit_and_normal(beta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return e, n
 
 
+class Chord(NamedTuple):
+    """``d = r_q - r_p`` by components, its length and unit vector ``e_l``, each ``(...,)``."""
+
+    dx: np.ndarray
+    dy: np.ndarray
+    length: np.ndarray
+    ux: np.ndarray
+    uy: np.ndarray
+
+
+def chord_of(xe: np.ndarray, p: int, q: int) -> Chord:
+    """The :class:`Chord` from ``r_p`` at columns ``p, p+1`` to ``r_q`` at ``q, q+1``.
+
+    The hot kernels work on such scalar components: on the small arrays of a
+    mechanism every numpy call costs about the same, so fewer calls is faster
+    than 2-vector helpers."""
+    dx, dy = xe[..., q] - xe[..., p], xe[..., q + 1] - xe[..., p + 1]
+    length = np.hypot(dx, dy)
+    return Chord(dx, dy, length, dx / length, dy / length)
+
+
+def cos_sin(beta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``cos beta, sin beta``: ``e(beta) = (c, s)`` and ``n(beta) = (-s, c)``."""
+    return np.cos(beta), np.sin(beta)
+
+
+def elongation_row(row: np.ndarray, ch: Chord, p: int, q: int) -> None:
+    """Write ``d l / d(r_p, r_q) = (-e_l, e_l)`` into ``row`` ``(..., nc)`` (zeros elsewhere)."""
+    row[..., p], row[..., p + 1], row[..., q], row[..., q + 1] = -ch.ux, -ch.uy, ch.ux, ch.uy
+
+
+def elongation_rate2(ch: Chord, dvx: np.ndarray, dvy: np.ndarray) -> np.ndarray:
+    """``(d2 l / dr2 rdot) rdot = (dv.dv - (e_l.dv)^2) / l`` from the components of ``dv``."""
+    along = ch.ux * dvx + ch.uy * dvy
+    return (dvx * dvx + dvy * dvy - along * along) / ch.length
+
+
 def chord(xe: np.ndarray, ends) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``d = r_q - r_p`` ``(..., 2)``, its length ``l`` ``(...,)`` and direction ``e_l``."""
     (px, py), (qx, qy) = ends
@@ -222,16 +268,18 @@ def normal_distance_hessian(hess, ends, phi, n_d, e_r, sign):
 
 
 # --- inertia of a rod with a linear velocity field (truss, rigid beam) ----------------
+_ROD_CONSISTENT = np.kron(np.array([[2.0, 1.0], [1.0, 2.0]]) / 6.0, np.eye(2))
+_ROD_LUMPED = 0.5 * np.eye(4)
+
+
 def rod_mass_matrix(n_coordinates: int, ends, mass: np.ndarray, lumped: np.ndarray
                     ) -> np.ndarray:
     """``m/6 [[2I, I], [I, 2I]]`` (consistent) or ``m/2 I`` (lumped) on ``r_p, r_q``,
     shape ``(n, nc, nc)``."""
-    cols = list(ends[0]) + list(ends[1])
-    consistent = np.kron(np.array([[2.0, 1.0], [1.0, 2.0]]) / 6.0, np.eye(2))
-    lumped_block = 0.5 * np.eye(4)
-    blocks = np.where(lumped[:, None, None], lumped_block, consistent) * mass[:, None, None]
+    cols = np.array(list(ends[0]) + list(ends[1]))
+    blocks = np.where(lumped[:, None, None], _ROD_LUMPED, _ROD_CONSISTENT) * mass[:, None, None]
     out = np.zeros((len(mass), n_coordinates, n_coordinates))
-    out[:, np.array(cols)[:, None], np.array(cols)] = blocks
+    out[:, cols[:, None], cols] = blocks
     return out
 
 

@@ -14,11 +14,13 @@ from .base import (
     ElementType,
     Reference,
     chord,
+    chord_of,
+    cos_sin,
     dot,
     elongation_hessian,
-    elongation_jacobian,
     elongation_matrices,
-    elongation_quadratic_velocity,
+    elongation_rate2,
+    elongation_row,
     normal_distance_hessian,
     rod_gravity_load,
     rod_inertia_force,
@@ -39,6 +41,11 @@ HERMITE_PRODUCTS = np.array([
     [-13 / 420, -1 / 140, -11 / 210, 1 / 105],
 ])
 HERMITE_INTEGRALS = np.array([1 / 2, 1 / 12, 1 / 2, -1 / 12])
+# N(xi) = sum_i H_i(xi) A_i with A_i (2 x 6) stacked into (8, 6): rows 0-1 pick r_p,
+# rows 4-5 pick r_q; rows 2-3 and 6-7 hold l0 n_p and l0 n_q in the angle columns
+_SHAPE_TEMPLATE = np.zeros((8, 6))
+_SHAPE_TEMPLATE[[0, 1, 4, 5], [0, 1, 3, 4]] = 1.0
+_HERMITE_BLOCKS = np.kron(HERMITE_PRODUCTS, np.eye(2))
 
 
 class Beam(ElementType):
@@ -70,13 +77,38 @@ class Beam(ElementType):
         return d, length, e_l, e_p, n_p, e_q, n_q
 
     @classmethod
+    def deformations(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
+        ch = chord_of(xe, 0, 3)
+        cp, sp = cos_sin(ref.angle + xe[..., _PHI_P])
+        cq, sq = cos_sin(ref.angle + xe[..., _PHI_Q])
+        e = np.empty((*xe.shape[:-1], 3))
+        e[..., 0] = ch.length - ref.length
+        e[..., 1] = sp * ch.dx - cp * ch.dy  # -n_p . d
+        e[..., 2] = cq * ch.dy - sq * ch.dx  # n_q . d
+        return e
+
+    @classmethod
     def jacobian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
-        d, _, e_l, e_p, n_p, e_q, n_q = cls._frames(xe, ref)
+        return cls.deformations_and_jacobian(xe, ref)[1]
+
+    @classmethod
+    def deformations_and_jacobian(cls, xe, ref):
+        ch = chord_of(xe, 0, 3)
+        cp, sp = cos_sin(ref.angle + xe[..., _PHI_P])
+        cq, sq = cos_sin(ref.angle + xe[..., _PHI_Q])
+        e = np.empty((*xe.shape[:-1], 3))
+        e[..., 0] = ch.length - ref.length
+        e[..., 1] = sp * ch.dx - cp * ch.dy
+        e[..., 2] = cq * ch.dy - sq * ch.dx
         jac = np.zeros((*xe.shape[:-1], 3, 6))
-        jac[..., 0, _RP + _RQ] = elongation_jacobian(e_l)
-        jac[..., 1, _RP], jac[..., 1, _RQ], jac[..., 1, _PHI_P] = n_p, -n_p, dot(e_p, d)
-        jac[..., 2, _RP], jac[..., 2, _RQ], jac[..., 2, _PHI_Q] = -n_q, n_q, -dot(e_q, d)
-        return jac
+        elongation_row(jac[..., 0, :], ch, 0, 3)
+        row = jac[..., 1, :]  # d e2 = n_p . (d r_p - d r_q) + (e_p . d) d phi_p
+        row[..., 0], row[..., 1], row[..., 3], row[..., 4] = -sp, cp, sp, -cp
+        row[..., 2] = cp * ch.dx + sp * ch.dy
+        row = jac[..., 2, :]  # d e3 = n_q . (d r_q - d r_p) - (e_q . d) d phi_q
+        row[..., 0], row[..., 1], row[..., 3], row[..., 4] = sq, -cq, -sq, cq
+        row[..., 5] = -(cq * ch.dx + sq * ch.dy)
+        return e, jac
 
     @classmethod
     def hessian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
@@ -92,17 +124,17 @@ class Beam(ElementType):
 
     @classmethod
     def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference) -> np.ndarray:
-        d, length, e_l, e_p, n_p, e_q, n_q = cls._frames(xe, ref)
-        dv = xde[..., _RQ] - xde[..., _RP]
+        ch = chord_of(xe, 0, 3)
+        cp, sp = cos_sin(ref.angle + xe[..., _PHI_P])
+        cq, sq = cos_sin(ref.angle + xe[..., _PHI_Q])
+        dvx, dvy = xde[..., 3] - xde[..., 0], xde[..., 4] - xde[..., 1]
         w_p, w_q = xde[..., _PHI_P], xde[..., _PHI_Q]
-        return np.stack(
-            [
-                elongation_quadratic_velocity(length, e_l, dv),
-                w_p**2 * dot(n_p, d) + 2.0 * w_p * dot(e_p, dv),
-                -(w_q**2) * dot(n_q, d) - 2.0 * w_q * dot(e_q, dv),
-            ],
-            axis=-1,
-        )
+        out = np.empty((*xe.shape[:-1], 3))
+        out[..., 0] = elongation_rate2(ch, dvx, dvy)
+        # w_p^2 (n_p . d) + 2 w_p (e_p . dv) and -w_q^2 (n_q . d) - 2 w_q (e_q . dv)
+        out[..., 1] = w_p * (w_p * (cp * ch.dy - sp * ch.dx) + 2.0 * (cp * dvx + sp * dvy))
+        out[..., 2] = -w_q * (w_q * (cq * ch.dy - sq * ch.dx) + 2.0 * (cq * dvx + sq * dvy))
+        return out
 
     @classmethod
     def interpolate(cls, xe: np.ndarray, ref: Reference, xi: float) -> np.ndarray:
@@ -125,24 +157,19 @@ class Beam(ElementType):
     # the acceleration of the interpolation points).
     @classmethod
     def mass_matrix(cls, xe, ref, mass, lumped):
-        """Consistent: ``m int N^T N dxi``; lumped: ``m/2`` at each end, no rotary inertia."""
+        """Consistent: ``m int N^T N dxi = m A^T (P x I) A`` with ``A`` the stacked
+        ``A_i`` ``(8, 6)``; lumped: ``m/2`` at each end, no rotary inertia."""
         _, n_p = unit_and_normal(ref.angle + xe[..., _PHI_P])
         _, n_q = unit_and_normal(ref.angle + xe[..., _PHI_Q])
-        P, m, l0 = HERMITE_PRODUCTS, mass[:, None], ref.length[:, None]
-        out = np.zeros((*xe.shape, 6))
-        for axis in (0, 1):  # x and y: the translational blocks are multiples of I
-            p, q = _RP[axis], _RQ[axis]
-            out[..., p, p] = P[0, 0] * mass
-            out[..., q, q] = P[2, 2] * mass
-            out[..., p, q] = out[..., q, p] = P[0, 2] * mass
-        for i, rows in ((0, _RP), (2, _RQ)):  # translations against rotations
-            out[..., rows, _PHI_P] = out[..., _PHI_P, rows] = P[i, 1] * m * l0 * n_p
-            out[..., rows, _PHI_Q] = out[..., _PHI_Q, rows] = P[i, 3] * m * l0 * n_q
-        rotary = mass * ref.length**2
-        out[..., _PHI_P, _PHI_P] = P[1, 1] * rotary
-        out[..., _PHI_Q, _PHI_Q] = P[3, 3] * rotary
-        out[..., _PHI_P, _PHI_Q] = out[..., _PHI_Q, _PHI_P] = P[1, 3] * rotary * dot(n_p, n_q)
-        return np.where(lumped[:, None, None], rod_mass_matrix(6, cls.ends, mass, lumped), out)
+        shape = np.broadcast_to(_SHAPE_TEMPLATE, (*xe.shape[:-1], 8, 6)).copy()
+        shape[..., 2:4, _PHI_P] = ref.length[:, None] * n_p
+        shape[..., 6:8, _PHI_Q] = ref.length[:, None] * n_q
+        consistent = np.swapaxes(shape, -1, -2) @ (_HERMITE_BLOCKS @ shape)
+        consistent *= mass[:, None, None]
+        if not np.any(lumped):
+            return consistent
+        return np.where(lumped[:, None, None], rod_mass_matrix(6, cls.ends, mass, lumped),
+                        consistent)
 
     @classmethod
     def inertia_velocity(cls, xe, xde, ref, mass, lumped):
@@ -153,20 +180,24 @@ class Beam(ElementType):
     def inertia_force(cls, xe, xde, xdde, ref, mass, lumped):
         """``M xddot + h = m sum_ij P_ij A_i^T c_j`` with ``c = (a_p, l0 (phidd_p n_p -
         phid_p^2 e_p), a_q, l0 (phidd_q n_q - phid_q^2 e_q))``; lumped: ``m/2 (a_p, a_q)``."""
-        e_p, n_p = unit_and_normal(ref.angle + xe[..., _PHI_P])
-        e_q, n_q = unit_and_normal(ref.angle + xe[..., _PHI_Q])
-        l0 = ref.length[:, None]
+        cp, sp = cos_sin(ref.angle + xe[..., _PHI_P])
+        cq, sq = cos_sin(ref.angle + xe[..., _PHI_Q])
+        l0 = ref.length
+        alpha_p, omega2_p = xdde[..., _PHI_P], xde[..., _PHI_P] ** 2
+        alpha_q, omega2_q = xdde[..., _PHI_Q], xde[..., _PHI_Q] ** 2
         c = np.empty((*xe.shape[:-1], 4, 2))
-        c[..., 0, :] = xdde[..., _RP]
-        c[..., 1, :] = l0 * (xdde[..., [_PHI_P]] * n_p - xde[..., [_PHI_P]] ** 2 * e_p)
-        c[..., 2, :] = xdde[..., _RQ]
-        c[..., 3, :] = l0 * (xdde[..., [_PHI_Q]] * n_q - xde[..., [_PHI_Q]] ** 2 * e_q)
+        c[..., 0, :] = xdde[..., 0:2]
+        c[..., 1, 0] = -l0 * (alpha_p * sp + omega2_p * cp)
+        c[..., 1, 1] = l0 * (alpha_p * cp - omega2_p * sp)
+        c[..., 2, :] = xdde[..., 3:5]
+        c[..., 3, 0] = -l0 * (alpha_q * sq + omega2_q * cq)
+        c[..., 3, 1] = l0 * (alpha_q * cq - omega2_q * sq)
         b = HERMITE_PRODUCTS @ c  # (..., n, 4, 2): sum_j P_ij c_j
         out = np.empty(xe.shape)
-        out[..., _RP] = b[..., 0, :]
-        out[..., _PHI_P] = ref.length * dot(n_p, b[..., 1, :])
-        out[..., _RQ] = b[..., 2, :]
-        out[..., _PHI_Q] = ref.length * dot(n_q, b[..., 3, :])
+        out[..., 0:2] = b[..., 0, :]
+        out[..., _PHI_P] = l0 * (cp * b[..., 1, 1] - sp * b[..., 1, 0])  # l0 n_p . b_2
+        out[..., 3:5] = b[..., 2, :]
+        out[..., _PHI_Q] = l0 * (cq * b[..., 3, 1] - sq * b[..., 3, 0])  # l0 n_q . b_4
         out *= mass[:, None]
         if np.any(lumped):
             out = np.where(lumped[:, None], rod_inertia_force(xdde, cls.ends, mass, lumped), out)

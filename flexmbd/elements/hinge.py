@@ -17,6 +17,7 @@ class Hinge(ElementType):
     node_kinds = (ROTATIONAL, ROTATIONAL)
     node_roles = ("phi_p", "phi_q")
     deformation_names = ("relative rotation",)
+    mass_varies = False
 
     @staticmethod
     def formula(c, length, angle, m):

@@ -16,11 +16,13 @@ from .base import (
     ElementType,
     Reference,
     chord,
+    chord_of,
+    cos_sin,
     dot,
     elongation_hessian,
-    elongation_jacobian,
     elongation_matrices,
-    elongation_quadratic_velocity,
+    elongation_rate2,
+    elongation_row,
     normal_distance_hessian,
     rod_gravity_load,
     rod_inertia_force,
@@ -41,6 +43,7 @@ class RigidBeam(ElementType):
     node_roles = ("p", "phi_p", "q")
     deformation_names = ("elongation", "normal offset")
     ends = ((0, 1), (3, 4))
+    mass_varies = False
 
     @staticmethod
     def formula(c, length, angle, m):
@@ -56,12 +59,29 @@ class RigidBeam(ElementType):
         return d, length, e_l, e_p, n_p
 
     @classmethod
+    def deformations(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
+        ch = chord_of(xe, 0, 3)
+        c, s = cos_sin(ref.angle + xe[..., _PHI_P])
+        e = np.empty((*xe.shape[:-1], 2))
+        e[..., 0], e[..., 1] = ch.length - ref.length, c * ch.dy - s * ch.dx  # n_p . d
+        return e
+
+    @classmethod
     def jacobian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
-        d, _, e_l, e_p, n_p = cls._frames(xe, ref)
+        return cls.deformations_and_jacobian(xe, ref)[1]
+
+    @classmethod
+    def deformations_and_jacobian(cls, xe, ref):
+        ch = chord_of(xe, 0, 3)
+        c, s = cos_sin(ref.angle + xe[..., _PHI_P])
+        e = np.empty((*xe.shape[:-1], 2))
+        e[..., 0], e[..., 1] = ch.length - ref.length, c * ch.dy - s * ch.dx
         jac = np.zeros((*xe.shape[:-1], 2, 5))
-        jac[..., 0, _TRANS] = elongation_jacobian(e_l)
-        jac[..., 1, _RP], jac[..., 1, _RQ], jac[..., 1, _PHI_P] = -n_p, n_p, -dot(e_p, d)
-        return jac
+        elongation_row(jac[..., 0, :], ch, 0, 3)
+        row = jac[..., 1, :]  # d e2 = n_p . (d r_q - d r_p) - (e_p . d) d phi_p
+        row[..., 0], row[..., 1], row[..., 3], row[..., 4] = s, -c, -s, c
+        row[..., 2] = -(c * ch.dx + s * ch.dy)
+        return e, jac
 
     @classmethod
     def hessian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
@@ -74,16 +94,15 @@ class RigidBeam(ElementType):
 
     @classmethod
     def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference) -> np.ndarray:
-        d, length, e_l, e_p, n_p = cls._frames(xe, ref)
-        dv = xde[..., _RQ] - xde[..., _RP]
+        ch = chord_of(xe, 0, 3)
+        c, s = cos_sin(ref.angle + xe[..., _PHI_P])
+        dvx, dvy = xde[..., 3] - xde[..., 0], xde[..., 4] - xde[..., 1]
         w_p = xde[..., _PHI_P]
-        return np.stack(
-            [
-                elongation_quadratic_velocity(length, e_l, dv),
-                -(w_p**2) * dot(n_p, d) - 2.0 * w_p * dot(e_p, dv),
-            ],
-            axis=-1,
-        )
+        out = np.empty((*xe.shape[:-1], 2))
+        out[..., 0] = elongation_rate2(ch, dvx, dvy)
+        # -w_p^2 (n_p . d) - 2 w_p (e_p . dv)
+        out[..., 1] = -w_p * (w_p * (c * ch.dy - s * ch.dx) + 2.0 * (c * dvx + s * dvy))
+        return out
 
     @classmethod
     def mass_matrix(cls, xe, ref, mass, lumped):

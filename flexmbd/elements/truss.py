@@ -9,10 +9,11 @@ from .base import (
     ElementType,
     Reference,
     chord,
+    chord_of,
     elongation_hessian,
     elongation_jacobian,
     elongation_matrices,
-    elongation_quadratic_velocity,
+    elongation_rate2,
     rod_gravity_load,
     rod_inertia_force,
     rod_mass_matrix,
@@ -28,6 +29,7 @@ class Truss(ElementType):
     node_roles = ("p", "q")
     deformation_names = ("elongation",)
     ends = ((0, 1), (2, 3))
+    mass_varies = False
 
     @staticmethod
     def formula(c, length, angle, m):
@@ -40,15 +42,23 @@ class Truss(ElementType):
         return elongation_jacobian(e_l)[..., None, :]
 
     @classmethod
+    def deformations(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
+        return (chord_of(xe, 0, 2).length - ref.length)[..., None]
+
+    @classmethod
+    def deformations_and_jacobian(cls, xe, ref):
+        _, length, e_l = chord(xe, cls.ends)
+        return (length - ref.length)[..., None], elongation_jacobian(e_l)[..., None, :]
+
+    @classmethod
     def hessian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
         _, length, e_l = chord(xe, cls.ends)
         return elongation_hessian(length, e_l)[..., None, :, :]
 
     @classmethod
     def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference) -> np.ndarray:
-        _, length, e_l = chord(xe, cls.ends)
-        dv = xde[..., 2:4] - xde[..., 0:2]
-        return elongation_quadratic_velocity(length, e_l, dv)[..., None]
+        ch = chord_of(xe, 0, 2)
+        return elongation_rate2(ch, xde[..., 2] - xde[..., 0], xde[..., 3] - xde[..., 1])[..., None]
 
     @classmethod
     def mass_matrix(cls, xe, ref, mass, lumped):

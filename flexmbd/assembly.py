@@ -1,0 +1,349 @@
+"""Index maps of a model for vectorised, batched assembly (computed once per model).
+
+Every quantity of a run is assembled from the element kernels of each element
+type (:mod:`flexmbd.elements`), evaluated for all elements of that type and a
+whole batch of states at once: arrays have a leading batch axis ``nb`` (one
+state while time stepping, all output times when post-processing). The maps
+here scatter element values straight into the arrays the algorithms need
+(``D_c``, the saddle-point matrix, nodal force vectors) without forming the full
+``D_x`` or mass matrix, so the cost of a right-hand side grows linearly with
+the number of elements.
+
+Index sets (THEORY sections 1-3): coordinates are fixed ``x(o)``, inputs,
+dynamic or dependent ``x(c)``; deformations rigid ``e(o)``, inputs, dynamic or
+released ``e(c)``. The rows of ``D_c`` are ``e(o)`` then ``e(m)`` (the
+constrained deformations), its columns ``x(c)``. The *free* coordinates are
+``x(c)`` and the dynamic coordinates; the *multipliers* belong to the rigid and
+input deformations, whose stresses are reactions rather than elastic.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .elements import ElementType, Reference
+from .factor import SPARSE_SIZE
+from .model import CoordinateClass, DeformationClass, Model
+
+
+@dataclass(frozen=True, eq=False)
+class GroupData:
+    """One element type of the model with its properties as arrays.
+
+    Attributes:
+        type: the element type.
+        coordinates: global coordinate indices ``(n, nc)``.
+        deformations: global deformation indices ``(n, nd)``.
+        reference: reference lengths and angles.
+        mass, lumped: element masses [kg] and mass formulation ``(n,)``.
+        stiffness, damping: the elastic law ``(n, nd, nd)``, zero on rows and
+            columns of deformations without elastic stress (rigid and input ones).
+        prestress: ``sigma0`` ``(n, nd)``, likewise zero there.
+        scale: the model's coordinate scale at each element coordinate ``(n, nc)``.
+        has_mass, is_elastic, prestressed, damped: whether any element of the group
+            has mass, an elastic law, pre-stress, damping.
+    """
+
+    type: type[ElementType]
+    coordinates: np.ndarray
+    deformations: np.ndarray
+    reference: Reference
+    mass: np.ndarray
+    lumped: np.ndarray
+    stiffness: np.ndarray
+    damping: np.ndarray
+    prestress: np.ndarray
+    scale: np.ndarray
+
+    def __post_init__(self):
+        # flags asked on every evaluation: computed once (the dataclass is frozen)
+        flags = {"has_mass": bool(np.any(self.mass)), "damped": bool(np.any(self.damping)),
+                 "prestressed": bool(np.any(self.prestress))}
+        flags["is_elastic"] = bool(np.any(self.stiffness)) or flags["damped"] or \
+            flags["prestressed"]
+        for name, value in flags.items():
+            object.__setattr__(self, name, value)
+
+
+def _positions(index: np.ndarray, size: int) -> np.ndarray:
+    """Position of each global index within ``index`` (``-1`` where absent), ``(size,)``."""
+    where = np.full(size, -1)
+    where[index] = np.arange(len(index))
+    return where
+
+
+def _pattern(rows: np.ndarray, cols: np.ndarray, ncols: int):
+    """Entries of an element array ``(n, a, b)`` with row map ``rows`` ``(n, a)`` and
+    column map ``cols`` ``(n, b)`` (``-1`` = not in the target): the flat indices of
+    the entries that land, and their flat positions in a target of ``ncols`` columns."""
+    r = np.broadcast_to(rows[:, :, None], (*rows.shape, cols.shape[1]))
+    c = np.broadcast_to(cols[:, None, :], r.shape)
+    keep = ((r >= 0) & (c >= 0)).ravel()
+    return np.flatnonzero(keep), (r.ravel() * ncols + c.ravel())[keep]
+
+
+class Assembly:
+    """Index maps of one model (see the module docstring); ``model.assembly`` caches it."""
+
+    def __init__(self, model: Model):
+        self.model = model
+        nx, ne = model.n_coordinates, model.n_deformations
+        self.nx, self.ne = nx, ne
+        cclass, dclass = model.coordinate_class, model.deformation_class
+        self.rows = np.asarray(model.constrained)
+        self.dependent = np.asarray(model.dependent)
+        self.free = np.flatnonzero((cclass == CoordinateClass.DEPENDENT)
+                                   | (cclass == CoordinateClass.DYNAMIC))
+        self.multipliers = np.flatnonzero((dclass == DeformationClass.RIGID)
+                                          | (dclass == DeformationClass.INPUT))
+        self.n_free, self.n_saddle = len(self.free), len(self.free) + len(self.multipliers)
+        self.n_rigid = len(model.rigid)
+
+        # q = [x(m); e(m)]: its dynamic entries (the integrated state) and inputs
+        q_coords, q_defs = model.independent_coordinates, model.independent_deformations
+        dynamic = ~np.asarray(model.q_is_input)
+        nxm = len(q_coords)
+        self.q_dynamic = np.flatnonzero(dynamic)
+        self.q_input = np.flatnonzero(~dynamic)
+        self.q_coordinates, self.q_deformations = np.asarray(q_coords), np.asarray(q_defs)
+        self.dynamic_coordinates = self.q_coordinates[dynamic[:nxm]]
+        self.dynamic_deformations = self.q_deformations[dynamic[nxm:]]
+        self.input_deformations = self.q_deformations[~dynamic[nxm:]]
+
+        row_at = _positions(self.rows, ne)
+        dependent_at = _positions(self.dependent, nx)
+        free_at = _positions(self.free, nx)
+        saddle_row_at = np.where(_positions(self.multipliers, ne) >= 0,
+                                 self.n_free + _positions(self.multipliers, ne), -1)
+        dynamic_def_at = _positions(self.dynamic_deformations, ne)
+        self.groups: list[GroupData] = []
+        self._constraint_pattern, self._saddle_mass, self._saddle_jacobian = [], [], []
+        self._dynamic_rows = []
+        for g, props in zip(model.groups, model.group_properties, strict=True):
+            elastic = np.asarray(model.carries_elastic_stress)[g.deformations]
+            S, C = g.type.elastic_matrices(g.reference, props)
+            mask = elastic[:, :, None] & elastic[:, None, :]
+            self.groups.append(GroupData(
+                type=g.type, coordinates=g.coordinates, deformations=g.deformations,
+                reference=g.reference, mass=props.mass, lumped=props.lumped,
+                stiffness=np.where(mask, S, 0.0), damping=np.where(mask, C, 0.0),
+                prestress=np.where(elastic, props.prestress, 0.0),
+                scale=np.asarray(model.coordinate_scale)[g.coordinates]))
+            # D_c: rows e(o), e(m); columns x(c)
+            self._constraint_pattern.append(_pattern(
+                row_at[g.deformations], dependent_at[g.coordinates], len(self.dependent)))
+            # saddle matrix [[A, C^T], [C, 0]] over free coordinates and multipliers
+            self._saddle_mass.append(_pattern(
+                free_at[g.coordinates], free_at[g.coordinates], self.n_saddle))
+            select, position = _pattern(saddle_row_at[g.deformations],
+                                        free_at[g.coordinates], self.n_saddle)
+            rows, cols = np.divmod(position, self.n_saddle)
+            self._saddle_jacobian.append((select, position, cols * self.n_saddle + rows))
+            # rows of D_x for the dynamic deformations, over the free coordinates
+            self._dynamic_rows.append(_pattern(dynamic_def_at[g.deformations],
+                                               free_at[g.coordinates], self.n_free))
+        masses = [(node, mass) for node, mass in model.nodal_masses.items()]
+        self.nodal_mass_coordinates = np.array(
+            [c for node, _ in masses for c in model.nodes[node].coordinates], dtype=int)
+        self.nodal_mass_values = np.array(
+            [mass for node, mass in masses for _ in model.nodes[node].coordinates], dtype=float)
+        self._nodal_mass_saddle = (free_at[self.nodal_mass_coordinates] * (self.n_saddle + 1))
+        self._nodal_mass_on_free = self._nodal_mass_saddle >= 0
+        self.dynamic_coordinate_at = free_at[self.dynamic_coordinates]
+        self.row_scale_columns = np.asarray(model.coordinate_scale)[self.dependent]
+        #: row scales of D_c for its conditioning estimate: one over the norm of each
+        #: D_x row (angles scaled by the model size) in the reference configuration.
+        #: Those norms change little with the motion (sqrt 2 for an elongation, between
+        #: sqrt 2 and sqrt 3 for a beam's bending), so they are taken once.
+        self.constraint_row_scale = 1.0 / np.maximum(self.row_norms(
+            [g.type.jacobian(model.x0[g.coordinates], g.reference)[None]
+             for g in self.groups])[0, self.rows], 1e-300)
+        #: whether the systems of this model are large enough for the sparse backend
+        self.sparse = max(len(self.dependent), self.n_saddle) > SPARSE_SIZE
+        # small models hold D_x as a dense matrix: one product per use instead of one
+        # per element group (numpy's cost per call dominates at this size)
+        self._jacobian_flat = [(g.deformations[:, :, None] * nx + g.coordinates[:, None, :])
+                               .ravel() for g in self.groups]
+        self._constraint_flat = (self.rows[:, None] * nx + self.dependent[None, :]).ravel()
+        self.stiffness, self.damping, self.prestress = self._elastic_law()
+
+    def _elastic_law(self):
+        """``S``, ``C`` ``(ne, ne)`` and ``sigma0`` ``(ne,)`` of the whole model (dense
+        models only; ``None`` for the sparse ones, which use the groups')."""
+        if self.sparse:
+            return None, None, None
+        S, C, sigma0 = np.zeros((self.ne, self.ne)), np.zeros((self.ne, self.ne)), np.zeros(self.ne)
+        for g in self.groups:
+            rows, cols = g.deformations[:, :, None], g.deformations[:, None, :]
+            S[rows, cols], C[rows, cols] = g.stiffness, g.damping
+            sigma0[g.deformations] = g.prestress
+        return S, C, sigma0
+
+    # --- gathering and scattering ------------------------------------------------------
+    def element_values(self, X: np.ndarray) -> list[np.ndarray]:
+        """``X`` ``(nb, nx)`` at the coordinates of each group: ``(nb, n, nc)`` per group."""
+        return [X[:, g.coordinates] for g in self.groups]
+
+    def per_deformation(self, values: list[np.ndarray]) -> np.ndarray:
+        """Element values ``(nb, n, nd)`` per group into one array ``(nb, ne)``."""
+        out = np.empty((values[0].shape[0], self.ne))
+        for g, v in zip(self.groups, values, strict=True):
+            out[:, g.deformations] = v
+        return out
+
+    def nodal_sum(self, values: list[np.ndarray | None], nb: int) -> np.ndarray:
+        """Sum element loads ``(nb, n, nc)`` per group (``None`` = none) into ``(nb, nx)``."""
+        index, weights = [], []
+        offsets = np.arange(nb)[:, None, None] * self.nx
+        for g, v in zip(self.groups, values, strict=True):
+            if v is not None:
+                index.append((offsets + g.coordinates).ravel())
+                weights.append(v.ravel())
+        if not index:
+            return np.zeros((nb, self.nx))
+        return np.bincount(np.concatenate(index), np.concatenate(weights),
+                           minlength=nb * self.nx).reshape(nb, self.nx)
+
+    @staticmethod
+    def contract(jacobians: list[np.ndarray], values: list[np.ndarray]) -> list[np.ndarray]:
+        """``D_e v_e`` per element: ``(nb, n, nd, nc) x (nb, n, nc) -> (nb, n, nd)``."""
+        return [(j @ v[..., None])[..., 0] for j, v in zip(jacobians, values, strict=True)]
+
+    @staticmethod
+    def contract_transposed(jacobians: list[np.ndarray], stresses: list[np.ndarray]
+                            ) -> list[np.ndarray]:
+        """``D_e^T s_e`` per element: ``(nb, n, nd, nc) x (nb, n, nd) -> (nb, n, nc)``."""
+        return [(s[..., None, :] @ j)[..., 0, :] for j, s in zip(jacobians, stresses, strict=True)]
+
+    # --- matrices ------------------------------------------------------------------------
+    def constraint_matrix(self, jacobians: list[np.ndarray]) -> np.ndarray:
+        """Dense ``D_c`` ``(nb, nr, nr)`` from the element Jacobians."""
+        nb, n = jacobians[0].shape[0], len(self.dependent)
+        out = np.zeros((nb, n * n))
+        for j, (select, position) in zip(jacobians, self._constraint_pattern, strict=True):
+            out[:, position] = j.reshape(nb, -1)[:, select]
+        return out.reshape(nb, n, n)
+
+    def sparse_constraint_matrices(self, jacobians: list[np.ndarray]) -> list:
+        """``D_c`` as one ``scipy.sparse`` matrix per batch member."""
+        from scipy.sparse import coo_matrix
+
+        n = len(self.dependent)
+        position = np.concatenate([p for _, p in self._constraint_pattern])
+        rows, cols = np.divmod(position, n)
+        data = np.concatenate([j.reshape(j.shape[0], -1)[:, s]
+                               for j, (s, _) in zip(jacobians, self._constraint_pattern,
+                                                    strict=True)], axis=1)
+        return [coo_matrix((d, (rows, cols)), shape=(n, n)).tocsc() for d in data]
+
+    def row_norms(self, jacobians: list[np.ndarray]) -> np.ndarray:
+        """Norm of each row of ``D_x`` with angles scaled by the model size ``(nb, ne)``."""
+        return np.sqrt(self.per_deformation(
+            [np.sum((j * g.scale[:, None, :]) ** 2, axis=-1)
+             for g, j in zip(self.groups, jacobians, strict=True)]))
+
+    def saddle_entries(self, blocks: list[np.ndarray | None], jacobians: list[np.ndarray]):
+        """Flat positions and values of ``[[A, C^T], [C, 0]]`` for each batch member.
+
+        ``blocks`` are element matrices ``(nb, n, nc, nc)`` of ``A`` per group (``None``
+        = none); nodal masses are added to ``A``; ``C`` are the rows of ``D_x`` of the
+        multipliers over the free coordinates. Returns ``(positions, values)`` with
+        values ``(nb, k)`` for a target of ``n_saddle**2`` entries.
+        """
+        nb = jacobians[0].shape[0]
+        positions, values = [], []
+        for block, j, (m_select, m_position), (c_select, c_position, c_transposed) in zip(
+                blocks, jacobians, self._saddle_mass, self._saddle_jacobian, strict=True):
+            if block is not None:
+                positions.append(m_position)
+                values.append(block.reshape(nb, -1)[:, m_select])
+            c = j.reshape(nb, -1)[:, c_select]
+            positions += [c_position, c_transposed]
+            values += [c, c]
+        on_free = self._nodal_mass_on_free
+        positions.append(self._nodal_mass_saddle[on_free])
+        values.append(np.broadcast_to(self.nodal_mass_values[on_free], (nb, on_free.sum())))
+        return np.concatenate(positions), np.concatenate(values, axis=1)
+
+    def saddle_matrix(self, blocks: list[np.ndarray | None], jacobians: list[np.ndarray]
+                      ) -> np.ndarray:
+        """Dense ``[[A, C^T], [C, 0]]`` ``(nb, ns, ns)`` (see :meth:`saddle_entries`)."""
+        positions, values = self.saddle_entries(blocks, jacobians)
+        nb, ns = values.shape[0], self.n_saddle
+        flat = (np.arange(nb)[:, None] * ns * ns + positions).ravel()
+        return np.bincount(flat, values.ravel(), minlength=nb * ns * ns).reshape(nb, ns, ns)
+
+    def sparse_saddle_matrices(self, blocks, jacobians) -> list:
+        """:meth:`saddle_matrix` as one ``scipy.sparse`` matrix per batch member."""
+        from scipy.sparse import coo_matrix
+
+        positions, values = self.saddle_entries(blocks, jacobians)
+        ns = self.n_saddle
+        rows, cols = np.divmod(positions, ns)
+        return [coo_matrix((v, (rows, cols)), shape=(ns, ns)).tocsc() for v in values]
+
+    def dynamic_rows(self, jacobians: list[np.ndarray]) -> np.ndarray:
+        """``Q`` ``(nb, nd, n_free)``: the map from free-coordinate motions to the dynamic
+        entries of ``q`` (unit rows for dynamic coordinates, ``D_x`` rows for dynamic
+        deformations), in the order of ``q``'s dynamic entries."""
+        nb, nf = jacobians[0].shape[0], self.n_free
+        n_coord, n_def = len(self.dynamic_coordinates), len(self.dynamic_deformations)
+        out = np.zeros((nb, n_coord + n_def, nf))
+        out[:, np.arange(n_coord), self.dynamic_coordinate_at] = 1.0
+        rows = np.zeros((nb, n_def * nf))
+        for j, (select, position) in zip(jacobians, self._dynamic_rows, strict=True):
+            rows[:, position] = j.reshape(nb, -1)[:, select]
+        out[:, n_coord:] = rows.reshape(nb, n_def, nf)
+        return out
+
+
+class SystemJacobian:
+    """``D_x`` of a batch of states, built from the element Jacobians.
+
+    Small models keep it as a dense array ``(nb, ne, nx)``; large (sparse) ones work
+    element by element, so that products stay linear in the number of elements.
+
+    Attributes:
+        elements: the element Jacobians per group, ``(nb, n, nd, nc)``.
+        dense: ``D_x`` ``(nb, ne, nx)``, or ``None`` for a sparse model.
+    """
+
+    def __init__(self, assembly: Assembly, elements: list[np.ndarray]):
+        self.assembly, self.elements = assembly, elements
+        self.nb = elements[0].shape[0] if elements else 0
+        self.dense = None
+        if not assembly.sparse:
+            dense = np.zeros((self.nb, assembly.ne * assembly.nx))
+            for j, flat in zip(elements, assembly._jacobian_flat, strict=True):
+                dense[:, flat] = j.reshape(self.nb, -1)
+            self.dense = dense.reshape(self.nb, assembly.ne, assembly.nx)
+
+    def times(self, v: np.ndarray) -> np.ndarray:
+        """``D_x v`` ``(nb, ne)`` for coordinate rates ``v`` ``(nb, nx)``."""
+        if self.dense is not None:
+            return (self.dense @ v[:, :, None])[:, :, 0]
+        asm = self.assembly
+        return asm.per_deformation(asm.contract(self.elements, asm.element_values(v)))
+
+    def transpose_times(self, s: np.ndarray) -> np.ndarray:
+        """``D_x^T s`` ``(nb, nx)`` for deformation values ``s`` ``(nb, ne)``."""
+        if self.dense is not None:
+            return (s[:, None, :] @ self.dense)[:, 0, :]
+        asm = self.assembly
+        return asm.nodal_sum(asm.contract_transposed(
+            self.elements, [s[:, g.deformations] for g in asm.groups]), self.nb)
+
+    def constraint_matrix(self) -> np.ndarray:
+        """Dense ``D_c`` ``(nb, nr, nr)``."""
+        asm = self.assembly
+        if self.dense is None:
+            return asm.constraint_matrix(self.elements)
+        n = len(asm.dependent)
+        return self.dense.reshape(self.nb, -1)[:, asm._constraint_flat].reshape(self.nb, n, n)
+
+    def member(self, k: int) -> SystemJacobian:
+        """The Jacobian of batch member ``k`` alone."""
+        return SystemJacobian(self.assembly, [j[k:k + 1] for j in self.elements])
+

@@ -1,0 +1,496 @@
+"""The equations of motion evaluated for time integration: batched, linear in model size.
+
+This is the fast path of :func:`flexmbd.simulate`. It evaluates the same
+reduced equations as :mod:`flexmbd.dynamics` (THEORY section 7),
+
+    F_q^T (M xddot + h - f + D_x^T sigma) = 0   on the dynamic entries of q,
+
+but never forms ``F_q`` or ``Mbar = F_q^T M F_q``. Instead:
+
+* the kinematics are solved with ``D_c`` alone (positions by Newton-Raphson
+  from a warm start, velocities and accelerations by one solve each);
+* the nodal force ``y = M xddot + h - f + D_x^T sigma`` is summed element by
+  element;
+* the accelerations follow from the saddle-point system over the free
+  coordinates (dependent and dynamic) and the multipliers (the stresses of
+  rigid and input deformations),
+
+      [[M, C^T], [C, 0]] [z; lambda] = [y0; 0],   qddot_d = -Q z,
+
+  where ``y0`` is the force at ``qddot_d = 0``, ``C`` the rows of ``D_x`` of
+  the multipliers and ``Q`` maps free-coordinate motions to the dynamic entries
+  of ``q``. Because ``z`` lies in the null space of ``C``, which ``F_q`` spans,
+  this is ``Mbar_dd qddot_d = g_d - Mbar_dr qddot_r`` solved without forming
+  ``Mbar``; ``lambda`` are minus the constraint stresses (THEORY section 8).
+* an implicit integrator's Newton matrix ``Mbar + c_q K + c_v C`` is the same
+  saddle-point system with ``M`` replaced by ``M + c_q (D^T S D + sum sigma_i
+  D_xx,i) + c_v D^T C D`` built from the element stiffness and damping.
+
+All of it works on a batch of states (leading axis ``nb``), so the output pass
+of a run evaluates every output time in one call.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from .assembly import SystemJacobian
+from .dynamics import Forces, load_vector
+from .errors import ConvergenceError, SingularConfigurationError
+from .factor import DenseFactor, SparseFactor
+from .kinematics import RELATIVE_TOLERANCE, SINGULAR_RCOND, regularity_limit, singular_error
+from .model import Model
+from .motion import Law
+
+#: residuals below this share of the tolerance are round-off: no new Jacobian for them
+_ROUND_OFF = 1e-6
+#: a chord iteration that reduces the residual by less than this gets a fresh D_c
+_SLOW_CHORD = 0.1
+
+
+@dataclass(eq=False)
+class State:
+    """Kinematics of a batch of ``nb`` states at times ``t`` ``(nb,)``.
+
+    Attributes:
+        q, qd, qdd: generalized coordinates and derivatives ``(nb, nq)``.
+        x, xd, xdd: nodal coordinates and derivatives ``(nb, nx)``.
+        e, ed: deformations and rates ``(nb, ne)``.
+        quadratic: ``(D_xx xdot) xdot`` ``(nb, ne)``.
+        elements: per element group, ``(xe, xde, xdde)`` each ``(nb, n, nc)``.
+        jacobian: ``D_x`` at ``x`` (:class:`~flexmbd.assembly.SystemJacobian`).
+        factor: the factorisation of ``D_c`` at ``x``.
+    """
+
+    t: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    x: np.ndarray
+    xd: np.ndarray
+    xdd: np.ndarray
+    e: np.ndarray
+    ed: np.ndarray
+    quadratic: np.ndarray
+    elements: list
+    jacobian: SystemJacobian
+    factor: DenseFactor | SparseFactor | None
+
+
+class EquationsOfMotion:
+    """The reduced equations of a model with its prescribed motions and loads.
+
+    Args:
+        model: the mechanism (with mass and dynamic degrees of freedom).
+        laws: one law per entry of ``q`` (only those of the inputs are used).
+        forces: optional applied loads ``forces(t, x, xdot)``, see :data:`flexmbd.dynamics.Forces`.
+        tolerance: Newton tolerance of the position solve [m, rad]; default
+            ``1e-10`` times the model size.
+        max_iterations: Newton iterations of a position solve before giving up.
+    """
+
+    def __init__(self, model: Model, laws: list[Law], forces: Forces | None = None,
+                 tolerance: float | None = None, max_iterations: int = 25):
+        self.model, self.asm = model, model.assembly
+        self.input_laws = [laws[j] for j in self.asm.q_input]
+        self.forces = forces
+        self.tolerance = (RELATIVE_TOLERANCE * model.characteristic_length
+                          if tolerance is None else float(tolerance))
+        self.max_iterations = max_iterations
+        self.n_xm = len(model.independent_coordinates)
+        self.constant_load = _constant_load(model)
+        self.loaded = bool(np.any(self.constant_load))
+        self.gravity = np.asarray(model.gravity, dtype=float)
+        self.gravity_on = bool(np.any(self.gravity))
+        # mass matrices of elements whose mass does not depend on the configuration
+        self._constant_mass: dict[int, np.ndarray] = {}
+
+    # --- q from the integrated state and the laws -------------------------------------------
+    def compose(self, t: np.ndarray, q_d: np.ndarray, qd_d: np.ndarray,
+                qdd_d: np.ndarray | None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Full ``q, qdot, qddot`` ``(nb, nq)`` from the dynamic entries ``(nb, nd)`` and the
+        laws of the inputs at times ``t`` ``(nb,)``; ``qdd_d = None`` means zero."""
+        nb, asm = len(t), self.asm
+        out = np.zeros((3, nb, self.model.n_dof))
+        if self.input_laws:
+            values = np.array([[law(float(tk)) for law in self.input_laws] for tk in t])
+            out[:, :, asm.q_input] = values.transpose(2, 0, 1)
+        out[0][:, asm.q_dynamic], out[1][:, asm.q_dynamic] = q_d, qd_d
+        if qdd_d is not None:
+            out[2][:, asm.q_dynamic] = qdd_d
+        return out[0], out[1], out[2]
+
+    # --- kinematics (THEORY 3, 4) -----------------------------------------------------------
+    def factorize(self, jacobian: SystemJacobian, t: np.ndarray):
+        """Factorise ``D_c``; raise at a singular configuration.
+
+        The rows are scaled as in :func:`flexmbd.kinematics.partition_jacobian`, with the
+        row norms of the reference configuration (:attr:`Assembly.constraint_row_scale`).
+        """
+        asm = self.asm
+        if not len(asm.dependent):
+            return None
+        if asm.sparse:
+            factor = SparseFactor(asm.sparse_constraint_matrices(jacobian.elements),
+                                  asm.constraint_row_scale, asm.row_scale_columns)
+        else:
+            factor = DenseFactor(jacobian.constraint_matrix(), asm.constraint_row_scale,
+                                 asm.row_scale_columns)
+        bad = np.flatnonzero(~(factor.conditioning > SINGULAR_RCOND))
+        if len(bad):
+            raise self._singular(jacobian, t, bad[0], "D_c is singular")
+        return factor
+
+    def _singular(self, jacobian: SystemJacobian, t, member: int, what: str
+                  ) -> SingularConfigurationError:
+        D_c = jacobian.member(member).constraint_matrix()[0]
+        return singular_error(self.model, D_c, float(t[member]), what)
+
+    def _deformations(self, elements: list[np.ndarray]) -> np.ndarray:
+        return self.asm.per_deformation([g.type.deformations(xe, g.reference)
+                                         for g, xe in zip(self.asm.groups, elements, strict=True)])
+
+    def _deformations_and_jacobian(self, elements: list[np.ndarray]):
+        pairs = [g.type.deformations_and_jacobian(xe, g.reference)
+                 for g, xe in zip(self.asm.groups, elements, strict=True)]
+        return (self.asm.per_deformation([e for e, _ in pairs]),
+                SystemJacobian(self.asm, [j for _, j in pairs]))
+
+    def positions(self, t: np.ndarray, q: np.ndarray, guess: np.ndarray,
+                  near: float | None = None):
+        """Solve the position problem for every member of the batch (THEORY 3).
+
+        Newton-Raphson from ``guess`` ``(nb, nx)``, whose ``D_c`` then serves for chord
+        steps as long as they converge fast. Once the residual is below ``near`` [m, rad]
+        (default: the tolerance), the Jacobian is evaluated there and one Newton step
+        makes ``x`` accurate to second order in that residual. ``D_x`` is thus taken
+        within ``near`` of the solution: a time integrator whose guesses are that good
+        may pass a small share of the model size and solve with one evaluation of the
+        Jacobian; ``D_x`` and the velocities are then accurate to about that relative
+        size, far below the integrator's own error.
+
+        Returns:
+            ``(x, elements, jacobian, factor, e)``: coordinates ``(nb, nx)``, element
+            coordinates per group, ``D_x`` and ``D_c`` factorised at ``x`` (to within
+            the last step) and the deformations ``(nb, ne)``.
+        """
+        asm, model = self.asm, self.model
+        x = np.array(guess, dtype=float)
+        x[:, model.fixed] = model.x0[model.fixed]
+        x[:, asm.q_coordinates] = q[:, :self.n_xm]
+        target = np.zeros((len(t), len(asm.rows)))
+        target[:, asm.n_rigid:] = q[:, self.n_xm:]
+        near = self.tolerance if near is None else max(self.tolerance, near)
+        elements = asm.element_values(x)
+        e, jacobian = self._deformations_and_jacobian(elements)
+        factor, fresh, previous = self.factorize(jacobian, t), True, None
+        if factor is None:  # no dependent coordinates: nothing to solve
+            return x, elements, jacobian, factor, e
+        for iteration in range(self.max_iterations + 1):
+            residual = e[:, asm.rows] - target
+            norm = np.max(np.abs(residual), axis=1)
+            if np.all(norm <= near):
+                break
+            if not np.all(np.isfinite(norm)) or iteration == self.max_iterations:
+                raise self._not_converged(t, residual, norm, iteration)
+            x[:, asm.dependent] -= factor.solve(residual)
+            elements = asm.element_values(x)
+            slow = previous is not None and np.any(norm > _SLOW_CHORD * previous)
+            fresh, previous = slow, (None if slow else norm)
+            if slow:  # the chord steps have stalled: a new D_c here
+                e, jacobian = self._deformations_and_jacobian(elements)
+                factor = self.factorize(jacobian, t)
+            else:
+                e = self._deformations(elements)
+        if not fresh:  # the Jacobian at the last point
+            e, jacobian = self._deformations_and_jacobian(elements)
+            residual = e[:, asm.rows] - target
+            factor = self.factorize(jacobian, t)
+        limit = regularity_limit(model, self.tolerance)
+        weak = np.flatnonzero(factor.conditioning < limit)
+        if len(weak):
+            raise self._singular(
+                jacobian, t, weak[0],
+                f"D_c is singular within the position tolerance (scaled smallest singular "
+                f"value {factor.conditioning[weak[0]]:.2g} < {limit:.2g})")
+        if np.max(np.abs(residual)) > _ROUND_OFF * self.tolerance:
+            change = np.zeros_like(x)
+            change[:, asm.dependent] = -factor.solve(residual)
+            x += change
+            # the deformations there, to first order (the rest is second order: negligible)
+            e = e + jacobian.times(change)
+            elements = asm.element_values(x)
+        return x, elements, jacobian, factor, e
+
+    def _not_converged(self, t, residual, norm, iteration) -> ConvergenceError:
+        member = int(np.argmax(np.where(np.isfinite(norm), norm, np.inf)))
+        r, time = residual[member], float(t[member])
+        worst = (self.model.describe_deformation(self.asm.rows[int(np.argmax(np.abs(r)))])
+                 if np.all(np.isfinite(r)) else "a non-finite configuration")
+        return ConvergenceError(
+            f"position solve did not converge at t = {time:.6g} s: residual "
+            f"{norm[member]:.3g} after {iteration} iterations (tolerance {self.tolerance:.3g}), "
+            f"largest in {worst}; the inputs may ask for a configuration the constraints "
+            f"cannot reach (e.g. beyond an element's length) or the step from the previous "
+            f"solution is too large", time, iterations=iteration, residual=float(norm[member]))
+
+    def dependent_rates(self, rates: np.ndarray, jacobian: SystemJacobian, factor,
+                        targets: np.ndarray, extra: np.ndarray | None = None) -> np.ndarray:
+        """Fill the dependent entries of ``rates`` ``(nb, nx)`` (given on the independent
+        coordinates, zero elsewhere) so that the constrained rows of ``D_x rates + extra``
+        equal ``[0; targets]`` (THEORY 4); returns ``rates``."""
+        asm = self.asm
+        if factor is None:
+            return rates
+        rhs = -jacobian.times(rates)[:, asm.rows]
+        if extra is not None:
+            rhs -= extra[:, asm.rows]
+        rhs[:, asm.n_rigid:] += targets
+        rates[:, asm.dependent] = factor.solve(rhs)
+        return rates
+
+    def kinematics(self, t, q, qd, qdd, guess, near: float | None = None) -> State:
+        """Positions, velocities and accelerations of a batch (see :class:`State` and
+        :meth:`positions` for ``guess`` and ``near``)."""
+        asm = self.asm
+        x, elements, jacobian, factor, e = self.positions(t, q, guess, near)
+        xd = np.zeros_like(x)
+        xd[:, asm.q_coordinates] = qd[:, :self.n_xm]
+        xd = self.dependent_rates(xd, jacobian, factor, qd[:, self.n_xm:])
+        rates = asm.element_values(xd)
+        quadratic = asm.per_deformation([
+            g.type.quadratic_velocity(xe, xde, g.reference)
+            for g, xe, xde in zip(asm.groups, elements, rates, strict=True)])
+        xdd = np.zeros_like(x)
+        xdd[:, asm.q_coordinates] = qdd[:, :self.n_xm]
+        xdd = self.dependent_rates(xdd, jacobian, factor, qdd[:, self.n_xm:], quadratic)
+        groups = list(zip(elements, rates, asm.element_values(xdd), strict=True))
+        return State(t, q, qd, qdd, x, xd, xdd, e, jacobian.times(xd), quadratic, groups,
+                     jacobian, factor)
+
+    # --- forces (THEORY 5-7) ----------------------------------------------------------------
+    def stresses(self, state: State) -> np.ndarray:
+        """Elastic stresses ``S e + C edot + sigma0`` ``(nb, ne)`` (zero on rigid and input
+        deformations)."""
+        asm = self.asm
+        if not asm.sparse:
+            return state.e @ asm.stiffness.T + state.ed @ asm.damping.T + asm.prestress
+        sigma = np.zeros_like(state.e)
+        for g in asm.groups:
+            e, ed = state.e[:, g.deformations], state.ed[:, g.deformations]
+            sigma[:, g.deformations] = ((g.stiffness @ e[..., None])[..., 0]
+                                        + (g.damping @ ed[..., None])[..., 0] + g.prestress)
+        return sigma
+
+    def nodal_force(self, state: State, stresses: np.ndarray | None = None) -> np.ndarray:
+        """``y = M xddot + h - f + D_x^T sigma`` ``(nb, nx)`` [N, N m] with the elastic
+        stresses or ``stresses`` ``(nb, ne)``."""
+        asm, nb = self.asm, len(state.t)
+        loads = []
+        for g, (xe, xde, xdde) in zip(asm.groups, state.elements, strict=True):
+            if not g.has_mass:
+                loads.append(None)
+                continue
+            load = g.type.inertia_force(xe, xde, xdde, g.reference, g.mass, g.lumped)
+            if self.gravity_on:
+                load -= g.type.gravity_load(xe, g.reference, g.mass, g.lumped, self.gravity)
+            loads.append(load)
+        y = asm.nodal_sum(loads, nb)
+        y += state.jacobian.transpose_times(self.stresses(state) if stresses is None
+                                            else stresses)
+        if len(asm.nodal_mass_coordinates):
+            y[:, asm.nodal_mass_coordinates] += asm.nodal_mass_values * state.xdd[
+                :, asm.nodal_mass_coordinates]
+        if self.loaded:
+            y -= self.constant_load
+        if self.forces is not None:
+            for k in range(nb):
+                y[k] -= load_vector(self.model, self.forces, float(state.t[k]), state.x[k],
+                                    state.xd[k])
+        return y
+
+    # --- accelerations from the saddle-point system -----------------------------------------
+    def _mass_blocks(self, state: State) -> list[np.ndarray | None]:
+        """Element mass matrices ``(nb, n, nc, nc)`` per group (``None`` without mass)."""
+        blocks = []
+        for k, (g, (xe, _, _)) in enumerate(zip(self.asm.groups, state.elements, strict=True)):
+            if not g.has_mass:
+                blocks.append(None)
+            elif g.type.mass_varies:
+                blocks.append(g.type.mass_matrix(xe, g.reference, g.mass, g.lumped))
+            else:
+                if k not in self._constant_mass:
+                    self._constant_mass[k] = g.type.mass_matrix(xe[:1], g.reference, g.mass,
+                                                                g.lumped)[0]
+                blocks.append(np.broadcast_to(self._constant_mass[k], (*xe.shape, xe.shape[-1])))
+        return blocks
+
+    def _solve_saddle(self, blocks, state: State, force: np.ndarray) -> np.ndarray:
+        """``[[A, C^T], [C, 0]]^-1 [force_free; 0]`` per member ``(nb, ns)``."""
+        asm = self.asm
+        rhs = np.zeros((len(state.t), asm.n_saddle))
+        rhs[:, :asm.n_free] = force[:, asm.free]
+        elements = state.jacobian.elements
+        try:
+            if asm.sparse:
+                factor = SparseFactor(asm.sparse_saddle_matrices(blocks, elements),
+                                      np.ones(asm.n_saddle), np.ones(asm.n_saddle))
+                solution = factor.solve(rhs)
+            else:
+                solution = np.linalg.solve(asm.saddle_matrix(blocks, elements),
+                                           rhs[..., None])[..., 0]
+        except np.linalg.LinAlgError:
+            solution = np.full_like(rhs, np.nan)
+        bad = np.flatnonzero(~np.all(np.isfinite(solution), axis=1))
+        if len(bad):
+            raise self._massless(float(state.t[bad[0]]))
+        return solution
+
+    def _massless(self, time: float) -> SingularConfigurationError:
+        dofs = ", ".join(self.model.describe_q(j) for j in self.asm.q_dynamic)
+        return SingularConfigurationError(
+            f"the reduced mass matrix of the dynamic degrees of freedom ({dofs}) is singular "
+            f"at t = {time:.6g} s: give every dynamic degree of freedom mass or inertia", time)
+
+    def dynamic_part(self, state: State, z: np.ndarray) -> np.ndarray:
+        """``Q z`` ``(nb, nd)``: the dynamic entries of ``q``'s rate for a free-coordinate
+        motion ``z`` ``(nb, n_free)`` (coordinates directly, deformations through ``D_x``)."""
+        asm = self.asm
+        motion = np.zeros((len(state.t), asm.nx))
+        motion[:, asm.free] = z
+        rates = state.jacobian.times(motion)
+        return np.concatenate([motion[:, asm.dynamic_coordinates],
+                               rates[:, asm.dynamic_deformations]], axis=1)
+
+    def solve_accelerations(self, state: State, force: np.ndarray
+                            ) -> tuple[np.ndarray, np.ndarray]:
+        """Accelerations of a state evaluated at ``qddot_d = 0`` with nodal force ``force``.
+
+        Returns ``(qdd_d, multipliers)``: the dynamic accelerations ``(nb, nd)`` and the
+        saddle-point multipliers ``(nb, n_multipliers)`` (minus the stresses of the rigid
+        and input deformations).
+        """
+        solution = self._solve_saddle(self._mass_blocks(state), state, force)
+        z = solution[:, :self.asm.n_free]
+        return -self.dynamic_part(state, z), solution[:, self.asm.n_free:]
+
+    # --- everything a result holds -------------------------------------------------------
+    def outputs(self, t: np.ndarray, q_d: np.ndarray, qd_d: np.ndarray, guesses: np.ndarray
+                ) -> dict[str, np.ndarray]:
+        """The full dynamic state at a batch of times ``t`` ``(nb,)`` from the integrated
+        ``q_d``, ``qdot_d`` ``(nb, nd)``, with position guesses ``(nb, nx)``.
+
+        Returns arrays by name, each with a leading axis ``nb``: ``x, xd, xdd, e, ed,
+        edd, q, qd, qdd`` as in :class:`~flexmbd.results.SimulationResult`; ``sigma``,
+        the elastic stresses plus the constraint and actuator stresses of rigid and input
+        deformations (THEORY 8); ``reactions``, the loads of supports and drives on fixed
+        and input coordinates (zero elsewhere); ``driving``, the generalized force each
+        prescribed entry of ``q`` needs (zero on dynamic entries, which move freely).
+        """
+        asm = self.asm
+        q, qd, qdd = self.compose(t, q_d, qd_d, None)
+        state = self.kinematics(t, q, qd, qdd, guesses)
+        qdd_d, multipliers = self.solve_accelerations(state, self.nodal_force(state))
+        qdd[:, asm.q_dynamic] = qdd_d
+        xdd = np.zeros_like(state.x)
+        xdd[:, asm.q_coordinates] = qdd[:, :self.n_xm]
+        xdd = self.dependent_rates(xdd, state.jacobian, state.factor, qdd[:, self.n_xm:],
+                                   state.quadratic)
+        state.xdd = xdd
+        state.elements = [(xe, xde, xdde) for (xe, xde, _), xdde in
+                          zip(state.elements, asm.element_values(xdd), strict=True)]
+        sigma = self.stresses(state)
+        sigma[:, asm.multipliers] = -multipliers
+        # nodal equilibrium with every stress: what remains are support and drive loads
+        loads = self.nodal_force(state, sigma)
+        supported = np.concatenate([self.model.fixed, self.model.input_coordinates])
+        reactions = np.zeros_like(loads)
+        reactions[:, supported] = loads[:, supported]
+        driving = np.zeros_like(q)
+        q_inputs = asm.q_input
+        driving[:, q_inputs[q_inputs < self.n_xm]] = loads[:, self.model.input_coordinates]
+        driving[:, q_inputs[q_inputs >= self.n_xm]] = -sigma[:, asm.input_deformations]
+        return {"x": state.x, "xd": state.xd, "xdd": xdd, "e": state.e, "ed": state.ed,
+                "edd": state.jacobian.times(xdd) + state.quadratic, "q": q, "qd": qd,
+                "qdd": qdd, "sigma": sigma, "reactions": reactions, "driving": driving}
+
+    # --- the residual of the reduced equations and the Newton matrix of an integrator -----
+    def reduced_residual(self, state: State, force: np.ndarray) -> np.ndarray:
+        """``R = F_q^T y`` on the dynamic entries of ``q`` ``(nb, nd)`` for the nodal force
+        ``y`` ``(nb, nx)``: zero when the state solves the equations of motion.
+
+        With ``w = D_c^-T y(c)`` on the constrained deformations, ``F_q^T y`` is ``y -
+        (D_x^T w)`` on the independent coordinates and ``w`` on ``e(m)`` (THEORY 4).
+        """
+        asm = self.asm
+        w = np.zeros((len(state.t), asm.ne))
+        if state.factor is not None:
+            w[:, asm.rows] = state.factor.solve_transposed(force[:, asm.dependent])
+        if not len(asm.dynamic_coordinates):
+            return w[:, asm.dynamic_deformations]
+        pulled = state.jacobian.transpose_times(w)
+        return np.concatenate([(force - pulled)[:, asm.dynamic_coordinates],
+                               w[:, asm.dynamic_deformations]], axis=1)
+
+    def iteration_operator(self, state: State, c_q: float, c_v: float
+                           ) -> Callable[[np.ndarray], np.ndarray]:
+        """The Newton correction of an implicit integrator at a single state.
+
+        For an integrator whose ``q`` and ``qdot`` move by ``c_q`` and ``c_v`` times a
+        change of ``qddot`` (e.g. generalized-alpha: ``beta h^2`` and ``gamma h``), the
+        Newton matrix of ``R`` (:meth:`reduced_residual`) is ``S = Mbar + c_q K + c_v C``.
+        Returns ``op`` with ``op(R) = -S^-1 R`` ``(1, nd) -> (nd,)``, where ``S^-1 R = Q z``
+        solves the saddle-point system with ``A = M + c_q (D^T S D + sum sigma_i D_xx,i) +
+        c_v D^T C D`` and right-hand side ``Q^T R``. The geometric stiffness
+        ``sum sigma_i D_xx,i`` is included for pre-stressed elements only; elsewhere it is
+        smaller than ``D^T S D`` by the order of the strains. Left out, as of order
+        ``h`` relative to ``Mbar``, are the velocity terms of the inertia (gyroscopic
+        and centrifugal) and the geometric stiffness of the constraint stresses: the
+        Newton iteration converges with them missing, and a linearly implicit method
+        keeps its order (see :mod:`flexmbd.generalized_alpha`).
+        """
+        asm = self.asm
+        elements = state.jacobian.elements
+        blocks = self._mass_blocks(state)
+        sigma = self.stresses(state) if any(g.prestressed for g in asm.groups) else None
+        for k, (g, (xe, _, _), jac) in enumerate(zip(asm.groups, state.elements, elements,
+                                                     strict=True)):
+            if not g.is_elastic:
+                continue
+            law = c_q * g.stiffness + c_v * g.damping if g.damped else c_q * g.stiffness
+            stiffness = np.swapaxes(jac, -1, -2) @ law @ jac
+            if g.prestressed:
+                # geometric stiffness sum sigma_i D_xx,i: the whole stiffness of a
+                # pre-stressed string; elsewhere only of the order of the strains
+                stiffness += c_q * np.einsum("bnd,bndij->bnij", sigma[:, g.deformations],
+                                             g.type.hessian(xe, g.reference))
+            blocks[k] = stiffness if blocks[k] is None else blocks[k] + stiffness
+        Q = asm.dynamic_rows(elements)[0]
+        if asm.sparse:  # Q is sparse in its columns; products stay linear in size
+            factor = SparseFactor(asm.sparse_saddle_matrices(blocks, elements),
+                                  np.ones(asm.n_saddle), np.ones(asm.n_saddle))
+
+            def op(residual):
+                rhs = np.zeros((1, asm.n_saddle))
+                rhs[0, :asm.n_free] = residual[0] @ Q
+                return -(Q @ factor.solve(rhs)[0, :asm.n_free])
+            return op
+        inverse = np.linalg.inv(asm.saddle_matrix(blocks, elements)[0])
+        gain = -Q @ inverse[:asm.n_free, :asm.n_free] @ Q.T
+        return lambda residual: gain @ residual[0]
+
+
+def _constant_load(model: Model) -> np.ndarray:
+    """Constant nodal loads and the weight of point masses ``(nx,)`` [N, N m]."""
+    f = np.zeros(model.n_coordinates)
+    for number, load in model.nodal_forces.items():
+        f[list(model.nodes[number].coordinates)] += load
+    gravity = np.asarray(model.gravity, dtype=float)
+    for number, mass in model.nodal_masses.items():
+        node = model.nodes[number]
+        if node.kind == "translational":
+            f[list(node.coordinates)] += mass * gravity
+    return f
