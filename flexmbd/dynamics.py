@@ -17,7 +17,6 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg
 
 from .errors import ModelError, SingularConfigurationError
 from .inertia import applied_forces, elastic_stresses, inertia_velocity, mass_matrix
@@ -126,16 +125,17 @@ def generalized_accelerations(model: Model, terms: DynamicTerms, qdd_prescribed:
         return qdd
     Mbar = terms.reduced_mass
     rhs = terms.generalized_force[d] - Mbar[np.ix_(d, r)] @ qdd[r]
-    # LAPACK Cholesky directly: scipy.linalg's wrappers cost more than the work here
-    factor, info = scipy.linalg.lapack.dpotrf(Mbar[np.ix_(d, d)], lower=True)
-    if info != 0:
+    # Cholesky doubles as the positive-definiteness check (numpy: no scipy at import)
+    try:
+        factor = np.linalg.cholesky(Mbar[np.ix_(d, d)])
+    except np.linalg.LinAlgError:
         dofs = ", ".join(model.describe_q(j) for j in np.flatnonzero(d))
         at = "" if terms.time is None else f" at t = {terms.time:.6g} s"
         raise SingularConfigurationError(
             f"the reduced mass matrix of the dynamic degrees of freedom ({dofs}) is not "
             f"positive definite{at}: give every dynamic degree of freedom mass or inertia",
-            terms.time)
-    qdd[d] = scipy.linalg.lapack.dpotrs(factor, rhs, lower=True)[0]
+            terms.time) from None
+    qdd[d] = np.linalg.solve(factor.T, np.linalg.solve(factor, rhs))
     return qdd
 
 
@@ -180,7 +180,7 @@ def reactions(model: Model, terms: DynamicTerms, qdd: np.ndarray) -> Reactions:
     rhs = unbalanced[dep] - D_x[np.ix_(released, dep)].T @ terms.sigma[released]
     sigma = terms.sigma.copy()
     if len(rows):
-        sigma[rows] = scipy.linalg.solve(terms.jacobian.D_c.T, rhs, check_finite=False)
+        sigma[rows] = np.linalg.solve(terms.jacobian.D_c.T, rhs)
     nodal = D_x.T @ sigma - unbalanced
     supported = np.concatenate([model.fixed, model.input_coordinates])
     out = np.zeros(model.n_coordinates)

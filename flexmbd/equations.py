@@ -100,6 +100,7 @@ class EquationsOfMotion:
         self.tolerance = (RELATIVE_TOLERANCE * model.characteristic_length
                           if tolerance is None else float(tolerance))
         self.max_iterations = max_iterations
+        self._regularity_limit = regularity_limit(model, self.tolerance)
         self.n_xm = len(model.independent_coordinates)
         self.constant_load = _constant_load(model)
         self.loaded = bool(np.any(self.constant_load))
@@ -191,10 +192,10 @@ class EquationsOfMotion:
             return x, elements, jacobian, factor, e
         for iteration in range(self.max_iterations + 1):
             residual = e[:, asm.rows] - target
-            norm = np.max(np.abs(residual), axis=1)
-            if np.all(norm <= near):
+            norm = np.abs(residual).max(axis=1)
+            if (norm <= near).all():
                 break
-            if not np.all(np.isfinite(norm)) or iteration == self.max_iterations:
+            if not np.isfinite(norm).all() or iteration == self.max_iterations:
                 raise self._not_converged(t, residual, norm, iteration)
             x[:, asm.dependent] -= factor.solve(residual)
             elements = asm.element_values(x)
@@ -208,15 +209,16 @@ class EquationsOfMotion:
         if not fresh:  # the Jacobian at the last point
             e, jacobian = self._deformations_and_jacobian(elements)
             residual = e[:, asm.rows] - target
+            norm = np.abs(residual).max(axis=1)
             factor = self.factorize(jacobian, t)
-        limit = regularity_limit(model, self.tolerance)
-        weak = np.flatnonzero(factor.conditioning < limit)
-        if len(weak):
+        limit = self._regularity_limit
+        if (factor.conditioning < limit).any():
+            weak = np.flatnonzero(factor.conditioning < limit)
             raise self._singular(
                 jacobian, t, weak[0],
                 f"D_c is singular within the position tolerance (scaled smallest singular "
                 f"value {factor.conditioning[weak[0]]:.2g} < {limit:.2g})")
-        if np.max(np.abs(residual)) > _ROUND_OFF * self.tolerance:
+        if norm.max() > _ROUND_OFF * self.tolerance:
             change = np.zeros_like(x)
             change[:, asm.dependent] = -factor.solve(residual)
             x += change

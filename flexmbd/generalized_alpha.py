@@ -26,7 +26,8 @@ residual is nearly linear in the step's acceleration and the matrix is exact
 up to terms of order ``h``, the error per step stays of the method's order (a
 W-method argument), so the accuracy of the slow motion is that of the fully
 iterated method at the cost of one evaluation per step; measured on the
-flexible slider-crank in ``benchmarks/``. The step is fixed (``step``), halved
+flexible slider-crank in ``benchmarks/``. ``renew_every=2`` keeps each Newton
+matrix for two steps, which costs no accuracy there either. The step is fixed (``step``), halved
 only when Newton fails. Like scipy's solvers, this class has ``step()``, ``status``,
 ``dense_output()`` and the counters ``nfev``, ``njev``, ``nlu``; it is driven
 by :func:`flexmbd.integrate.integrate` and needs no SciPy.
@@ -124,12 +125,16 @@ class GeneralizedAlpha:
         iterations: ``None`` (default) to iterate Newton to ``rtol``/``atol``, or a
             fixed number of corrections per step with the Newton matrix renewed at
             every step (``1``: linearly implicit, one evaluation per step).
+        renew_every: with ``iterations`` set, the Newton matrix is renewed every
+            ``renew_every`` steps (default 1) and kept in between; also renewed when
+            the step size changes or a step fails.
     """
 
     def __init__(self, fun, t0, y0, t_bound, *, step: float | None = None,
                  rho_inf: float = 0.8, rtol: float = 1e-6, atol: float = 1e-9,
                  max_step: float = np.inf, system: SecondOrderSystem | None = None,
-                 iterations: int | None = None, vectorized: bool = False, **extraneous):
+                 iterations: int | None = None, renew_every: int = 1,
+                 vectorized: bool = False, **extraneous):
         self.t, self.y = float(t0), np.array(y0, dtype=float)
         self.t_bound, self.t_old = float(t_bound), None
         self.n = len(self.y)
@@ -139,6 +144,8 @@ class GeneralizedAlpha:
             raise ValueError(f"rho_inf must lie in [0, 1], got {rho_inf}")
         if iterations is not None and not (isinstance(iterations, int) and iterations >= 1):
             raise ValueError(f"iterations must be None or a positive integer, got {iterations!r}")
+        if not (isinstance(renew_every, int) and renew_every >= 1):
+            raise ValueError(f"renew_every must be a positive integer, got {renew_every!r}")
         self.iterations = iterations
         if self.t_bound < self.t:
             raise ValueError("generalized-alpha integrates forward in time only")
@@ -161,6 +168,7 @@ class GeneralizedAlpha:
         self.aa = self.a.copy()  # the algorithmic acceleration of the method
         self.operator, self.operator_step, self.operator_fresh = None, None, False
         self.renew = False
+        self.renew_every, self._since_renewal = renew_every, 0
         self.njev = self.nlu = 0
         self.status = "running" if span > 0 else "finished"
         self._previous = None
@@ -236,10 +244,12 @@ class GeneralizedAlpha:
         return None
 
     def _fixed_newton(self, h):
-        """``iterations`` corrections with a Newton matrix renewed at the predictor."""
+        """``iterations`` corrections with a Newton matrix renewed at the predictor (every
+        ``renew_every`` steps)."""
         m = self.m
         y0, c, aa0, k = self._newmark(h)
         a_new = self.a.copy()
+        self._since_renewal += 1
         for iteration in range(self.iterations):
             y_new = y0 + c * np.concatenate([a_new, a_new])
             try:
@@ -247,8 +257,10 @@ class GeneralizedAlpha:
             except SimulationError as err:
                 self.trial_error = err
                 return None
-            if iteration == 0:
+            if iteration == 0 and (self.operator is None or self.renew or self.operator_step != h
+                                   or self._since_renewal >= self.renew_every):
                 self._renew_operator(h)
+                self._since_renewal = 0
             a_new = a_new + self.operator(residual)
         if not np.all(np.isfinite(a_new)):
             return None

@@ -63,3 +63,19 @@ def test_version_and_help(argv, capsys):
         code = done.code
     out = capsys.readouterr().out
     assert ("flexmbd 0.1.0" in out) if argv else ("example" in out and code == 2)
+
+
+def test_import_and_cli_start_load_no_optional_or_heavy_module():
+    """Start-up cost: ``import flexmbd`` and the CLI load numpy only (no scipy,
+    matplotlib, sympy, numba); the start-up time itself is in benchmarks/."""
+    import subprocess
+    import sys
+
+    heavy = ("scipy", "matplotlib", "sympy", "numba", "h5py", "tqdm")
+    probe = (
+        "import sys, flexmbd, flexmbd.cli; "
+        f"print(sorted({{m.split('.')[0] for m in sys.modules}} & set({heavy!r})))"
+    )
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                         check=True).stdout.strip()
+    assert out == "[]"

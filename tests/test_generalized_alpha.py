@@ -79,6 +79,28 @@ def test_a_failing_right_hand_side_ends_the_run_with_its_time():
     assert 0 < len(result.t) < 11 and result.t[-1] <= result.error.time
 
 
+def pendulum(t, y):
+    """``q'' = -omega^2 sin q``: nonlinear, so a kept Newton matrix is not exact."""
+    return np.array([y[1], -(OMEGA**2) * math.sin(y[0])])
+
+
+@pytest.mark.parametrize("renew_every", [1, 2])
+def test_linearly_implicit_steps_stay_second_order(renew_every):
+    """One Newton correction per step (the matrix renewed every step or every other)
+    converges at second order to an error-controlled RK45 solution."""
+    y0 = (1.5, 0.0)  # a large swing: sin q far from q
+    reference = integrate(pendulum, np.array(y0), np.linspace(0.0, 2.0, 11), method="RK45",
+                          rtol=1e-12, atol=1e-12).y[:, 0]
+    errors = []
+    for step in (0.004, 0.002, 0.001):
+        result = run(pendulum, step, 2.0, y0=y0, iterations=1, renew_every=renew_every)
+        errors.append(np.max(np.abs(result.y[:, 0] - reference)))
+    iterated = np.max(np.abs(run(pendulum, 0.004, 2.0, y0=y0).y[:, 0] - reference))
+    assert errors[0] < 2 * iterated  # as accurate as Newton iterated to convergence
+    for coarse, fine in itertools.pairwise(errors):
+        assert 3.0 < coarse / fine < 5.0
+
+
 def test_bad_options():
     with pytest.raises(ValueError, match="even length"):
         GeneralizedAlpha(lambda t, y: y, 0.0, np.zeros(3), 1.0)
@@ -86,3 +108,7 @@ def test_bad_options():
         GeneralizedAlpha(oscillator(), 0.0, np.zeros(2), 1.0, rho_inf=1.5)
     with pytest.raises(ValueError, match="step must be positive"):
         GeneralizedAlpha(oscillator(), 0.0, np.zeros(2), 1.0, step=0.0)
+    with pytest.raises(ValueError, match="iterations"):
+        GeneralizedAlpha(oscillator(), 0.0, np.zeros(2), 1.0, iterations=0)
+    with pytest.raises(ValueError, match="renew_every"):
+        GeneralizedAlpha(oscillator(), 0.0, np.zeros(2), 1.0, iterations=1, renew_every=0)

@@ -121,3 +121,26 @@ def test_errors_before_any_work():
         fm.simulate(flexible_slider_crank_one_beam(), [0.0, 0.1], initial={"x2.1": (0, 1)})
     with pytest.raises(ValueError, match="unknown method"):
         fm.simulate(flexible_pendulum(), [0.0, 0.1], method="Euler")
+
+
+def test_sparse_backend_reproduces_the_dense_one(monkeypatch):
+    """Long chains switch to sparse assembly and SuperLU (flexmbd.factor); forced onto a
+    small model, that path gives the dense path's run to round-off."""
+    from flexmbd.examples import slider_crank_flex as example
+
+    from flexmbd import assembly
+
+    def run():
+        model = example.build_model(4, eps1flex=True)
+        return model, fm.simulate(
+            model, example.output_times(0.05), method="GeneralizedAlpha",
+            step=example.turn_time(1.0) / 800, iterations=1, with_reactions=True)
+
+    dense_model, dense = run()
+    monkeypatch.setattr(assembly, "SPARSE_SIZE", 0)
+    sparse_model, sparse = run()
+    assert not dense_model.assembly.sparse and sparse_model.assembly.sparse
+    for name in ("x", "xd", "xdd", "e", "sigma", "reactions", "driving"):
+        scale = max(np.abs(getattr(dense, name)).max(), 1.0)
+        np.testing.assert_allclose(getattr(sparse, name), getattr(dense, name),
+                                   rtol=0, atol=1e-9 * scale, err_msg=name)

@@ -1,8 +1,8 @@
 """EXERCISES 4: the flexible slider-crank converges under refinement and behaves as expected.
 
 The histories of ``v/l2`` over two revolutions are computed once per beam count
-(generalized-alpha, 800 steps per turn: about 3e-5 from the step-converged
-history, measured) and shared by the tests.
+(linearly implicit generalized-alpha, 800 steps per turn: about 5e-5 from the
+step-converged history, measured) and shared by the tests.
 """
 
 import math
@@ -100,7 +100,9 @@ def test_csv_has_the_exercise_columns_at_400_points_per_revolution(tmp_path, cap
     data = np.loadtxt(out, delimiter=",", skiprows=1)
     assert data.shape[0] == 101
     np.testing.assert_allclose(data[:, 1], example.OMEGA * data[:, 0], rtol=1e-12)
-    assert np.max(np.abs(data[:, 2] - history(2)[:101])) < 1e-12
+    # the same steps as the longer run; only the last step's Newton matrix may differ
+    # (renewed when round-off shortens that step), a change far below the step error
+    assert np.max(np.abs(data[:, 2] - history(2)[:101])) < 1e-10
 
 
 def test_the_rod_breaks_with_a_clean_error_and_the_rows_before_it(tmp_path, capsys):
