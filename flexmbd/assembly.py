@@ -20,11 +20,12 @@ input deformations, whose stresses are reactions rather than elastic.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
 from .elements import ElementType, Reference
-from .factor import SPARSE_SIZE
+from .factor import SPARSE_SIZE, SparsePattern
 from .model import CoordinateClass, DeformationClass, Model
 
 
@@ -226,17 +227,17 @@ class Assembly:
             out[:, position] = j.reshape(nb, -1)[:, select]
         return out.reshape(nb, n, n)
 
-    def sparse_constraint_matrices(self, jacobians: list[np.ndarray]) -> list:
-        """``D_c`` as one ``scipy.sparse`` matrix per batch member."""
-        from scipy.sparse import coo_matrix
+    @cached_property
+    def sparse_constraint_pattern(self) -> SparsePattern:
+        """The sparsity of ``D_c`` (the entries of :meth:`constraint_entries`)."""
+        return SparsePattern(np.concatenate([p for _, p in self._constraint_pattern]),
+                             len(self.dependent))
 
-        n = len(self.dependent)
-        position = np.concatenate([p for _, p in self._constraint_pattern])
-        rows, cols = np.divmod(position, n)
-        data = np.concatenate([j.reshape(j.shape[0], -1)[:, s]
+    def constraint_entries(self, jacobians: list[np.ndarray]) -> np.ndarray:
+        """The entries of ``D_c`` ``(nb, k)`` at :attr:`sparse_constraint_pattern`."""
+        return np.concatenate([j.reshape(j.shape[0], -1)[:, s]
                                for j, (s, _) in zip(jacobians, self._constraint_pattern,
                                                     strict=True)], axis=1)
-        return [coo_matrix((d, (rows, cols)), shape=(n, n)).tocsc() for d in data]
 
     def row_norms(self, jacobians: list[np.ndarray]) -> np.ndarray:
         """Norm of each row of ``D_x`` with angles scaled by the model size ``(nb, ne)``."""
@@ -275,14 +276,23 @@ class Assembly:
         flat = (np.arange(nb)[:, None] * ns * ns + positions).ravel()
         return np.bincount(flat, values.ravel(), minlength=nb * ns * ns).reshape(nb, ns, ns)
 
-    def sparse_saddle_matrices(self, blocks, jacobians) -> list:
-        """:meth:`saddle_matrix` as one ``scipy.sparse`` matrix per batch member."""
-        from scipy.sparse import coo_matrix
+    @cached_property
+    def sparse_saddle_pattern(self) -> SparsePattern:
+        """The sparsity of the saddle-point matrix: the positions of
+        :meth:`sparse_saddle_entries`, every group with a block."""
+        jacobians = [np.zeros((1, *g.deformations.shape, g.coordinates.shape[1]))
+                     for g in self.groups]
+        return SparsePattern(self.sparse_saddle_entries([None] * len(self.groups),
+                                                        jacobians)[0], self.n_saddle)
 
-        positions, values = self.saddle_entries(blocks, jacobians)
-        ns = self.n_saddle
-        rows, cols = np.divmod(positions, ns)
-        return [coo_matrix((v, (rows, cols)), shape=(ns, ns)).tocsc() for v in values]
+    def sparse_saddle_entries(self, blocks: list[np.ndarray | None],
+                              jacobians: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`saddle_entries` with a (zero) block for every group, so that the
+        positions are always those of :attr:`sparse_saddle_pattern`."""
+        nb = jacobians[0].shape[0]
+        blocks = [np.zeros((nb, *g.coordinates.shape, g.coordinates.shape[1]))
+                  if b is None else b for g, b in zip(self.groups, blocks, strict=True)]
+        return self.saddle_entries(blocks, jacobians)
 
     def dynamic_rows(self, jacobians: list[np.ndarray]) -> np.ndarray:
         """``Q`` ``(nb, nd, n_free)``: the map from free-coordinate motions to the dynamic

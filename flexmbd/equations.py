@@ -135,7 +135,8 @@ class EquationsOfMotion:
         if not len(asm.dependent):
             return None
         if asm.sparse:
-            factor = SparseFactor(asm.sparse_constraint_matrices(jacobian.elements),
+            factor = SparseFactor(asm.sparse_constraint_pattern,
+                                  asm.constraint_entries(jacobian.elements),
                                   asm.constraint_row_scale, asm.row_scale_columns)
         else:
             factor = DenseFactor(jacobian.constraint_matrix(), asm.constraint_row_scale,
@@ -338,7 +339,8 @@ class EquationsOfMotion:
         elements = state.jacobian.elements
         try:
             if asm.sparse:
-                factor = SparseFactor(asm.sparse_saddle_matrices(blocks, elements),
+                factor = SparseFactor(asm.sparse_saddle_pattern,
+                                      asm.sparse_saddle_entries(blocks, elements)[1],
                                       np.ones(asm.n_saddle), np.ones(asm.n_saddle))
                 solution = factor.solve(rhs)
             else:
@@ -472,7 +474,8 @@ class EquationsOfMotion:
             blocks[k] = stiffness if blocks[k] is None else blocks[k] + stiffness
         Q = asm.dynamic_rows(elements)[0]
         if asm.sparse:  # Q is sparse in its columns; products stay linear in size
-            factor = SparseFactor(asm.sparse_saddle_matrices(blocks, elements),
+            factor = SparseFactor(asm.sparse_saddle_pattern,
+                                  asm.sparse_saddle_entries(blocks, elements)[1],
                                   np.ones(asm.n_saddle), np.ones(asm.n_saddle))
 
             def op(residual):

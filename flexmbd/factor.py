@@ -10,7 +10,9 @@ Two backends behind one interface (``solve``, ``conditioning``):
   small model.
 * :class:`SparseFactor` for long chains (hundreds of coordinates): SuperLU
   from ``scipy.sparse`` (imported only then), whose cost grows linearly with
-  the number of elements of a chain instead of cubically.
+  the number of elements of a chain instead of cubically. The matrices are
+  filled into a constant :class:`SparsePattern`, so a step pays for the
+  factorisation and not for SciPy's format conversions.
 
 Rows and columns are scaled before factorising (rows to unit norm, angles by
 the model size), so :attr:`conditioning`, an estimate of the smallest singular
@@ -22,8 +24,9 @@ from __future__ import annotations
 
 import numpy as np
 
-#: systems larger than this use the sparse backend
-SPARSE_SIZE = 120
+#: systems larger than this use the sparse backend (the measured crossover of the cost
+#: per step on the flexible slider-crank lies between 60 and 110 unknowns)
+SPARSE_SIZE = 80
 
 
 class DenseFactor:
@@ -71,12 +74,46 @@ def _inverse_or_nan(a: np.ndarray) -> np.ndarray:
         return np.full_like(a, np.nan)
 
 
+class SparsePattern:
+    """The constant sparsity of a matrix assembled from entries at fixed positions.
+
+    The element matrices of a model land at the same places at every step; only
+    their values change. This maps the entries (duplicates summed) straight into
+    the data array of one compressed-column matrix, so a new matrix costs a
+    ``bincount`` instead of SciPy's format conversions.
+
+    Args:
+        positions: flat positions ``row * n + column`` of the entries ``(k,)``.
+        n: the matrix size.
+    """
+
+    def __init__(self, positions: np.ndarray, n: int):
+        from scipy.sparse import csc_matrix
+
+        rows, cols = np.divmod(np.asarray(positions), n)
+        order = cols * n + rows  # column-major, as compressed columns store them
+        unique, self.slot = np.unique(order, return_inverse=True)
+        self.columns, self.rows = np.divmod(unique, n)
+        self.n = n
+        indptr = np.searchsorted(self.columns, np.arange(n + 1))
+        self.template = csc_matrix((np.ones(len(unique)), self.rows, indptr), shape=(n, n))
+
+    def values(self, entries: np.ndarray, scale: np.ndarray) -> np.ndarray:
+        """Data arrays ``(nb, nnz)`` of the matrices with ``entries`` ``(nb, k)``, each
+        stored entry multiplied by ``scale`` ``(nb, nnz)``."""
+        nb, nnz = entries.shape[0], len(self.rows)
+        flat = (np.arange(nb)[:, None] * nnz + self.slot).ravel()
+        return np.bincount(flat, entries.ravel(), minlength=nb * nnz).reshape(nb, nnz) * scale
+
+
 class SparseFactor:
     """SuperLU factorisations of a batch of scaled sparse matrices (one per member).
 
     Args:
-        matrices: a list of ``scipy.sparse`` matrices ``(n, n)``, one per member.
-        row_scale: ``(nb, n)``; column_scale: ``(n,)`` as for :class:`DenseFactor`.
+        pattern: the :class:`SparsePattern` of the matrices.
+        entries: their entries ``(nb, k)`` at ``pattern``'s positions.
+        row_scale: ``(nb, n)`` or ``(n,)``; column_scale: ``(n,)`` as for
+            :class:`DenseFactor`.
 
     Attributes:
         conditioning: per member, the smallest pivot of the scaled factorisation
@@ -84,19 +121,22 @@ class SparseFactor:
             (SuperLU keeps no condition estimate); 0 for a singular matrix.
     """
 
-    def __init__(self, matrices, row_scale, column_scale):
-        from scipy.sparse import diags
+    def __init__(self, pattern: SparsePattern, entries: np.ndarray, row_scale, column_scale):
         from scipy.sparse.linalg import splu
 
-        row_scale = np.broadcast_to(row_scale, (len(matrices), len(column_scale)))
+        nb = entries.shape[0]
+        row_scale = np.broadcast_to(row_scale, (nb, pattern.n))
         self.row_scale, self.column_scale = row_scale, column_scale
+        data = pattern.values(entries, row_scale[:, pattern.rows]
+                              * column_scale[pattern.columns])
         self.factors, conditioning = [], []
-        for a, rows in zip(matrices, row_scale, strict=True):
-            scaled = (diags(rows) @ a @ diags(column_scale)).tocsc()
+        matrix = pattern.template
+        for values in data:
+            matrix.data = values  # the same structure each time: no format checks
             try:
-                if not np.all(np.isfinite(scaled.data)):
+                if not np.all(np.isfinite(values)):
                     raise RuntimeError("not finite")
-                lu = splu(scaled, permc_spec="COLAMD")
+                lu = splu(matrix, permc_spec="COLAMD")
             except RuntimeError:  # exactly singular
                 self.factors.append(None)
                 conditioning.append(0.0)
