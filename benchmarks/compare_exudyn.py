@@ -1,17 +1,25 @@
 """flexmbd against Exudyn on the flexible slider-crank of EXERCISES 4, in one session.
 
-Both tools simulate two revolutions of the rod of ``--nbeams`` elements with a
-flexible elongation (Exudyn's ANCF cables are always axially flexible), with
-fixed-step generalized-alpha. Reported per tool:
+Both tools simulate two revolutions of the rod of ``--nbeams`` elements with
+fixed-step generalized-alpha (Exudyn's ANCF cables are always axially flexible;
+flexmbd runs the flexible and, for the rigid-versus-flexible target, the rigid
+elongation). Each configuration is a tool and its steps per turn; Exudyn runs
+at the issue's 4000 steps per turn and at the fewest steps that keep its
+accuracy within the threshold (``--exudyn-steps``), flexmbd linearly implicit
+at ``--flexmbd-steps``. Reported per configuration:
 
-* solver time: the time integration alone, in this process (median of ``--runs``);
+* solver time: the simulation alone in this process, outputs included (median
+  of ``--runs``);
 * process time: a fresh interpreter that imports, builds, solves and writes
   ``v/l2`` to a file, timed from outside (median of ``--runs``);
 * accuracy: the largest deviation of ``v/l2`` over the two revolutions from a
-  converged reference (flexmbd, ``--reference-nbeams`` beams, ``--reference-steps``
-  steps per turn);
+  converged reference (flexmbd, ``--reference-nbeams`` beams, flexible
+  elongation, ``--reference-steps`` steps per turn, Newton iterated to
+  convergence), against the threshold ``--threshold``;
 
-and the ratios flexmbd / Exudyn. Needs ``pip install exudyn`` (benchmark only).
+then the ratios flexmbd / Exudyn for every Exudyn configuration, and the
+start-up times of ``import flexmbd`` and ``flexmbd --version`` (median of
+``--runs`` fresh processes). Needs ``pip install exudyn`` (benchmark only).
 
 Run: ``python benchmarks/compare_exudyn.py [--runs 5] [--nbeams 8]``.
 """
@@ -19,10 +27,12 @@ Run: ``python benchmarks/compare_exudyn.py [--runs 5] [--nbeams 8]``.
 from __future__ import annotations
 
 import argparse
+import shutil
 import subprocess
 import sys
 import tempfile
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -30,18 +40,37 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 
 
-def flexmbd_run(nbeams: int, steps: int, eps1flex: bool = True) -> tuple[np.ndarray, float]:
-    """``v/l2`` at 400 points per turn and the solver time [s] of flexmbd."""
+@dataclass(frozen=True)
+class Config:
+    """One tool at one setting."""
+
+    tool: str  #: "flexmbd" or "exudyn"
+    steps: int  #: generalized-alpha steps per crank turn
+    flexible: bool = True  #: flexible elongation (Exudyn's cables always are)
+
+    @property
+    def label(self) -> str:
+        elongation = "" if self.tool == "exudyn" else (
+            ", flexible" if self.flexible else ", rigid")
+        return f"{self.tool}{elongation} @ {self.steps}"
+
+
+def flexmbd_run(nbeams: int, steps: int, flexible: bool = True,
+                iterations: int | None = 1) -> tuple[np.ndarray, float]:
+    """``v/l2`` at 400 points per turn and the solver time [s] of flexmbd (linearly
+    implicit with ``iterations=1``, the example's setting; ``None``: Newton to
+    convergence)."""
     from flexmbd.examples import slider_crank_flex as example
 
-    model = example.build_model(nbeams, eps1flex)
+    model = example.build_model(nbeams, flexible)
     start = time.perf_counter()
-    result = example.run(model, 2.0, steps_per_revolution=steps)
+    result = example.run(model, 2.0, steps_per_revolution=steps, iterations=iterations,
+                         progress=False)
     solve = time.perf_counter() - start
     return example.midpoint_deflection(model, result.x), solve
 
 
-def exudyn_run(nbeams: int, steps: int) -> tuple[np.ndarray, float]:
+def exudyn_run(nbeams: int, steps: int, flexible: bool = True) -> tuple[np.ndarray, float]:
     """``v/l2`` at 400 points per turn and the solver time [s] of Exudyn."""
     sys.path.insert(0, str(HERE))
     from exudyn_slider_crank import simulate
@@ -53,57 +82,104 @@ def exudyn_run(nbeams: int, steps: int) -> tuple[np.ndarray, float]:
 RUNNERS = {"flexmbd": flexmbd_run, "exudyn": exudyn_run}
 
 
-def process_time(tool: str, nbeams: int, steps: int, out: Path) -> float:
+def process_time(config: Config, nbeams: int, out: Path) -> float:
     """Wall time of a fresh interpreter doing the whole job [s]."""
+    command = [sys.executable, __file__, "--worker", config.tool, "--nbeams", str(nbeams),
+               "--steps", str(config.steps), "--out", str(out)]
+    if not config.flexible:
+        command.append("--rigid")
     start = time.perf_counter()
-    subprocess.run([sys.executable, __file__, "--worker", tool, "--nbeams", str(nbeams),
-                    "--steps", str(steps), "--out", str(out)], check=True)
+    subprocess.run(command, check=True)
     return time.perf_counter() - start
+
+
+def startup_times(runs: int) -> dict[str, float]:
+    """Median wall times [s] of fresh processes that only start up."""
+    commands = {"python -c pass": [sys.executable, "-c", "pass"],
+                "import flexmbd": [sys.executable, "-c", "import flexmbd"],
+                "import exudyn": [sys.executable, "-c", "import exudyn"]}
+    cli = shutil.which("flexmbd")
+    if cli:
+        commands["flexmbd --version"] = [cli, "--version"]
+    medians = {}
+    for name, command in commands.items():
+        walls = []
+        for _ in range(runs):
+            start = time.perf_counter()
+            subprocess.run(command, check=True, capture_output=True)
+            walls.append(time.perf_counter() - start)
+        medians[name] = float(np.median(walls))
+    return medians
+
+
+def measure(config: Config, nbeams: int, runs: int, reference: np.ndarray, folder: Path
+            ) -> tuple[float, float, float]:
+    """Median solver time, median process time [s] and the deviation from ``reference``."""
+    runner = RUNNERS[config.tool]
+    solves, processes = [], []
+    for k in range(runs):
+        v, solve = runner(nbeams, config.steps, config.flexible)
+        solves.append(solve)
+        processes.append(process_time(config, nbeams, folder / f"{k}.npy"))
+    return (float(np.median(solves)), float(np.median(processes)),
+            float(np.max(np.abs(v - reference))))
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--runs", type=int, default=5)
     parser.add_argument("--nbeams", type=int, default=8)
-    parser.add_argument("--flexmbd-steps", type=int, default=800,
-                        help="flexmbd generalized-alpha steps per turn")
-    parser.add_argument("--exudyn-steps", type=int, default=4000,
-                        help="Exudyn generalized-alpha steps per turn")
+    parser.add_argument("--flexmbd-steps", type=int, default=400,
+                        help="flexmbd steps per turn (linearly implicit generalized-alpha)")
+    parser.add_argument("--exudyn-steps", type=int, nargs="+", default=[4000, 400],
+                        help="Exudyn generalized-alpha steps per turn, one row each")
+    parser.add_argument("--threshold", type=float, default=2e-4,
+                        help="accuracy every configuration must meet (max |delta v/l2|)")
     parser.add_argument("--reference-nbeams", type=int, default=16)
     parser.add_argument("--reference-steps", type=int, default=3200)
     parser.add_argument("--worker", choices=sorted(RUNNERS), help=argparse.SUPPRESS)
     parser.add_argument("--steps", type=int, help=argparse.SUPPRESS)
+    parser.add_argument("--rigid", action="store_true", help=argparse.SUPPRESS)
     parser.add_argument("--out", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.worker:  # one whole job in a fresh process
-        v, _ = RUNNERS[args.worker](args.nbeams, args.steps)
+        v, _ = RUNNERS[args.worker](args.nbeams, args.steps, not args.rigid)
         np.save(args.out, v)
         return
 
     print(f"reference: flexmbd, {args.reference_nbeams} beams, {args.reference_steps} steps "
-          f"per turn ...", flush=True)
-    reference, _ = flexmbd_run(args.reference_nbeams, args.reference_steps)
-    steps = {"flexmbd": args.flexmbd_steps, "exudyn": args.exudyn_steps}
+          f"per turn, Newton to convergence ...", flush=True)
+    reference, _ = flexmbd_run(args.reference_nbeams, args.reference_steps, iterations=None)
+    configs = [Config("flexmbd", args.flexmbd_steps, True),
+               Config("flexmbd", args.flexmbd_steps, False)]
+    configs += [Config("exudyn", steps) for steps in args.exudyn_steps]
     rows = {}
     with tempfile.TemporaryDirectory() as folder:
-        for tool, runner in RUNNERS.items():
-            solves, processes = [], []
-            for k in range(args.runs):
-                v, solve = runner(args.nbeams, steps[tool])
-                solves.append(solve)
-                processes.append(process_time(tool, args.nbeams, steps[tool],
-                                              Path(folder) / f"{tool}{k}.npy"))
-            rows[tool] = (float(np.median(solves)), float(np.median(processes)),
-                          float(np.max(np.abs(v - reference))))
-            print(f"  {tool}: done", flush=True)
-    print(f"\nflexible slider-crank, {args.nbeams} elements, flexible elongation, 2 "
-          f"revolutions; medians of {args.runs} runs\n")
-    print("| tool | steps per turn | solver [s] | whole process [s] | max abs dev v/l2 |")
-    print("|---|---|---|---|---|")
-    for tool, (solve, process, deviation) in rows.items():
-        print(f"| {tool} | {steps[tool]} | {solve:.3f} | {process:.3f} | {deviation:.2e} |")
-    f, e = rows["flexmbd"], rows["exudyn"]
-    print(f"\nflexmbd / Exudyn: solver {f[0] / e[0]:.2f}, whole process {f[1] / e[1]:.2f}")
+        for config in configs:
+            rows[config] = measure(config, args.nbeams, args.runs, reference, Path(folder))
+            print(f"  {config.label}: done", flush=True)
+    startup = startup_times(args.runs)
+
+    print(f"\nflexible slider-crank, {args.nbeams} elements, 2 revolutions, fixed-step "
+          f"generalized-alpha; medians of {args.runs} runs; accuracy against flexmbd with "
+          f"{args.reference_nbeams} beams at {args.reference_steps} steps per turn\n")
+    print("| tool | elongation | steps per turn | solver [s] | whole process [s] "
+          "| max abs dev v/l2 | within threshold |")
+    print("|---|---|---|---|---|---|---|")
+    for config, (solve, process, deviation) in rows.items():
+        print(f"| {config.tool} | {'flexible' if config.flexible else 'rigid'} "
+              f"| {config.steps} | {solve:.3f} | {process:.3f} | {deviation:.2e} "
+              f"| {'yes' if deviation <= args.threshold else 'NO'} |")
+    flexible, rigid = rows[configs[0]], rows[configs[1]]
+    print(f"\nflexmbd rigid / flexible elongation: solver {rigid[0] / flexible[0]:.2f}, "
+          f"whole process {rigid[1] / flexible[1]:.2f}")
+    for config in configs[2:]:
+        exudyn = rows[config]
+        print(f"flexmbd (flexible) / {config.label}: solver {flexible[0] / exudyn[0]:.2f}, "
+              f"whole process {flexible[1] / exudyn[1]:.2f}")
+    print("\nstart-up (fresh process, median):")
+    for name, wall in startup.items():
+        print(f"  {name}: {wall:.3f} s")
 
 
 if __name__ == "__main__":

@@ -76,15 +76,22 @@ def main() -> None:
 
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
+        from matplotlib.ticker import ScalarFormatter
 
         fig, ax = plt.subplots(figsize=(5, 4))
-        ax.loglog(n, cost, "o-", label="flexmbd")
+        ax.loglog(n, cost, "-", color="C0")
+        for backend, marker in (("dense", "o"), ("sparse", "s")):
+            pick = np.array([r["backend"] == backend for r in rows])
+            if pick.any():
+                ax.loglog(n[pick], cost[pick], marker, color="C0", label=f"flexmbd ({backend})")
         ax.loglog(n, cost[0] * n / n[0], "k--", label="linear growth")
         ax.set_xlabel("beams along the rod")
         ax.set_ylabel("wall time per step [ms]")
         ax.set_title("flexible slider-crank: cost per step")
         ax.legend()
         ax.grid(True, which="both", alpha=0.3)
+        for axis in (ax.xaxis, ax.yaxis):
+            axis.set_major_formatter(ScalarFormatter())
         fig.tight_layout()
         fig.savefig(args.plot, dpi=120)
         print(f"plot written to {args.plot}")
