@@ -191,10 +191,11 @@ class GeneralizedAlpha:
         self.njev += 1
         self.nlu += 1
 
-    def _newmark(self, h):
-        """The step's update as affine maps of the end acceleration ``a_new``:
-        ``y_new = y0 + c a_new`` with ``c = [c_q; c_v]`` and ``aa_new = aa0 + k a_new``.
-        Returns ``(y0, c, aa0, k)`` with ``c`` a vector ``(2m,)``."""
+    def _newmark(self, h) -> Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]:
+        """The step's update as a map of the end acceleration ``a_new`` to ``[q; v]`` at
+        the end of the step and the algorithmic acceleration there; both are affine,
+        ``y0 + [c_q; c_v] a_new`` and ``aa0 + k a_new``, with ``y0``, ``aa0`` computed
+        here once per step."""
         m = self.m
         q, v = self.y[:m], self.y[m:]
         k = (1 - self.alpha_f) / (1 - self.alpha_m)
@@ -205,13 +206,14 @@ class GeneralizedAlpha:
         c_q, c_v = self._coefficients(h)
         c = np.empty(self.n)
         c[:m], c[m:] = c_q, c_v
-        return y0, c, aa0, k
 
-    def _predict(self, h, a_new):
-        """``[q; v]`` at the end of the step and the algorithmic acceleration there for the
-        end acceleration ``a_new``."""
-        y0, c, aa0, k = self._newmark(h)
-        return y0 + c * np.concatenate([a_new, a_new]), aa0 + k * a_new
+        def update(a_new):
+            return y0 + c * np.concatenate([a_new, a_new]), aa0 + k * a_new
+        return update
+
+    def _operator_stale(self, h) -> bool:
+        """Whether the Newton matrix must be renewed before a step of size ``h``."""
+        return self.operator is None or self.renew or self.operator_step != h
 
     def _newton(self, h):
         """Solve the step of size ``h``; returns ``(y, a, aa)`` or ``None`` if it failed."""
@@ -219,16 +221,17 @@ class GeneralizedAlpha:
             return self._fixed_newton(h)
         t_new = self.t + h
         c_q, c_v = self._coefficients(h)
+        update = self._newmark(h)
         a_new = self.a.copy()
         previous = None
         for iteration in range(1, _MAX_NEWTON + 1):
-            y_new, _ = self._predict(h, a_new)
+            y_new, _ = update(a_new)
             try:
                 residual = self.system.residual(t_new, y_new[:self.m], y_new[self.m:], a_new)
             except SimulationError as err:
                 self.trial_error = err  # a state the position solve rejects: retry smaller
                 return None
-            if self.operator is None or self.renew or self.operator_step != h:
+            if self._operator_stale(h):
                 self._renew_operator(h)
             da = self.operator(residual)
             a_new = a_new + da
@@ -236,7 +239,7 @@ class GeneralizedAlpha:
             size = np.sqrt(np.mean((dy / (self.atol + self.rtol * np.abs(y_new))) ** 2))
             if size < 0.1:
                 self.renew = iteration > _RENEW_AFTER
-                y_new, aa_new = self._predict(h, a_new)
+                y_new, aa_new = update(a_new)
                 return y_new, a_new, aa_new
             if previous is not None and size > _SLOW_RATE * previous and size > 1.0:
                 return None
@@ -247,24 +250,25 @@ class GeneralizedAlpha:
         """``iterations`` corrections with a Newton matrix renewed at the predictor (every
         ``renew_every`` steps)."""
         m = self.m
-        y0, c, aa0, k = self._newmark(h)
+        update = self._newmark(h)
         a_new = self.a.copy()
         self._since_renewal += 1
         for iteration in range(self.iterations):
-            y_new = y0 + c * np.concatenate([a_new, a_new])
+            y_new, _ = update(a_new)
             try:
                 residual = self.system.residual(self.t + h, y_new[:m], y_new[m:], a_new)
             except SimulationError as err:
                 self.trial_error = err
                 return None
-            if iteration == 0 and (self.operator is None or self.renew or self.operator_step != h
+            if iteration == 0 and (self._operator_stale(h)
                                    or self._since_renewal >= self.renew_every):
                 self._renew_operator(h)
                 self._since_renewal = 0
             a_new = a_new + self.operator(residual)
         if not np.all(np.isfinite(a_new)):
             return None
-        return y0 + c * np.concatenate([a_new, a_new]), a_new, aa0 + k * a_new
+        y_new, aa_new = update(a_new)
+        return y_new, a_new, aa_new
 
     # --- the OdeSolver interface -----------------------------------------------------------
     def step(self) -> str | None:
