@@ -21,10 +21,15 @@ from .progress import progress_bar
 METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA", "GeneralizedAlpha")
 
 
-def solver_class(method: str) -> type:
-    """The solver class of ``method`` (scipy's are imported only when asked for)."""
+def check_method(method: str) -> None:
+    """Raise ``ValueError`` for a ``method`` that is not in :data:`METHODS`."""
     if method not in METHODS:
         raise ValueError(f"unknown method {method!r}; choose from {', '.join(METHODS)}")
+
+
+def solver_class(method: str) -> type:
+    """The solver class of ``method`` (scipy's are imported only when asked for)."""
+    check_method(method)
     if method == "GeneralizedAlpha":
         from .generalized_alpha import GeneralizedAlpha
 
