@@ -247,12 +247,6 @@ def elongation_hessian(length: np.ndarray, e_l: np.ndarray) -> np.ndarray:
     return h
 
 
-def elongation_quadratic_velocity(length: np.ndarray, e_l: np.ndarray,
-                                  dv: np.ndarray) -> np.ndarray:
-    """``(d2 l / dr2 rdot) rdot = (dv.dv - (e_l.dv)^2) / l``, shape ``(...,)``."""
-    return (dot(dv, dv) - dot(e_l, dv) ** 2) / length
-
-
 def normal_distance_hessian(hess, ends, phi, n_d, e_r, sign):
     """Write the Hessian of ``sign * n(beta0 + phi) . d`` into ``hess`` ``(..., nc, nc)``.
 

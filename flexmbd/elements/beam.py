@@ -76,16 +76,23 @@ class Beam(ElementType):
         e_q, n_q = unit_and_normal(ref.angle + xe[..., _PHI_Q])
         return d, length, e_l, e_p, n_p, e_q, n_q
 
-    @classmethod
-    def deformations(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
-        ch = chord_of(xe, 0, 3)
-        cp, sp = cos_sin(ref.angle + xe[..., _PHI_P])
-        cq, sq = cos_sin(ref.angle + xe[..., _PHI_Q])
-        e = np.empty((*xe.shape[:-1], 3))
+    @staticmethod
+    def _geometry(xe, ref):
+        """The chord and ``cos, sin`` of both end angles, shared by the hot kernels."""
+        return (chord_of(xe, 0, 3), *cos_sin(ref.angle + xe[..., _PHI_P]),
+                *cos_sin(ref.angle + xe[..., _PHI_Q]))
+
+    @staticmethod
+    def _deformations_of(ch, cp, sp, cq, sq, ref):
+        e = np.empty((*ch.length.shape, 3))
         e[..., 0] = ch.length - ref.length
         e[..., 1] = sp * ch.dx - cp * ch.dy  # -n_p . d
         e[..., 2] = cq * ch.dy - sq * ch.dx  # n_q . d
         return e
+
+    @classmethod
+    def deformations(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
+        return cls._deformations_of(*cls._geometry(xe, ref), ref)
 
     @classmethod
     def jacobian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
@@ -93,13 +100,8 @@ class Beam(ElementType):
 
     @classmethod
     def deformations_and_jacobian(cls, xe, ref):
-        ch = chord_of(xe, 0, 3)
-        cp, sp = cos_sin(ref.angle + xe[..., _PHI_P])
-        cq, sq = cos_sin(ref.angle + xe[..., _PHI_Q])
-        e = np.empty((*xe.shape[:-1], 3))
-        e[..., 0] = ch.length - ref.length
-        e[..., 1] = sp * ch.dx - cp * ch.dy
-        e[..., 2] = cq * ch.dy - sq * ch.dx
+        ch, cp, sp, cq, sq = cls._geometry(xe, ref)
+        e = cls._deformations_of(ch, cp, sp, cq, sq, ref)
         jac = np.zeros((*xe.shape[:-1], 3, 6))
         elongation_row(jac[..., 0, :], ch, 0, 3)
         row = jac[..., 1, :]  # d e2 = n_p . (d r_p - d r_q) + (e_p . d) d phi_p
@@ -124,9 +126,7 @@ class Beam(ElementType):
 
     @classmethod
     def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference) -> np.ndarray:
-        ch = chord_of(xe, 0, 3)
-        cp, sp = cos_sin(ref.angle + xe[..., _PHI_P])
-        cq, sq = cos_sin(ref.angle + xe[..., _PHI_Q])
+        ch, cp, sp, cq, sq = cls._geometry(xe, ref)
         dvx, dvy = xde[..., 3] - xde[..., 0], xde[..., 4] - xde[..., 1]
         w_p, w_q = xde[..., _PHI_P], xde[..., _PHI_Q]
         out = np.empty((*xe.shape[:-1], 3))

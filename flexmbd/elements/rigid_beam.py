@@ -58,13 +58,20 @@ class RigidBeam(ElementType):
         e_p, n_p = unit_and_normal(ref.angle + xe[..., _PHI_P])
         return d, length, e_l, e_p, n_p
 
-    @classmethod
-    def deformations(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
-        ch = chord_of(xe, 0, 3)
-        c, s = cos_sin(ref.angle + xe[..., _PHI_P])
-        e = np.empty((*xe.shape[:-1], 2))
+    @staticmethod
+    def _geometry(xe, ref):
+        """The chord and ``cos, sin`` of the end angle, shared by the hot kernels."""
+        return (chord_of(xe, 0, 3), *cos_sin(ref.angle + xe[..., _PHI_P]))
+
+    @staticmethod
+    def _deformations_of(ch, c, s, ref):
+        e = np.empty((*ch.length.shape, 2))
         e[..., 0], e[..., 1] = ch.length - ref.length, c * ch.dy - s * ch.dx  # n_p . d
         return e
+
+    @classmethod
+    def deformations(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
+        return cls._deformations_of(*cls._geometry(xe, ref), ref)
 
     @classmethod
     def jacobian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
@@ -72,10 +79,8 @@ class RigidBeam(ElementType):
 
     @classmethod
     def deformations_and_jacobian(cls, xe, ref):
-        ch = chord_of(xe, 0, 3)
-        c, s = cos_sin(ref.angle + xe[..., _PHI_P])
-        e = np.empty((*xe.shape[:-1], 2))
-        e[..., 0], e[..., 1] = ch.length - ref.length, c * ch.dy - s * ch.dx
+        ch, c, s = cls._geometry(xe, ref)
+        e = cls._deformations_of(ch, c, s, ref)
         jac = np.zeros((*xe.shape[:-1], 2, 5))
         elongation_row(jac[..., 0, :], ch, 0, 3)
         row = jac[..., 1, :]  # d e2 = n_p . (d r_q - d r_p) - (e_p . d) d phi_p
@@ -94,8 +99,7 @@ class RigidBeam(ElementType):
 
     @classmethod
     def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference) -> np.ndarray:
-        ch = chord_of(xe, 0, 3)
-        c, s = cos_sin(ref.angle + xe[..., _PHI_P])
+        ch, c, s = cls._geometry(xe, ref)
         dvx, dvy = xde[..., 3] - xde[..., 0], xde[..., 4] - xde[..., 1]
         w_p = xde[..., _PHI_P]
         out = np.empty((*xe.shape[:-1], 2))
