@@ -119,6 +119,8 @@ class Assembly:
         saddle_row_at = np.where(_positions(self.multipliers, ne) >= 0,
                                  self.n_free + _positions(self.multipliers, ne), -1)
         dynamic_def_at = _positions(self.dynamic_deformations, ne)
+        #: positions of the dynamic deformations among the rows of ``D_c``
+        self.dynamic_deformation_rows = row_at[self.dynamic_deformations]
         self.groups: list[GroupData] = []
         self._constraint_pattern, self._saddle_mass, self._saddle_jacobian = [], [], []
         self._dynamic_rows = []
@@ -168,6 +170,12 @@ class Assembly:
         self._jacobian_flat = [(g.deformations[:, :, None] * nx + g.coordinates[:, None, :])
                                .ravel() for g in self.groups]
         self._constraint_flat = (self.rows[:, None] * nx + self.dependent[None, :]).ravel()
+        self._coordinate_flat = [(g.coordinates[:, :, None] * nx + g.coordinates[:, None, :])
+                                 .ravel() for g in self.groups]
+        #: the part of ``M`` that never changes (dense models): nodal masses and the
+        #: elements of constant mass, whose inertia force is ``M xddot`` alone
+        self.mass_is_constant = [g.has_mass and not g.type.mass_varies for g in self.groups]
+        self.constant_mass = None if self.sparse else self._constant_mass()
         self.stiffness, self.damping, self.prestress = self._elastic_law()
 
     def _elastic_law(self):
@@ -276,6 +284,28 @@ class Assembly:
         flat = (np.arange(nb)[:, None] * ns * ns + positions).ravel()
         return np.bincount(flat, values.ravel(), minlength=nb * ns * ns).reshape(nb, ns, ns)
 
+    def coordinate_matrix(self, blocks: list[np.ndarray | None], nb: int) -> np.ndarray:
+        """Dense ``(nb, nx, nx)`` sum of element matrices ``(nb, n, nc, nc)`` per group
+        (``None`` = none)."""
+        present = [k for k, b in enumerate(blocks) if b is not None]
+        nx = self.nx
+        if not present:
+            return np.zeros((nb, nx, nx))
+        flat = np.concatenate([self._coordinate_flat[k] for k in present])
+        if nb > 1:
+            flat = (np.arange(nb)[:, None] * nx * nx + flat).ravel()
+        values = np.concatenate([np.broadcast_to(blocks[k], (nb, *blocks[k].shape[1:]))
+                                 .reshape(nb, -1) for k in present], axis=1)
+        return np.bincount(flat, values.ravel(), minlength=nb * nx * nx).reshape(nb, nx, nx)
+
+    def _constant_mass(self) -> np.ndarray:
+        blocks = [g.type.mass_matrix(self.model.x0[g.coordinates][None], g.reference, g.mass,
+                                     g.lumped) if constant else None
+                  for g, constant in zip(self.groups, self.mass_is_constant, strict=True)]
+        M = self.coordinate_matrix(blocks, 1)[0]
+        M[self.nodal_mass_coordinates, self.nodal_mass_coordinates] += self.nodal_mass_values
+        return M
+
     @cached_property
     def sparse_saddle_pattern(self) -> SparsePattern:
         """The sparsity of the saddle-point matrix: the positions of
@@ -317,11 +347,16 @@ class SystemJacobian:
 
     Attributes:
         elements: the element Jacobians per group, ``(nb, n, nd, nc)``.
+        geometry: per group, the element types' :meth:`~flexmbd.elements.ElementType.geometry`
+            at the coordinates of ``D_x`` (``None`` entries where unknown), for the
+            other kernels of the same configuration.
         dense: ``D_x`` ``(nb, ne, nx)``, or ``None`` for a sparse model.
     """
 
-    def __init__(self, assembly: Assembly, elements: list[np.ndarray]):
+    def __init__(self, assembly: Assembly, elements: list[np.ndarray],
+                 geometry: list | None = None):
         self.assembly, self.elements = assembly, elements
+        self.geometry = geometry if geometry is not None else [None] * len(elements)
         self.nb = elements[0].shape[0] if elements else 0
         self.dense = None
         if not assembly.sparse:

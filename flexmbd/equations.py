@@ -156,10 +156,13 @@ class EquationsOfMotion:
                                          for g, xe in zip(self.asm.groups, elements, strict=True)])
 
     def _deformations_and_jacobian(self, elements: list[np.ndarray]):
-        pairs = [g.type.deformations_and_jacobian(xe, g.reference)
-                 for g, xe in zip(self.asm.groups, elements, strict=True)]
+        """``e`` ``(nb, ne)``, ``D_x`` and the element geometry per group at ``elements``."""
+        geometry = [g.type.geometry(xe, g.reference)
+                    for g, xe in zip(self.asm.groups, elements, strict=True)]
+        pairs = [g.type.deformations_and_jacobian(xe, g.reference, shared)
+                 for g, xe, shared in zip(self.asm.groups, elements, geometry, strict=True)]
         return (self.asm.per_deformation([e for e, _ in pairs]),
-                SystemJacobian(self.asm, [j for _, j in pairs]))
+                SystemJacobian(self.asm, [j for _, j in pairs], geometry))
 
     def positions(self, t: np.ndarray, q: np.ndarray, guess: np.ndarray,
                   near: float | None = None):
@@ -264,9 +267,11 @@ class EquationsOfMotion:
         xd[:, asm.q_coordinates] = qd[:, :self.n_xm]
         xd = self.dependent_rates(xd, jacobian, factor, qd[:, self.n_xm:])
         rates = asm.element_values(xd)
+        # the velocity terms from the geometry of D_x, as accurate as D_x itself
         quadratic = asm.per_deformation([
-            g.type.quadratic_velocity(xe, xde, g.reference)
-            for g, xe, xde in zip(asm.groups, elements, rates, strict=True)])
+            g.type.quadratic_velocity(xe, xde, g.reference, shared)
+            for g, xe, xde, shared in zip(asm.groups, elements, rates, jacobian.geometry,
+                                          strict=True)])
         xdd = np.zeros_like(x)
         xdd[:, asm.q_coordinates] = qdd[:, :self.n_xm]
         xdd = self.dependent_rates(xdd, jacobian, factor, qdd[:, self.n_xm:], quadratic)
@@ -292,19 +297,25 @@ class EquationsOfMotion:
         """``y = M xddot + h - f + D_x^T sigma`` ``(nb, nx)`` [N, N m] with the elastic
         stresses or ``stresses`` ``(nb, ne)``."""
         asm, nb = self.asm, len(state.t)
+        whole_mass = asm.constant_mass is not None  # constant-mass inertia in one product
         loads = []
-        for g, (xe, xde, xdde) in zip(asm.groups, state.elements, strict=True):
-            if not g.has_mass:
-                loads.append(None)
-                continue
-            load = g.type.inertia_force(xe, xde, xdde, g.reference, g.mass, g.lumped)
-            if self.gravity_on:
-                load -= g.type.gravity_load(xe, g.reference, g.mass, g.lumped, self.gravity)
+        for g, constant, (xe, xde, xdde), shared in zip(
+                asm.groups, asm.mass_is_constant, state.elements, state.jacobian.geometry,
+                strict=True):
+            load = None
+            if g.has_mass and not (whole_mass and constant):
+                load = g.type.inertia_force(xe, xde, xdde, g.reference, g.mass, g.lumped,
+                                            shared)
+            if g.has_mass and self.gravity_on:
+                weight = g.type.gravity_load(xe, g.reference, g.mass, g.lumped, self.gravity)
+                load = -weight if load is None else load - weight
             loads.append(load)
         y = asm.nodal_sum(loads, nb)
         y += state.jacobian.transpose_times(self.stresses(state) if stresses is None
                                             else stresses)
-        if len(asm.nodal_mass_coordinates):
+        if whole_mass:
+            y += state.xdd @ asm.constant_mass  # symmetric
+        elif len(asm.nodal_mass_coordinates):
             y[:, asm.nodal_mass_coordinates] += asm.nodal_mass_values * state.xdd[
                 :, asm.nodal_mass_coordinates]
         if self.loaded:
@@ -316,11 +327,13 @@ class EquationsOfMotion:
         return y
 
     # --- accelerations from the saddle-point system -----------------------------------------
-    def _mass_blocks(self, state: State) -> list[np.ndarray | None]:
-        """Element mass matrices ``(nb, n, nc, nc)`` per group (``None`` without mass)."""
+    def _mass_blocks(self, state: State, varying_only: bool = False
+                     ) -> list[np.ndarray | None]:
+        """Element mass matrices ``(nb, n, nc, nc)`` per group (``None`` without mass, and
+        with ``varying_only`` for the constant ones, :attr:`Assembly.constant_mass`)."""
         blocks = []
         for k, (g, (xe, _, _)) in enumerate(zip(self.asm.groups, state.elements, strict=True)):
-            if not g.has_mass:
+            if not g.has_mass or (varying_only and self.asm.mass_is_constant[k]):
                 blocks.append(None)
             elif g.type.mass_varies:
                 blocks.append(g.type.mass_matrix(xe, g.reference, g.mass, g.lumped))
@@ -445,47 +458,94 @@ class EquationsOfMotion:
 
         For an integrator whose ``q`` and ``qdot`` move by ``c_q`` and ``c_v`` times a
         change of ``qddot`` (e.g. generalized-alpha: ``beta h^2`` and ``gamma h``), the
-        Newton matrix of ``R`` (:meth:`reduced_residual`) is ``S = Mbar + c_q K + c_v C``.
-        Returns ``op`` with ``op(R) = -S^-1 R`` ``(1, nd) -> (nd,)``, where ``S^-1 R = Q z``
-        solves the saddle-point system with ``A = M + c_q (D^T S D + sum sigma_i D_xx,i) +
-        c_v D^T C D`` and right-hand side ``Q^T R``. The geometric stiffness
-        ``sum sigma_i D_xx,i`` is included for pre-stressed elements only; elsewhere it is
-        smaller than ``D^T S D`` by the order of the strains. Left out, as of order
-        ``h`` relative to ``Mbar``, are the velocity terms of the inertia (gyroscopic
-        and centrifugal) and the geometric stiffness of the constraint stresses: the
-        Newton iteration converges with them missing, and a linearly implicit method
-        keeps its order (see :mod:`flexmbd.generalized_alpha`).
+        Newton matrix of ``R`` (:meth:`reduced_residual`) is ``S = Mbar + c_q K + c_v C``
+        on the dynamic entries of ``q``. Returns ``op`` with ``op(R) = -S^-1 R``
+        ``(1, nd) -> (nd,)``. The geometric stiffness ``sum sigma_i D_xx,i`` is
+        included for pre-stressed elements only; elsewhere it is smaller than ``D^T S
+        D`` by the order of the strains. Left out, as of order ``h`` relative to
+        ``Mbar``, are the velocity terms of the inertia (gyroscopic and centrifugal)
+        and the geometric stiffness of the constraint stresses: the Newton iteration
+        converges with them missing, and a linearly implicit method keeps its order
+        (see :mod:`flexmbd.generalized_alpha`).
+
+        Small models form ``S = F^T A F + G^T (c_q S + c_v C) G`` with the transfer
+        function ``F`` (:meth:`transfer`), ``G = D_x F`` and ``A`` the mass matrix
+        (plus ``c_q`` times the geometric stiffness, ``M`` of the constant-mass elements
+        assembled once); large ones never form ``F`` and
+        solve the saddle-point system with ``A = M + c_q (D^T S D + sum sigma_i
+        D_xx,i) + c_v D^T C D`` instead (``S^-1 R = Q z`` for the right-hand side
+        ``Q^T R``), whose cost grows linearly with the number of elements.
         """
+        if self.asm.sparse:
+            return self._saddle_operator(state, c_q, c_v)
         asm = self.asm
-        elements = state.jacobian.elements
-        blocks = self._mass_blocks(state)
+        blocks = self._stiffness_blocks(state, c_q, c_v, elastic=False, varying_only=True)
+        A = asm.coordinate_matrix(blocks, len(state.t)) + asm.constant_mass
+        F = self.transfer(state)
+        G = state.jacobian.dense @ F
+        law = c_q * asm.stiffness + c_v * asm.damping
+        S = np.swapaxes(F, -1, -2) @ A @ F + np.swapaxes(G, -1, -2) @ law @ G
+        inverse = np.linalg.inv(S[0])
+        return lambda residual: -(inverse @ residual[0])
+
+    def transfer(self, state: State) -> np.ndarray:
+        """``F_d`` ``(nb, nx, nd)``: the motion of every coordinate per unit motion of each
+        dynamic entry of ``q`` with the inputs held, the dynamic columns of ``F_q``
+        (THEORY 4), from the inverse of ``D_c`` (small models only)."""
+        asm, nb = self.asm, len(state.t)
+        n_coord, nd = len(asm.dynamic_coordinates), len(asm.q_dynamic)
+        F = np.zeros((nb, asm.nx, nd))
+        if n_coord:
+            F[:, asm.dynamic_coordinates, np.arange(n_coord)] = 1.0
+        if state.factor is None:
+            return F
+        # D_c x(c) = [0; e(m)] - D_m x(m) on the constrained rows
+        inverse = state.factor.inverse
+        F[:, asm.dependent, n_coord:] = inverse[:, :, asm.dynamic_deformation_rows]
+        if n_coord:
+            D_m = state.jacobian.dense[:, asm.rows][:, :, asm.dynamic_coordinates]
+            F[:, asm.dependent, :n_coord] = -(inverse @ D_m)
+        return F
+
+    def _stiffness_blocks(self, state: State, c_q: float, c_v: float, elastic: bool,
+                          varying_only: bool = False) -> list[np.ndarray | None]:
+        """Element matrices ``M + c_q sum sigma_i D_xx,i`` (pre-stressed groups) and, with
+        ``elastic``, ``+ c_q D^T S D + c_v D^T C D`` ``(nb, n, nc, nc)`` per group
+        (``M`` as in :meth:`_mass_blocks`)."""
+        asm = self.asm
+        blocks = self._mass_blocks(state, varying_only)
         sigma = self.stresses(state) if any(g.prestressed for g in asm.groups) else None
-        for k, (g, (xe, _, _), jac) in enumerate(zip(asm.groups, state.elements, elements,
-                                                     strict=True)):
-            if not g.is_elastic:
-                continue
-            law = c_q * g.stiffness + c_v * g.damping if g.damped else c_q * g.stiffness
-            stiffness = np.swapaxes(jac, -1, -2) @ law @ jac
+        for k, (g, (xe, _, _), jac) in enumerate(zip(asm.groups, state.elements,
+                                                     state.jacobian.elements, strict=True)):
+            stiffness = None
+            if elastic and g.is_elastic:
+                law = c_q * g.stiffness + c_v * g.damping if g.damped else c_q * g.stiffness
+                stiffness = np.swapaxes(jac, -1, -2) @ law @ jac
             if g.prestressed:
                 # geometric stiffness sum sigma_i D_xx,i: the whole stiffness of a
                 # pre-stressed string; elsewhere only of the order of the strains
-                stiffness += c_q * np.einsum("bnd,bndij->bnij", sigma[:, g.deformations],
-                                             g.type.hessian(xe, g.reference))
-            blocks[k] = stiffness if blocks[k] is None else blocks[k] + stiffness
-        Q = asm.dynamic_rows(elements)[0]
-        if asm.sparse:  # Q is sparse in its columns; products stay linear in size
-            factor = SparseFactor(asm.sparse_saddle_pattern,
-                                  asm.sparse_saddle_entries(blocks, elements)[1],
-                                  np.ones(asm.n_saddle), np.ones(asm.n_saddle))
+                geometric = c_q * np.einsum("bnd,bndij->bnij", sigma[:, g.deformations],
+                                            g.type.hessian(xe, g.reference))
+                stiffness = geometric if stiffness is None else stiffness + geometric
+            if stiffness is not None:
+                blocks[k] = stiffness if blocks[k] is None else blocks[k] + stiffness
+        return blocks
 
-            def op(residual):
-                rhs = np.zeros((1, asm.n_saddle))
-                rhs[0, :asm.n_free] = residual[0] @ Q
-                return -(Q @ factor.solve(rhs)[0, :asm.n_free])
-            return op
-        inverse = np.linalg.inv(asm.saddle_matrix(blocks, elements)[0])
-        gain = -Q @ inverse[:asm.n_free, :asm.n_free] @ Q.T
-        return lambda residual: gain @ residual[0]
+    def _saddle_operator(self, state: State, c_q: float, c_v: float):
+        """:meth:`iteration_operator` of a large model, by the sparse saddle-point system."""
+        asm = self.asm
+        elements = state.jacobian.elements
+        blocks = self._stiffness_blocks(state, c_q, c_v, elastic=True)
+        Q = asm.dynamic_rows(elements)[0]  # sparse in its columns: products stay linear
+        factor = SparseFactor(asm.sparse_saddle_pattern,
+                              asm.sparse_saddle_entries(blocks, elements)[1],
+                              np.ones(asm.n_saddle), np.ones(asm.n_saddle))
+
+        def op(residual):
+            rhs = np.zeros((1, asm.n_saddle))
+            rhs[0, :asm.n_free] = residual[0] @ Q
+            return -(Q @ factor.solve(rhs)[0, :asm.n_free])
+        return op
 
 
 def _constant_load(model: Model) -> np.ndarray:

@@ -147,6 +147,7 @@ def simulate(
     step: float | None = None,
     iterations: int | None = None,
     renew_every: int = 1,
+    rho_inf: float = 0.8,
     tolerance: float | None = None,
     with_reactions: bool = False,
     progress: bool | None = None,
@@ -177,6 +178,8 @@ def simulate(
         renew_every: with ``iterations`` set, steps between renewals of
             GeneralizedAlpha's Newton matrix (default 1: every step). ``2`` halves its
             cost; on the flexible slider-crank the accuracy is unchanged (benchmarks/).
+        rho_inf: GeneralizedAlpha's spectral radius at infinite frequency, 0 (strongest
+            damping of unresolved modes) to 1 (none); default 0.8.
         tolerance: Newton tolerance of the position solve [m, rad].
         with_reactions: also compute constraint stresses and support/drive loads.
         progress: progress bar (default: long interactive runs only).
@@ -206,9 +209,10 @@ def simulate(
         interval = float(np.diff(times).min()) if times.size > 1 else None
         options["step"] = step if step is not None else interval
         options["system"], options["iterations"] = system, iterations
-        options["renew_every"] = renew_every
-    elif step is not None or iterations is not None or renew_every != 1:
-        raise ValueError(f"step, iterations and renew_every belong to GeneralizedAlpha; "
+        options["renew_every"], options["rho_inf"] = renew_every, rho_inf
+    elif step is not None or iterations is not None or renew_every != 1 or rho_inf != 0.8:
+        raise ValueError(f"step, iterations, renew_every and rho_inf belong to "
+                         f"GeneralizedAlpha; "
                          f"{method} chooses its own steps (bound them with max_step)")
     with blas_threads_for(model.n_coordinates):
         run = integrate(system, np.concatenate([q0, qd0]), times, method=method, rtol=rtol,

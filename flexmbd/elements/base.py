@@ -52,7 +52,9 @@ class ElementType:
         deformation_names: one name per deformation parameter.
         ends: column pairs of ``xe`` holding ``r_p`` and ``r_q``, or ``None``
             for elements without translational nodes.
-        mass_varies: whether :meth:`mass_matrix` depends on the configuration.
+        mass_varies: whether :meth:`mass_matrix` depends on the configuration; a
+            constant one has no velocity-dependent inertia, so the inertia force is
+            ``M xddot`` alone.
     """
 
     name: ClassVar[str]
@@ -104,9 +106,16 @@ class ElementType:
         raise NotImplementedError
 
     @classmethod
-    def deformations_and_jacobian(cls, xe: np.ndarray, ref: Reference
+    def geometry(cls, xe: np.ndarray, ref: Reference) -> Any:
+        """What the hot kernels of one configuration share (the chord, the cosines of
+        the end angles), computed once and passed to them as ``geometry``; ``None``
+        for types with nothing to share. Opaque outside the type."""
+        return None
+
+    @classmethod
+    def deformations_and_jacobian(cls, xe: np.ndarray, ref: Reference, geometry: Any = None
                                   ) -> tuple[np.ndarray, np.ndarray]:
-        """``e`` and ``D_x`` together (types override this to share their geometry)."""
+        """``e`` and ``D_x`` together, from :meth:`geometry` of ``xe`` when given."""
         return cls.deformations(xe, ref), cls.jacobian(xe, ref)
 
     @classmethod
@@ -115,8 +124,10 @@ class ElementType:
         raise NotImplementedError
 
     @classmethod
-    def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference) -> np.ndarray:
-        """``(D_xx xdot) xdot`` per deformation, shape ``(..., n, nd)`` (THEORY section 2)."""
+    def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference,
+                           geometry: Any = None) -> np.ndarray:
+        """``(D_xx xdot) xdot`` per deformation, shape ``(..., n, nd)`` (THEORY section 2),
+        from :meth:`geometry` of ``xe`` when given."""
         raise NotImplementedError
 
 
@@ -136,9 +147,10 @@ class ElementType:
 
     @classmethod
     def inertia_force(cls, xe: np.ndarray, xde: np.ndarray, xdde: np.ndarray, ref: Reference,
-                      mass: np.ndarray, lumped: np.ndarray) -> np.ndarray:
+                      mass: np.ndarray, lumped: np.ndarray, geometry: Any = None) -> np.ndarray:
         """The inertia force ``M xddot + h`` ``(..., n, nc)`` [N, N m] without forming ``M``
-        (types override this with a cheaper closed form)."""
+        (types override this with a cheaper closed form, using :meth:`geometry` of ``xe``
+        when given)."""
         M = cls.mass_matrix(xe, ref, mass, lumped)
         return (M @ xdde[..., None])[..., 0] + cls.inertia_velocity(xe, xde, ref, mass, lumped)
 
@@ -229,11 +241,6 @@ def chord(xe: np.ndarray, ends) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 def dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Dot product over the last axis of ``(..., 2)`` arrays."""
     return a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1]
-
-
-def elongation_jacobian(e_l: np.ndarray) -> np.ndarray:
-    """Gradient of ``l`` with respect to ``(r_p, r_q)``, shape ``(..., 4)``."""
-    return np.concatenate([-e_l, e_l], axis=-1)
 
 
 def elongation_hessian(length: np.ndarray, e_l: np.ndarray) -> np.ndarray:

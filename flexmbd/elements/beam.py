@@ -76,8 +76,8 @@ class Beam(ElementType):
         e_q, n_q = unit_and_normal(ref.angle + xe[..., _PHI_Q])
         return d, length, e_l, e_p, n_p, e_q, n_q
 
-    @staticmethod
-    def _geometry(xe, ref):
+    @classmethod
+    def geometry(cls, xe, ref):
         """The chord and ``cos, sin`` of both end angles, shared by the hot kernels."""
         return (chord_of(xe, 0, 3), *cos_sin(ref.angle + xe[..., _PHI_P]),
                 *cos_sin(ref.angle + xe[..., _PHI_Q]))
@@ -92,15 +92,15 @@ class Beam(ElementType):
 
     @classmethod
     def deformations(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
-        return cls._deformations_of(*cls._geometry(xe, ref), ref)
+        return cls._deformations_of(*cls.geometry(xe, ref), ref)
 
     @classmethod
     def jacobian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
         return cls.deformations_and_jacobian(xe, ref)[1]
 
     @classmethod
-    def deformations_and_jacobian(cls, xe, ref):
-        ch, cp, sp, cq, sq = cls._geometry(xe, ref)
+    def deformations_and_jacobian(cls, xe, ref, geometry=None):
+        ch, cp, sp, cq, sq = geometry or cls.geometry(xe, ref)
         e = cls._deformations_of(ch, cp, sp, cq, sq, ref)
         jac = np.zeros((*xe.shape[:-1], 3, 6))
         elongation_row(jac[..., 0, :], ch, 0, 3)
@@ -125,8 +125,9 @@ class Beam(ElementType):
         return hess
 
     @classmethod
-    def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference) -> np.ndarray:
-        ch, cp, sp, cq, sq = cls._geometry(xe, ref)
+    def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference,
+                           geometry=None) -> np.ndarray:
+        ch, cp, sp, cq, sq = geometry or cls.geometry(xe, ref)
         dvx, dvy = xde[..., 3] - xde[..., 0], xde[..., 4] - xde[..., 1]
         w_p, w_q = xde[..., _PHI_P], xde[..., _PHI_Q]
         out = np.empty((*xe.shape[:-1], 3))
@@ -177,11 +178,14 @@ class Beam(ElementType):
         return cls.inertia_force(xe, xde, np.zeros(xe.shape), ref, mass, lumped)
 
     @classmethod
-    def inertia_force(cls, xe, xde, xdde, ref, mass, lumped):
+    def inertia_force(cls, xe, xde, xdde, ref, mass, lumped, geometry=None):
         """``M xddot + h = m sum_ij P_ij A_i^T c_j`` with ``c = (a_p, l0 (phidd_p n_p -
         phid_p^2 e_p), a_q, l0 (phidd_q n_q - phid_q^2 e_q))``; lumped: ``m/2 (a_p, a_q)``."""
-        cp, sp = cos_sin(ref.angle + xe[..., _PHI_P])
-        cq, sq = cos_sin(ref.angle + xe[..., _PHI_Q])
+        if geometry is None:
+            cp, sp = cos_sin(ref.angle + xe[..., _PHI_P])
+            cq, sq = cos_sin(ref.angle + xe[..., _PHI_Q])
+        else:
+            _, cp, sp, cq, sq = geometry
         l0 = ref.length
         alpha_p, omega2_p = xdde[..., _PHI_P], xde[..., _PHI_P] ** 2
         alpha_q, omega2_q = xdde[..., _PHI_Q], xde[..., _PHI_Q] ** 2

@@ -33,7 +33,8 @@ class Hinge(ElementType):
         return np.zeros((*xe.shape[:-1], 1, 2, 2))
 
     @classmethod
-    def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference) -> np.ndarray:
+    def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference,
+                           geometry=None) -> np.ndarray:
         return np.zeros((*xe.shape[:-1], 1))
 
     @classmethod

@@ -58,8 +58,8 @@ class RigidBeam(ElementType):
         e_p, n_p = unit_and_normal(ref.angle + xe[..., _PHI_P])
         return d, length, e_l, e_p, n_p
 
-    @staticmethod
-    def _geometry(xe, ref):
+    @classmethod
+    def geometry(cls, xe, ref):
         """The chord and ``cos, sin`` of the end angle, shared by the hot kernels."""
         return (chord_of(xe, 0, 3), *cos_sin(ref.angle + xe[..., _PHI_P]))
 
@@ -71,15 +71,15 @@ class RigidBeam(ElementType):
 
     @classmethod
     def deformations(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
-        return cls._deformations_of(*cls._geometry(xe, ref), ref)
+        return cls._deformations_of(*cls.geometry(xe, ref), ref)
 
     @classmethod
     def jacobian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
         return cls.deformations_and_jacobian(xe, ref)[1]
 
     @classmethod
-    def deformations_and_jacobian(cls, xe, ref):
-        ch, c, s = cls._geometry(xe, ref)
+    def deformations_and_jacobian(cls, xe, ref, geometry=None):
+        ch, c, s = geometry or cls.geometry(xe, ref)
         e = cls._deformations_of(ch, c, s, ref)
         jac = np.zeros((*xe.shape[:-1], 2, 5))
         elongation_row(jac[..., 0, :], ch, 0, 3)
@@ -98,8 +98,9 @@ class RigidBeam(ElementType):
         return hess
 
     @classmethod
-    def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference) -> np.ndarray:
-        ch, c, s = cls._geometry(xe, ref)
+    def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference,
+                           geometry=None) -> np.ndarray:
+        ch, c, s = geometry or cls.geometry(xe, ref)
         dvx, dvy = xde[..., 3] - xde[..., 0], xde[..., 4] - xde[..., 1]
         w_p = xde[..., _PHI_P]
         out = np.empty((*xe.shape[:-1], 2))
@@ -118,7 +119,7 @@ class RigidBeam(ElementType):
         return np.broadcast_to(out, (*xe.shape, 5))
 
     @classmethod
-    def inertia_force(cls, xe, xde, xdde, ref, mass, lumped):
+    def inertia_force(cls, xe, xde, xdde, ref, mass, lumped, geometry=None):
         out = rod_inertia_force(xdde, cls.ends, mass, lumped)
         out[..., _PHI_P] = _rotary_inertia(ref, mass, lumped) * xdde[..., _PHI_P]
         return out

@@ -11,9 +11,9 @@ from .base import (
     chord,
     chord_of,
     elongation_hessian,
-    elongation_jacobian,
     elongation_matrices,
     elongation_rate2,
+    elongation_row,
     rod_gravity_load,
     rod_inertia_force,
     rod_mass_matrix,
@@ -45,9 +45,15 @@ class Truss(ElementType):
         return (chord_of(xe, 0, 2).length - ref.length)[..., None]
 
     @classmethod
-    def deformations_and_jacobian(cls, xe, ref):
-        _, length, e_l = chord(xe, cls.ends)
-        return (length - ref.length)[..., None], elongation_jacobian(e_l)[..., None, :]
+    def geometry(cls, xe, ref):
+        return chord_of(xe, 0, 2)
+
+    @classmethod
+    def deformations_and_jacobian(cls, xe, ref, geometry=None):
+        ch = geometry or cls.geometry(xe, ref)
+        jac = np.zeros((*xe.shape[:-1], 1, 4))
+        elongation_row(jac[..., 0, :], ch, 0, 2)
+        return (ch.length - ref.length)[..., None], jac
 
     @classmethod
     def hessian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
@@ -55,8 +61,9 @@ class Truss(ElementType):
         return elongation_hessian(length, e_l)[..., None, :, :]
 
     @classmethod
-    def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference) -> np.ndarray:
-        ch = chord_of(xe, 0, 2)
+    def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference,
+                           geometry=None) -> np.ndarray:
+        ch = geometry or cls.geometry(xe, ref)
         return elongation_rate2(ch, xde[..., 2] - xde[..., 0], xde[..., 3] - xde[..., 1])[..., None]
 
     @classmethod
@@ -64,7 +71,7 @@ class Truss(ElementType):
         return np.broadcast_to(rod_mass_matrix(4, cls.ends, mass, lumped), (*xe.shape, 4))
 
     @classmethod
-    def inertia_force(cls, xe, xde, xdde, ref, mass, lumped):
+    def inertia_force(cls, xe, xde, xdde, ref, mass, lumped, geometry=None):
         """``m/6 (2 a_p + a_q, a_p + 2 a_q)`` (consistent) or ``m/2 (a_p, a_q)`` (lumped)."""
         return rod_inertia_force(xdde, cls.ends, mass, lumped)
 
