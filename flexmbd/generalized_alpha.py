@@ -204,11 +204,12 @@ class GeneralizedAlpha:
         y0[:m] = q + h * v + h**2 * ((0.5 - self.beta) * self.aa + self.beta * aa0)
         y0[m:] = v + h * ((1 - self.gamma) * self.aa + self.gamma * aa0)
         c_q, c_v = self._coefficients(h)
-        c = np.empty(self.n)
-        c[:m], c[m:] = c_q, c_v
 
         def update(a_new):
-            return y0 + c * np.concatenate([a_new, a_new]), aa0 + k * a_new
+            y = y0.copy()
+            y[:m] += c_q * a_new
+            y[m:] += c_v * a_new
+            return y, aa0 + k * a_new
         return update
 
     def _operator_stale(self, h) -> bool:

@@ -94,10 +94,14 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarray,
             if solver.status == "failed":
                 message = f"the {method} integrator failed at t = {solver.t:.6g} s: {step_message}"
                 break
-            if k < len(t_eval) and t_eval[k] <= solver.t:
-                dense, end = None, solver.t - 1e-12 * (solver.t - solver.t_old)
-                while k < len(t_eval) and t_eval[k] <= solver.t:
-                    if t_eval[k] >= end:  # an output at the end of the step (to round-off)
+            # an output within round-off of the step's end is reached by this step: fixed
+            # steps accumulate round-off in t (about 1e-16 t per step); such an output
+            # would otherwise wait for the next step (and start its solve from there)
+            round_off = 1e-9 * (solver.t - solver.t_old)
+            if k < len(t_eval) and t_eval[k] <= solver.t + round_off:
+                dense = None
+                while k < len(t_eval) and t_eval[k] <= solver.t + round_off:
+                    if t_eval[k] >= solver.t - round_off:  # at the end of the step
                         ys.append(solver.y.copy())
                     else:
                         dense = dense or solver.dense_output()

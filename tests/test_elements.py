@@ -144,3 +144,21 @@ def test_fast_kernels_evaluate_the_formula(cls):
     np.testing.assert_allclose(e, expected, rtol=1e-14, atol=1e-14)
     np.testing.assert_allclose(cls.deformations(xe, ref), expected, rtol=1e-14, atol=1e-14)
     np.testing.assert_array_equal(jac, cls.jacobian(xe, ref))
+
+
+@pytest.mark.parametrize("cls", ELEMENTS, ids=lambda c: c.name)
+def test_kernels_give_the_same_with_the_shared_geometry(cls):
+    """The geometry computed once per configuration (``ElementType.geometry``) and passed
+    to the kernels changes nothing: it is the same chord and cosines they compute alone."""
+    rng = np.random.default_rng(12)
+    ref, xe, xde = random_state(cls, rng)
+    xdde = rng.normal(size=xe.shape)
+    mass, lumped = np.full(len(xe), 2.0), np.zeros(len(xe), dtype=bool)
+    shared = cls.geometry(xe, ref)
+    for alone, given in zip(cls.deformations_and_jacobian(xe, ref),
+                            cls.deformations_and_jacobian(xe, ref, shared), strict=True):
+        np.testing.assert_array_equal(given, alone)
+    np.testing.assert_array_equal(cls.quadratic_velocity(xe, xde, ref, shared),
+                                  cls.quadratic_velocity(xe, xde, ref))
+    np.testing.assert_array_equal(cls.inertia_force(xe, xde, xdde, ref, mass, lumped, shared),
+                                  cls.inertia_force(xe, xde, xdde, ref, mass, lumped))

@@ -112,3 +112,23 @@ def test_bad_options():
         GeneralizedAlpha(oscillator(), 0.0, np.zeros(2), 1.0, iterations=0)
     with pytest.raises(ValueError, match="renew_every"):
         GeneralizedAlpha(oscillator(), 0.0, np.zeros(2), 1.0, iterations=1, renew_every=0)
+
+
+def test_an_output_at_a_step_end_is_reached_by_that_step():
+    """Fixed steps accumulate round-off in ``t``; an output within round-off of a step's
+    end is still that step's (its ``on_output`` comes before the next evaluation), so a
+    warm start kept for it is from its own time, not one step later."""
+    dt = 0.1  # not a binary fraction: t = k dt drifts from the output times
+    times = dt * np.arange(301)
+    evaluated = []
+
+    def fun(t, y):
+        evaluated.append(t)
+        return oscillator()(t, y)
+
+    lag = []
+    integrate(fun, np.array([1.0, 0.0]), times, method="GeneralizedAlpha", step=dt,
+              iterations=1, renew_every=10**6,
+              on_output=lambda k: lag.append(evaluated[-1] - times[k]))
+    assert len(lag) == len(times)
+    assert np.max(np.abs(lag)) < 1e-9 * dt
