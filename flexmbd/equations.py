@@ -165,7 +165,7 @@ class EquationsOfMotion:
                 SystemJacobian(self.asm, [j for _, j in pairs], geometry))
 
     def positions(self, t: np.ndarray, q: np.ndarray, guess: np.ndarray,
-                  near: float | None = None):
+                  near: float | None = None, factor: DenseFactor | None = None):
         """Solve the position problem for every member of the batch (THEORY 3).
 
         Newton-Raphson from ``guess`` ``(nb, nx)``, whose ``D_c`` then serves for chord
@@ -176,6 +176,10 @@ class EquationsOfMotion:
         may pass a small share of the model size and solve with one evaluation of the
         Jacobian; ``D_x`` and the velocities are then accurate to about that relative
         size, far below the integrator's own error.
+
+        ``factor``, a factorisation of ``D_c`` taken near ``guess`` (e.g. by the
+        integrator, kept for the output pass), serves the chord steps instead of a new
+        one at ``guess``; ``D_c`` is then factorised once, at the solution.
 
         Returns:
             ``(x, elements, jacobian, factor, e)``: coordinates ``(nb, nx)``, element
@@ -190,10 +194,14 @@ class EquationsOfMotion:
         target[:, asm.n_rigid:] = q[:, self.n_xm:]
         near = self.tolerance if near is None else max(self.tolerance, near)
         elements = asm.element_values(x)
-        e, jacobian = self._deformations_and_jacobian(elements)
-        factor, fresh, previous = self.factorize(jacobian, t), True, None
-        if factor is None:  # no dependent coordinates: nothing to solve
-            return x, elements, jacobian, factor, e
+        previous = None
+        if factor is None or not len(asm.dependent):
+            e, jacobian = self._deformations_and_jacobian(elements)
+            factor, fresh = self.factorize(jacobian, t), True
+            if factor is None:  # no dependent coordinates: nothing to solve
+                return x, elements, jacobian, factor, e
+        else:  # D_c from near the guess: chord steps, then the Jacobian at the solution
+            e, fresh = self._deformations(elements), False
         for iteration in range(self.max_iterations + 1):
             residual = e[:, asm.rows] - target
             norm = np.abs(residual).max(axis=1)
@@ -258,11 +266,12 @@ class EquationsOfMotion:
         rates[:, asm.dependent] = factor.solve(rhs)
         return rates
 
-    def kinematics(self, t, q, qd, qdd, guess, near: float | None = None) -> State:
+    def kinematics(self, t, q, qd, qdd, guess, near: float | None = None,
+                   factor: DenseFactor | None = None) -> State:
         """Positions, velocities and accelerations of a batch (see :class:`State` and
-        :meth:`positions` for ``guess`` and ``near``)."""
+        :meth:`positions` for ``guess``, ``near`` and ``factor``)."""
         asm = self.asm
-        x, elements, jacobian, factor, e = self.positions(t, q, guess, near)
+        x, elements, jacobian, factor, e = self.positions(t, q, guess, near, factor)
         xd = np.zeros_like(x)
         xd[:, asm.q_coordinates] = qd[:, :self.n_xm]
         xd = self.dependent_rates(xd, jacobian, factor, qd[:, self.n_xm:])
@@ -395,10 +404,11 @@ class EquationsOfMotion:
         return -self.dynamic_part(state, z), solution[:, self.asm.n_free:]
 
     # --- everything a result holds -------------------------------------------------------
-    def outputs(self, t: np.ndarray, q_d: np.ndarray, qd_d: np.ndarray, guesses: np.ndarray
-                ) -> dict[str, np.ndarray]:
+    def outputs(self, t: np.ndarray, q_d: np.ndarray, qd_d: np.ndarray, guesses: np.ndarray,
+                factor: DenseFactor | None = None) -> dict[str, np.ndarray]:
         """The full dynamic state at a batch of times ``t`` ``(nb,)`` from the integrated
-        ``q_d``, ``qdot_d`` ``(nb, nd)``, with position guesses ``(nb, nx)``.
+        ``q_d``, ``qdot_d`` ``(nb, nd)``, with position guesses ``(nb, nx)`` (and a
+        factorisation of ``D_c`` near them, see :meth:`positions`).
 
         Returns arrays by name, each with a leading axis ``nb``: ``x, xd, xdd, e, ed,
         edd, q, qd, qdd`` as in :class:`~flexmbd.results.SimulationResult`; ``sigma``,
@@ -409,7 +419,7 @@ class EquationsOfMotion:
         """
         asm = self.asm
         q, qd, qdd = self.compose(t, q_d, qd_d, None)
-        state = self.kinematics(t, q, qd, qdd, guesses)
+        state = self.kinematics(t, q, qd, qdd, guesses, factor=factor)
         qdd_d, multipliers = self.solve_accelerations(state, self.nodal_force(state))
         qdd[:, asm.q_dynamic] = qdd_d
         xdd = np.zeros_like(state.x)

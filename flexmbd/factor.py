@@ -56,6 +56,14 @@ class DenseFactor:
         inverse *= np.swapaxes(scale, -1, -2)
         self.inverse = inverse
 
+    @classmethod
+    def from_inverse(cls, inverse: np.ndarray, conditioning: np.ndarray) -> DenseFactor:
+        """A factorisation kept from earlier: ``inverse`` ``(nb, n, n)`` and its
+        ``conditioning`` ``(nb,)``."""
+        factor = cls.__new__(cls)
+        factor.inverse, factor.conditioning = inverse, conditioning
+        return factor
+
     def solve(self, rhs: np.ndarray) -> np.ndarray:
         """``A^-1 rhs`` for ``rhs`` ``(nb, n)`` or ``(nb, n, k)``."""
         if rhs.ndim == self.inverse.ndim - 1:

@@ -19,6 +19,7 @@ import numpy as np
 from .dynamics import Forces
 from .equations import EquationsOfMotion, State
 from .errors import ModelError, SimulationError
+from .factor import DenseFactor
 from .inputs import q_index, resolve_laws
 from .integrate import check_method, integrate
 from .kinematics import initial_q
@@ -31,6 +32,8 @@ from .threads import blas_threads_for
 _OUTPUT_BATCH = 256
 #: generalized-alpha's position solves take D_x within this share of the model size
 _GA_JACOBIAN_POINT = 1e-6
+#: memory for the D_c inverses kept for the output pass (beyond it, none are kept)
+_KEPT_FACTOR_BYTES = 64 * 2**20
 
 
 def initial_state(model: Model, initial: Mapping[str, tuple[float, float]] | None
@@ -78,6 +81,13 @@ class MechanicalSystem:
         self._t = None
         #: for each output time, the solution of an evaluation near it (a warm start)
         self.guesses = np.tile(np.asarray(model.x0, dtype=float), (n_outputs, 1))
+        # and the inverse of D_c there (small models): the output pass's chord steps
+        # need no factorisation of their own
+        n = len(equations.asm.dependent)
+        keep = not equations.asm.sparse and 0 < n_outputs * n * n * 8 <= _KEPT_FACTOR_BYTES
+        self._inverses = np.empty((n_outputs, n, n)) if keep else None
+        self._conditioning = np.empty(n_outputs)
+        self._kept = np.zeros(n_outputs, dtype=bool)
 
     def _state(self, t: float, q_d, qd_d, qdd_d) -> State:
         eq = self.equations
@@ -131,6 +141,17 @@ class MechanicalSystem:
     def keep_guess(self, k: int) -> None:
         """Remember the latest solution as the warm start of output ``k``."""
         self.guesses[k] = self._x
+        factor = None if self.last is None else self.last.factor
+        if self._inverses is not None and isinstance(factor, DenseFactor):
+            self._inverses[k], self._conditioning[k] = factor.inverse[0], factor.conditioning[0]
+            self._kept[k] = True
+
+    def kept_factor(self, part: slice) -> DenseFactor | None:
+        """The ``D_c`` factorisations kept with the warm starts of outputs ``part``, if
+        every one has one."""
+        if self._inverses is None or not self._kept[part].all():
+            return None
+        return DenseFactor.from_inverse(self._inverses[part], self._conditioning[part])
 
 
 def simulate(
@@ -218,8 +239,7 @@ def simulate(
         run = integrate(system, np.concatenate([q0, qd0]), times, method=method, rtol=rtol,
                         atol=atol, max_step=max_step, progress=progress,
                         on_output=system.keep_guess, **options)
-        result, output_error = _post_process(system.equations, run.t, run.y,
-                                             system.guesses[:len(run.t)], with_reactions)
+        result, output_error = _post_process(system, run.t, run.y, with_reactions)
     result.stats = {**run.stats, "method": method}
     error = run.error or output_error
     if error is None and not run.success:
@@ -229,12 +249,12 @@ def simulate(
                     f"({run.stats['nsteps']} steps, {run.stats['nfev']} evaluations)")
 
 
-def _post_process(equations: EquationsOfMotion, t: np.ndarray, y: np.ndarray,
-                  guesses: np.ndarray, with_reactions: bool
-                  ) -> tuple[SimulationResult, SimulationError | None]:
+def _post_process(system: MechanicalSystem, t: np.ndarray, y: np.ndarray,
+                  with_reactions: bool) -> tuple[SimulationResult, SimulationError | None]:
     """Full kinematics, stresses, driving forces and (optionally) reactions at the output
     times, evaluated in batches; an output that cannot be evaluated (e.g. a state past
     the last good step of a failing run) ends the result there, with its error."""
+    equations = system.equations
     model, n = equations.model, y.shape[1] // 2
     columns: dict[str, list[np.ndarray]] = {}
     error = None
@@ -243,7 +263,8 @@ def _post_process(equations: EquationsOfMotion, t: np.ndarray, y: np.ndarray,
         # each output starts from the integration's own solution near it: the position
         # problem has other branches (an end tangent turned by pi), so never go far
         for name, values in equations.outputs(t[part], y[part, :n], y[part, n:],
-                                              guesses[part]).items():
+                                              system.guesses[part],
+                                              system.kept_factor(part)).items():
             columns.setdefault(name, []).append(values)
 
     done = 0
