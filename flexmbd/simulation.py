@@ -260,6 +260,7 @@ def _post_process(system: MechanicalSystem, t: np.ndarray, y: np.ndarray,
     error = None
 
     def evaluate(part):
+        part = slice(part.start, min(part.stop, len(t)))  # a failed run ends early
         # each output starts from the integration's own solution near it: the position
         # problem has other branches (an end tangent turned by pi), so never go far
         for name, values in equations.outputs(t[part], y[part, :n], y[part, n:],
