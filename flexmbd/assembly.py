@@ -172,9 +172,13 @@ class Assembly:
         self._constraint_flat = (self.rows[:, None] * nx + self.dependent[None, :]).ravel()
         self._coordinate_flat = [(g.coordinates[:, :, None] * nx + g.coordinates[:, None, :])
                                  .ravel() for g in self.groups]
+        #: per group, the element mass matrices ``(n, nc, nc)`` if they never change
+        #: (then the inertia force is ``M xddot`` alone), else ``None``
+        self.constant_mass_blocks = [
+            g.type.mass_matrix(model.x0[g.coordinates][None], g.reference, g.mass, g.lumped)[0]
+            if g.has_mass and not g.type.mass_varies else None for g in self.groups]
         #: the part of ``M`` that never changes (dense models): nodal masses and the
-        #: elements of constant mass, whose inertia force is ``M xddot`` alone
-        self.mass_is_constant = [g.has_mass and not g.type.mass_varies for g in self.groups]
+        #: constant-mass elements
         self.constant_mass = None if self.sparse else self._constant_mass()
         self.stiffness, self.damping, self.prestress = self._elastic_law()
 
@@ -299,9 +303,7 @@ class Assembly:
         return np.bincount(flat, values.ravel(), minlength=nb * nx * nx).reshape(nb, nx, nx)
 
     def _constant_mass(self) -> np.ndarray:
-        blocks = [g.type.mass_matrix(self.model.x0[g.coordinates][None], g.reference, g.mass,
-                                     g.lumped) if constant else None
-                  for g, constant in zip(self.groups, self.mass_is_constant, strict=True)]
+        blocks = [None if b is None else b[None] for b in self.constant_mass_blocks]
         M = self.coordinate_matrix(blocks, 1)[0]
         M[self.nodal_mass_coordinates, self.nodal_mass_coordinates] += self.nodal_mass_values
         return M

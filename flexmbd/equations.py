@@ -106,8 +106,6 @@ class EquationsOfMotion:
         self.loaded = bool(np.any(self.constant_load))
         self.gravity = np.asarray(model.gravity, dtype=float)
         self.gravity_on = bool(np.any(self.gravity))
-        # mass matrices of elements whose mass does not depend on the configuration
-        self._constant_mass: dict[int, np.ndarray] = {}
 
     # --- q from the integrated state and the laws -------------------------------------------
     def compose(self, t: np.ndarray, q_d: np.ndarray, qd_d: np.ndarray,
@@ -309,10 +307,10 @@ class EquationsOfMotion:
         whole_mass = asm.constant_mass is not None  # constant-mass inertia in one product
         loads = []
         for g, constant, (xe, xde, xdde), shared in zip(
-                asm.groups, asm.mass_is_constant, state.elements, state.jacobian.geometry,
+                asm.groups, asm.constant_mass_blocks, state.elements, state.jacobian.geometry,
                 strict=True):
             load = None
-            if g.has_mass and not (whole_mass and constant):
+            if g.has_mass and not (whole_mass and constant is not None):
                 load = g.type.inertia_force(xe, xde, xdde, g.reference, g.mass, g.lumped,
                                             shared)
             if g.has_mass and self.gravity_on:
@@ -341,16 +339,14 @@ class EquationsOfMotion:
         """Element mass matrices ``(nb, n, nc, nc)`` per group (``None`` without mass, and
         with ``varying_only`` for the constant ones, :attr:`Assembly.constant_mass`)."""
         blocks = []
-        for k, (g, (xe, _, _)) in enumerate(zip(self.asm.groups, state.elements, strict=True)):
-            if not g.has_mass or (varying_only and self.asm.mass_is_constant[k]):
+        for g, constant, (xe, _, _) in zip(self.asm.groups, self.asm.constant_mass_blocks,
+                                           state.elements, strict=True):
+            if not g.has_mass or (varying_only and constant is not None):
                 blocks.append(None)
-            elif g.type.mass_varies:
+            elif constant is None:
                 blocks.append(g.type.mass_matrix(xe, g.reference, g.mass, g.lumped))
             else:
-                if k not in self._constant_mass:
-                    self._constant_mass[k] = g.type.mass_matrix(xe[:1], g.reference, g.mass,
-                                                                g.lumped)[0]
-                blocks.append(np.broadcast_to(self._constant_mass[k], (*xe.shape, xe.shape[-1])))
+                blocks.append(np.broadcast_to(constant, (*xe.shape, xe.shape[-1])))
         return blocks
 
     def _solve_saddle(self, blocks, state: State, force: np.ndarray) -> np.ndarray:
