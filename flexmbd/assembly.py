@@ -166,9 +166,11 @@ class Assembly:
         #: whether the systems of this model are large enough for the sparse backend
         self.sparse = max(len(self.dependent), self.n_saddle) > SPARSE_SIZE
         # small models hold D_x as a dense matrix: one product per use instead of one
-        # per element group (numpy's cost per call dominates at this size)
-        self._jacobian_flat = [(g.deformations[:, :, None] * nx + g.coordinates[:, None, :])
-                               .ravel() for g in self.groups]
+        # per element group (numpy's cost per call dominates at this size); it and the
+        # scaled D_c are scattered from the Jacobian features of all groups at once
+        self._jacobian_scatter = self._feature_scatter(row_at, dependent_at)
+        #: ``c r^T`` of the scales of ``D_c``: undoes them on its inverse
+        self.constraint_unscale = self.row_scale_columns[:, None] * self.constraint_row_scale
         self._constraint_flat = (self.rows[:, None] * nx + self.dependent[None, :]).ravel()
         self._coordinate_flat = [(g.coordinates[:, :, None] * nx + g.coordinates[:, None, :])
                                  .ravel() for g in self.groups]
@@ -181,6 +183,39 @@ class Assembly:
         #: constant-mass elements
         self.constant_mass = None if self.sparse else self._constant_mass()
         self.stiffness, self.damping, self.prestress = self._elastic_law()
+
+    def _feature_scatter(self, row_at: np.ndarray, dependent_at: np.ndarray) -> dict:
+        """Where the Jacobian features (:attr:`ElementType.jacobian_entries`) of all groups,
+        concatenated per batch member, land in ``D_x`` and in the scaled ``D_c`` (flat
+        positions, feature indices and weights, the signs times the scales of ``D_c``)."""
+        rows, cols, features, signs, offset = [], [], [], [], 0
+        for g in self.groups:
+            t, n = g.type, len(g.coordinates)
+            rows.append(g.deformations[:, t._entry_rows].ravel())
+            cols.append(g.coordinates[:, t._entry_columns].ravel())
+            features.append((offset + np.arange(n)[:, None] * t.n_features
+                             + t._entry_features).ravel())
+            signs.append(np.broadcast_to(t._entry_signs, (n, len(t._entry_signs))).ravel())
+            offset += n * t.n_features
+        rows, cols = np.concatenate(rows), np.concatenate(cols)
+        features, signs = np.concatenate(features), np.concatenate(signs)
+        in_c = (row_at[rows] >= 0) & (dependent_at[cols] >= 0)
+        r, c = row_at[rows[in_c]], dependent_at[cols[in_c]]
+        return {"jacobian": (rows * self.nx + cols, features, signs),
+                "constraint": (r * len(self.dependent) + c, features[in_c],
+                               signs[in_c] * self.constraint_row_scale[r]
+                               * self.row_scale_columns[c])}
+
+    def scatter_features(self, features: np.ndarray, target: str) -> np.ndarray:
+        """``D_x`` ``(nb, ne * nx)`` (``target="jacobian"``) or ``diag(r) D_c diag(c)``
+        ``(nb, nr * nr)`` with the scales of :attr:`constraint_row_scale` and
+        :attr:`row_scale_columns` (``"constraint"``), flat, from the Jacobian features
+        of all groups concatenated ``(nb, k)`` (dense models)."""
+        positions, index, weights = self._jacobian_scatter[target]
+        size = self.ne * self.nx if target == "jacobian" else len(self.dependent) ** 2
+        out = np.zeros((features.shape[0], size))
+        out[:, positions] = features[:, index] * weights
+        return out
 
     def _elastic_law(self):
         """``S``, ``C`` ``(ne, ne)`` and ``sigma0`` ``(ne,)`` of the whole model (dense
@@ -342,30 +377,40 @@ class Assembly:
 
 
 class SystemJacobian:
-    """``D_x`` of a batch of states, built from the element Jacobians.
+    """``D_x`` of a batch of states, from the Jacobian features of the element types.
 
     Small models keep it as a dense array ``(nb, ne, nx)``; large (sparse) ones work
     element by element, so that products stay linear in the number of elements.
 
+    Args:
+        assembly: the model's :class:`Assembly`.
+        features: per group, the features of
+            :meth:`~flexmbd.elements.ElementType.deformations_and_features` ``(nb, n, nf)``.
+        geometry: per group, the element types'
+            :meth:`~flexmbd.elements.ElementType.geometry` at the coordinates of ``D_x``
+            (``None`` entries where unknown), for the other kernels of the same
+            configuration.
+
     Attributes:
-        elements: the element Jacobians per group, ``(nb, n, nd, nc)``.
-        geometry: per group, the element types' :meth:`~flexmbd.elements.ElementType.geometry`
-            at the coordinates of ``D_x`` (``None`` entries where unknown), for the
-            other kernels of the same configuration.
         dense: ``D_x`` ``(nb, ne, nx)``, or ``None`` for a sparse model.
     """
 
-    def __init__(self, assembly: Assembly, elements: list[np.ndarray],
+    def __init__(self, assembly: Assembly, features: list[np.ndarray],
                  geometry: list | None = None):
-        self.assembly, self.elements = assembly, elements
-        self.geometry = geometry if geometry is not None else [None] * len(elements)
-        self.nb = elements[0].shape[0] if elements else 0
-        self.dense = None
+        self.assembly, self.features = assembly, features
+        self.geometry = geometry if geometry is not None else [None] * len(features)
+        self.nb = features[0].shape[0] if features else 0
+        self.dense = self._flat = None
         if not assembly.sparse:
-            dense = np.zeros((self.nb, assembly.ne * assembly.nx))
-            for j, flat in zip(elements, assembly._jacobian_flat, strict=True):
-                dense[:, flat] = j.reshape(self.nb, -1)
-            self.dense = dense.reshape(self.nb, assembly.ne, assembly.nx)
+            self._flat = np.concatenate([f.reshape(self.nb, -1) for f in features], axis=1)
+            self.dense = assembly.scatter_features(self._flat, "jacobian").reshape(
+                self.nb, assembly.ne, assembly.nx)
+
+    @cached_property
+    def elements(self) -> list[np.ndarray]:
+        """The element Jacobians per group ``(nb, n, nd, nc)``."""
+        return [g.type.jacobian_of(f)
+                for g, f in zip(self.assembly.groups, self.features, strict=True)]
 
     def times(self, v: np.ndarray) -> np.ndarray:
         """``D_x v`` ``(nb, ne)`` for coordinate rates ``v`` ``(nb, nx)``."""
@@ -390,7 +435,13 @@ class SystemJacobian:
         n = len(asm.dependent)
         return self.dense.reshape(self.nb, -1)[:, asm._constraint_flat].reshape(self.nb, n, n)
 
+    def scaled_constraint_matrix(self) -> np.ndarray:
+        """``diag(r) D_c diag(c)`` ``(nb, nr, nr)`` with the scales of :class:`Assembly`
+        (dense models)."""
+        n = len(self.assembly.dependent)
+        return self.assembly.scatter_features(self._flat, "constraint").reshape(self.nb, n, n)
+
     def member(self, k: int) -> SystemJacobian:
         """The Jacobian of batch member ``k`` alone."""
-        return SystemJacobian(self.assembly, [j[k:k + 1] for j in self.elements])
+        return SystemJacobian(self.assembly, [f[k:k + 1] for f in self.features])
 

@@ -137,8 +137,8 @@ class EquationsOfMotion:
                                   asm.constraint_entries(jacobian.elements),
                                   asm.constraint_row_scale, asm.row_scale_columns)
         else:
-            factor = DenseFactor(jacobian.constraint_matrix(), asm.constraint_row_scale,
-                                 asm.row_scale_columns)
+            factor = DenseFactor.of_scaled(jacobian.scaled_constraint_matrix(),
+                                           asm.constraint_unscale)
         bad = np.flatnonzero(~(factor.conditioning > SINGULAR_RCOND))
         if len(bad):
             raise self._singular(jacobian, t, bad[0], "D_c is singular")
@@ -157,10 +157,10 @@ class EquationsOfMotion:
         """``e`` ``(nb, ne)``, ``D_x`` and the element geometry per group at ``elements``."""
         geometry = [g.type.geometry(xe, g.reference)
                     for g, xe in zip(self.asm.groups, elements, strict=True)]
-        pairs = [g.type.deformations_and_jacobian(xe, g.reference, shared)
+        pairs = [g.type.deformations_and_features(xe, g.reference, shared)
                  for g, xe, shared in zip(self.asm.groups, elements, geometry, strict=True)]
         return (self.asm.per_deformation([e for e, _ in pairs]),
-                SystemJacobian(self.asm, [j for _, j in pairs], geometry))
+                SystemJacobian(self.asm, [f for _, f in pairs], geometry))
 
     def positions(self, t: np.ndarray, q: np.ndarray, guess: np.ndarray,
                   near: float | None = None, factor: DenseFactor | None = None):

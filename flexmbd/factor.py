@@ -47,13 +47,25 @@ class DenseFactor:
         # one scale matrix each way: two multiplications instead of four per factorisation
         row_scale, column_scale = np.asarray(row_scale), np.asarray(column_scale)
         scale = row_scale[..., :, None] * column_scale
+        self._invert(matrices * scale, np.swapaxes(scale, -1, -2))
+
+    @classmethod
+    def of_scaled(cls, scaled: np.ndarray, unscale: np.ndarray) -> DenseFactor:
+        """From matrices already scaled, ``diag(r) A diag(c)`` ``(nb, n, n)``, and
+        ``unscale = c r^T`` ``(n, n)`` (e.g. assembled with their scales, constant in a
+        run)."""
+        factor = cls.__new__(cls)
+        factor._invert(scaled, unscale)
+        return factor
+
+    def _invert(self, scaled: np.ndarray, unscale: np.ndarray) -> None:
         try:
-            inverse = np.linalg.inv(matrices * scale)  # non-finite in, non-finite out
+            inverse = np.linalg.inv(scaled)  # non-finite in, non-finite out
         except np.linalg.LinAlgError:  # an exactly singular member: invert one by one
-            inverse = np.stack([_inverse_or_nan(a) for a in matrices * scale])
+            inverse = np.stack([_inverse_or_nan(a) for a in scaled])
         with np.errstate(divide="ignore", invalid="ignore"):
             self.conditioning = 1.0 / np.abs(inverse).sum(axis=-2).max(axis=-1)
-        inverse *= np.swapaxes(scale, -1, -2)
+        inverse *= unscale  # (diag(r) A diag(c))^-1 = diag(1/c) A^-1 diag(1/r)
         self.inverse = inverse
 
     @classmethod

@@ -52,6 +52,7 @@ class ElementType:
         deformation_names: one name per deformation parameter.
         ends: column pairs of ``xe`` holding ``r_p`` and ``r_q``, or ``None``
             for elements without translational nodes.
+        jacobian_entries: where the Jacobian features go (see below).
         mass_varies: whether :meth:`mass_matrix` depends on the configuration; a
             constant one has no velocity-dependent inertia, so the inertia force is
             ``M xddot`` alone.
@@ -65,6 +66,21 @@ class ElementType:
     ends: ClassVar[tuple[tuple[int, int], tuple[int, int]] | None] = None
     #: whether the mass matrix depends on the configuration (else it is computed once)
     mass_varies: ClassVar[bool] = True
+    #: the non-zero entries of the element Jacobian as ``(deformation, coordinate,
+    #: feature, sign)``: ``D_x[d, c] = sign * features[f]`` with the features of
+    #: :meth:`deformations_and_features`. Every entry of a planar element's Jacobian is
+    #: a component of a unit vector or a lever arm, up to sign; the assembly scatters
+    #: the few features of all elements straight into ``D_x`` and ``D_c`` (one gather
+    #: per matrix instead of an element Jacobian per type and a copy per matrix).
+    jacobian_entries: ClassVar[tuple[tuple[int, int, int, float], ...]] = ()
+
+    def __init_subclass__(cls, **kwargs):
+        super().__init_subclass__(**kwargs)
+        entries = np.array(cls.jacobian_entries, dtype=float).reshape(-1, 4)
+        rows, columns, features = entries[:, :3].T.astype(int)
+        cls._entry_rows, cls._entry_columns, cls._entry_features = rows, columns, features
+        cls._entry_signs = entries[:, 3]
+        cls.n_features = int(features.max()) + 1 if len(features) else 0
 
     @classmethod
     def n_coordinates(cls) -> int:
@@ -101,9 +117,24 @@ class ElementType:
         return np.stack(cls.formula(columns, ref.length, ref.angle, np), axis=-1)
 
     @classmethod
+    def deformations_and_features(cls, xe: np.ndarray, ref: Reference, geometry: Any = None
+                                  ) -> tuple[np.ndarray, np.ndarray]:
+        """``e`` ``(..., n, nd)`` and the Jacobian features ``(..., n, nf)`` (see
+        :attr:`jacobian_entries`), from :meth:`geometry` of ``xe`` when given."""
+        raise NotImplementedError
+
+    @classmethod
+    def jacobian_of(cls, features: np.ndarray) -> np.ndarray:
+        """The element Jacobians ``(..., n, nd, nc)`` from their ``features`` ``(..., n, nf)``."""
+        jac = np.zeros((*features.shape[:-1], cls.n_deformations(), cls.n_coordinates()))
+        jac[..., cls._entry_rows, cls._entry_columns] = (features[..., cls._entry_features]
+                                                         * cls._entry_signs)
+        return jac
+
+    @classmethod
     def jacobian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
         """``D_x = dD/dx`` per element, shape ``(..., n, nd, nc)``."""
-        raise NotImplementedError
+        return cls.jacobian_of(cls.deformations_and_features(xe, ref)[1])
 
     @classmethod
     def geometry(cls, xe: np.ndarray, ref: Reference) -> Any:
@@ -116,7 +147,8 @@ class ElementType:
     def deformations_and_jacobian(cls, xe: np.ndarray, ref: Reference, geometry: Any = None
                                   ) -> tuple[np.ndarray, np.ndarray]:
         """``e`` and ``D_x`` together, from :meth:`geometry` of ``xe`` when given."""
-        return cls.deformations(xe, ref), cls.jacobian(xe, ref)
+        e, features = cls.deformations_and_features(xe, ref, geometry)
+        return e, cls.jacobian_of(features)
 
     @classmethod
     def hessian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
@@ -191,41 +223,65 @@ def unit_and_normal(beta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return e, n
 
 
-class Chord(NamedTuple):
-    """``d = r_q - r_p`` by components, its length and unit vector ``e_l``, each ``(...,)``."""
+class RodGeometry(NamedTuple):
+    """The planar geometry of a rod element (truss, beams) in one configuration, computed
+    once and shared by its kernels. ``k`` is the number of rotational nodes (0 to 2).
 
-    dx: np.ndarray
-    dy: np.ndarray
+    Attributes:
+        d: the chord ``r_q - r_p`` ``(..., 2)``; length: ``l = |d|`` ``(...,)``;
+        unit: ``e_l = d / l`` ``(..., 2)``.
+        cos, sin: of ``beta = beta0 + phi`` at the rotational nodes ``(..., k)``:
+            ``e(beta) = (cos, sin)``, ``n(beta) = (-sin, cos)``.
+        along, normal: ``e(beta) . d`` and ``n(beta) . d`` ``(..., k)``.
+    """
+
+    d: np.ndarray
     length: np.ndarray
-    ux: np.ndarray
-    uy: np.ndarray
+    unit: np.ndarray
+    cos: np.ndarray | None
+    sin: np.ndarray | None
+    along: np.ndarray | None
+    normal: np.ndarray | None
 
 
-def chord_of(xe: np.ndarray, p: int, q: int) -> Chord:
-    """The :class:`Chord` from ``r_p`` at columns ``p, p+1`` to ``r_q`` at ``q, q+1``.
+def rod_geometry(xe: np.ndarray, ref: Reference, p: int, q: int,
+                 angles: slice | None = None) -> RodGeometry:
+    """The :class:`RodGeometry` with ``r_p`` at columns ``p, p+1``, ``r_q`` at ``q, q+1``
+    and the node angles at columns ``angles`` of ``xe``.
 
-    The hot kernels work on such scalar components: on the small arrays of a
-    mechanism every numpy call costs about the same, so fewer calls is faster
-    than 2-vector helpers."""
-    dx, dy = xe[..., q] - xe[..., p], xe[..., q + 1] - xe[..., p + 1]
-    length = np.hypot(dx, dy)
-    return Chord(dx, dy, length, dx / length, dy / length)
-
-
-def cos_sin(beta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``cos beta, sin beta``: ``e(beta) = (c, s)`` and ``n(beta) = (-s, c)``."""
-    return np.cos(beta), np.sin(beta)
-
-
-def elongation_row(row: np.ndarray, ch: Chord, p: int, q: int) -> None:
-    """Write ``d l / d(r_p, r_q) = (-e_l, e_l)`` into ``row`` ``(..., nc)`` (zeros elsewhere)."""
-    row[..., p], row[..., p + 1], row[..., q], row[..., q + 1] = -ch.ux, -ch.uy, ch.ux, ch.uy
+    Both ends are handled in one array each: on the small arrays of a mechanism every
+    numpy call costs about the same, so fewer calls is faster."""
+    d = xe[..., q:q + 2] - xe[..., p:p + 2]
+    dx, dy = d[..., :1], d[..., 1:]
+    length = np.hypot(dx[..., 0], dy[..., 0])
+    unit = d / length[..., None]
+    if angles is None:
+        return RodGeometry(d, length, unit, None, None, None, None)
+    beta = xe[..., angles] + ref.angle[:, None]
+    cos, sin = np.cos(beta), np.sin(beta)
+    return RodGeometry(d, length, unit, cos, sin, cos * dx + sin * dy, cos * dy - sin * dx)
 
 
-def elongation_rate2(ch: Chord, dvx: np.ndarray, dvy: np.ndarray) -> np.ndarray:
-    """``(d2 l / dr2 rdot) rdot = (dv.dv - (e_l.dv)^2) / l`` from the components of ``dv``."""
-    along = ch.ux * dvx + ch.uy * dvy
-    return (dvx * dvx + dvy * dvy - along * along) / ch.length
+def elongation_entries(p: int, q: int) -> tuple[tuple[int, int, int, float], ...]:
+    """:attr:`ElementType.jacobian_entries` of ``d l / d(r_p, r_q) = (-e_l, e_l)`` as
+    deformation 0, with ``e_l`` as features 0 and 1."""
+    return ((0, p, 0, -1.0), (0, p + 1, 1, -1.0), (0, q, 0, 1.0), (0, q + 1, 1, 1.0))
+
+
+def elongation_rate2(geometry: RodGeometry, dv: np.ndarray) -> np.ndarray:
+    """``(d2 l / dr2 rdot) rdot = (dv.dv - (e_l.dv)^2) / l`` for ``dv = rdot_q - rdot_p``
+    ``(..., 2)``."""
+    dvx, dvy = dv[..., 0], dv[..., 1]
+    along = geometry.unit[..., 0] * dvx + geometry.unit[..., 1] * dvy
+    return (dvx * dvx + dvy * dvy - along * along) / geometry.length
+
+
+def end_rates(geometry: RodGeometry, dv: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """``w^2 (n . d) + 2 w (e . dv)`` at the rotational nodes ``(..., k)``: minus the
+    quadratic velocity term of ``n(beta) . d`` for node rates ``w`` ``(..., k)`` and
+    ``dv = rdot_q - rdot_p`` ``(..., 2)`` (``dn/dbeta = -e``, ``de/dbeta = n``)."""
+    g = geometry
+    return w * (w * g.normal + 2.0 * (g.cos * dv[..., :1] + g.sin * dv[..., 1:]))
 
 
 def chord(xe: np.ndarray, ends) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

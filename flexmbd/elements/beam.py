@@ -14,14 +14,14 @@ from .base import (
     ElementType,
     Reference,
     chord,
-    chord_of,
-    cos_sin,
     dot,
+    elongation_entries,
     elongation_hessian,
     elongation_matrices,
     elongation_rate2,
-    elongation_row,
+    end_rates,
     normal_distance_hessian,
+    rod_geometry,
     rod_gravity_load,
     rod_inertia_force,
     rod_mass_matrix,
@@ -29,7 +29,9 @@ from .base import (
 )
 
 _RP, _PHI_P, _RQ, _PHI_Q = [0, 1], 2, [3, 4], 5
+_ANGLES = slice(_PHI_P, None, 3)  # columns 2 and 5: both node angles as one view
 _TRANS = np.array(_RP + _RQ)
+_BENDING_SIGNS = np.array([-1.0, 1.0])  # e2 = -n_p . d, e3 = n_q . d
 
 # Integrals over xi in [0, 1] of products of the cubic Hermite functions
 # H1 = 1 - 3xi^2 + 2xi^3, H2 = xi - 2xi^2 + xi^3, H3 = 3xi^2 - 2xi^3, H4 = -xi^2 + xi^3
@@ -69,6 +71,15 @@ class Beam(ElementType):
             -m.sin(bq) * dx + m.cos(bq) * dy,  # n_q . d
         ]
 
+    # features: e_l (0, 1), cos beta_p, cos beta_q (2, 3), sin beta_p, sin beta_q (4, 5),
+    # e_p . d, e_q . d (6, 7); d e2 = n_p . (d r_p - d r_q) + (e_p . d) d phi_p and
+    # d e3 = n_q . (d r_q - d r_p) - (e_q . d) d phi_q with n = (-sin, cos)
+    jacobian_entries = (*elongation_entries(0, 3),
+                        (1, 0, 4, -1.0), (1, 1, 2, 1.0), (1, 2, 6, 1.0), (1, 3, 4, 1.0),
+                        (1, 4, 2, -1.0),
+                        (2, 0, 5, 1.0), (2, 1, 3, -1.0), (2, 3, 5, -1.0), (2, 4, 3, 1.0),
+                        (2, 5, 7, -1.0))
+
     @classmethod
     def _frames(cls, xe, ref):
         d, length, e_l = chord(xe, cls.ends)
@@ -78,39 +89,23 @@ class Beam(ElementType):
 
     @classmethod
     def geometry(cls, xe, ref):
-        """The chord and ``cos, sin`` of both end angles, shared by the hot kernels."""
-        return (chord_of(xe, 0, 3), *cos_sin(ref.angle + xe[..., _PHI_P]),
-                *cos_sin(ref.angle + xe[..., _PHI_Q]))
+        """The :class:`~flexmbd.elements.base.RodGeometry` with both end angles."""
+        return rod_geometry(xe, ref, 0, 3, _ANGLES)
 
     @staticmethod
-    def _deformations_of(ch, cp, sp, cq, sq, ref):
-        e = np.empty((*ch.length.shape, 3))
-        e[..., 0] = ch.length - ref.length
-        e[..., 1] = sp * ch.dx - cp * ch.dy  # -n_p . d
-        e[..., 2] = cq * ch.dy - sq * ch.dx  # n_q . d
-        return e
+    def _deformations_of(g, ref):
+        return np.concatenate([(g.length - ref.length)[..., None], _BENDING_SIGNS * g.normal],
+                              axis=-1)
 
     @classmethod
     def deformations(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
-        return cls._deformations_of(*cls.geometry(xe, ref), ref)
+        return cls._deformations_of(cls.geometry(xe, ref), ref)
 
     @classmethod
-    def jacobian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
-        return cls.deformations_and_jacobian(xe, ref)[1]
-
-    @classmethod
-    def deformations_and_jacobian(cls, xe, ref, geometry=None):
-        ch, cp, sp, cq, sq = geometry or cls.geometry(xe, ref)
-        e = cls._deformations_of(ch, cp, sp, cq, sq, ref)
-        jac = np.zeros((*xe.shape[:-1], 3, 6))
-        elongation_row(jac[..., 0, :], ch, 0, 3)
-        row = jac[..., 1, :]  # d e2 = n_p . (d r_p - d r_q) + (e_p . d) d phi_p
-        row[..., 0], row[..., 1], row[..., 3], row[..., 4] = -sp, cp, sp, -cp
-        row[..., 2] = cp * ch.dx + sp * ch.dy
-        row = jac[..., 2, :]  # d e3 = n_q . (d r_q - d r_p) - (e_q . d) d phi_q
-        row[..., 0], row[..., 1], row[..., 3], row[..., 4] = sq, -cq, -sq, cq
-        row[..., 5] = -(cq * ch.dx + sq * ch.dy)
-        return e, jac
+    def deformations_and_features(cls, xe, ref, geometry=None):
+        g = geometry or cls.geometry(xe, ref)
+        return (cls._deformations_of(g, ref),
+                np.concatenate([g.unit, g.cos, g.sin, g.along], axis=-1))
 
     @classmethod
     def hessian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
@@ -127,14 +122,12 @@ class Beam(ElementType):
     @classmethod
     def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference,
                            geometry=None) -> np.ndarray:
-        ch, cp, sp, cq, sq = geometry or cls.geometry(xe, ref)
-        dvx, dvy = xde[..., 3] - xde[..., 0], xde[..., 4] - xde[..., 1]
-        w_p, w_q = xde[..., _PHI_P], xde[..., _PHI_Q]
+        g = geometry or cls.geometry(xe, ref)
+        dv = xde[..., 3:5] - xde[..., 0:2]
         out = np.empty((*xe.shape[:-1], 3))
-        out[..., 0] = elongation_rate2(ch, dvx, dvy)
-        # w_p^2 (n_p . d) + 2 w_p (e_p . dv) and -w_q^2 (n_q . d) - 2 w_q (e_q . dv)
-        out[..., 1] = w_p * (w_p * (cp * ch.dy - sp * ch.dx) + 2.0 * (cp * dvx + sp * dvy))
-        out[..., 2] = -w_q * (w_q * (cq * ch.dy - sq * ch.dx) + 2.0 * (cq * dvx + sq * dvy))
+        out[..., 0] = elongation_rate2(g, dv)
+        # e2 = -n_p . d, e3 = +n_q . d
+        out[..., 1:] = -_BENDING_SIGNS * end_rates(g, dv, xde[..., _ANGLES])
         return out
 
     @classmethod
@@ -182,26 +175,20 @@ class Beam(ElementType):
         """``M xddot + h = m sum_ij P_ij A_i^T c_j`` with ``c = (a_p, l0 (phidd_p n_p -
         phid_p^2 e_p), a_q, l0 (phidd_q n_q - phid_q^2 e_q))``; lumped: ``m/2 (a_p, a_q)``."""
         if geometry is None:
-            cp, sp = cos_sin(ref.angle + xe[..., _PHI_P])
-            cq, sq = cos_sin(ref.angle + xe[..., _PHI_Q])
+            beta = xe[..., _ANGLES] + ref.angle[:, None]
+            cos, sin = np.cos(beta), np.sin(beta)
         else:
-            _, cp, sp, cq, sq = geometry
-        l0 = ref.length
-        alpha_p, omega2_p = xdde[..., _PHI_P], xde[..., _PHI_P] ** 2
-        alpha_q, omega2_q = xdde[..., _PHI_Q], xde[..., _PHI_Q] ** 2
+            cos, sin = geometry.cos, geometry.sin
+        l0 = ref.length[:, None]
+        alpha, omega2 = xdde[..., _ANGLES], xde[..., _ANGLES] ** 2  # both ends, (..., n, 2)
         c = np.empty((*xe.shape[:-1], 4, 2))
-        c[..., 0, :] = xdde[..., 0:2]
-        c[..., 1, 0] = -l0 * (alpha_p * sp + omega2_p * cp)
-        c[..., 1, 1] = l0 * (alpha_p * cp - omega2_p * sp)
-        c[..., 2, :] = xdde[..., 3:5]
-        c[..., 3, 0] = -l0 * (alpha_q * sq + omega2_q * cq)
-        c[..., 3, 1] = l0 * (alpha_q * cq - omega2_q * sq)
+        c[..., 0, :], c[..., 2, :] = xdde[..., 0:2], xdde[..., 3:5]
+        c[..., 1::2, 0] = -l0 * (alpha * sin + omega2 * cos)
+        c[..., 1::2, 1] = l0 * (alpha * cos - omega2 * sin)
         b = HERMITE_PRODUCTS @ c  # (..., n, 4, 2): sum_j P_ij c_j
         out = np.empty(xe.shape)
-        out[..., 0:2] = b[..., 0, :]
-        out[..., _PHI_P] = l0 * (cp * b[..., 1, 1] - sp * b[..., 1, 0])  # l0 n_p . b_2
-        out[..., 3:5] = b[..., 2, :]
-        out[..., _PHI_Q] = l0 * (cq * b[..., 3, 1] - sq * b[..., 3, 0])  # l0 n_q . b_4
+        out[..., 0:2], out[..., 3:5] = b[..., 0, :], b[..., 2, :]
+        out[..., _ANGLES] = l0 * (cos * b[..., 1::2, 1] - sin * b[..., 1::2, 0])  # l0 n . b
         out *= mass[:, None]
         if np.any(lumped):
             out = np.where(lumped[:, None], rod_inertia_force(xdde, cls.ends, mass, lumped), out)

@@ -6,8 +6,6 @@ import numpy as np
 
 from .base import ROTATIONAL, ElementType, Reference
 
-_JACOBIAN = np.array([[-1.0, 1.0]])
-
 
 class Hinge(ElementType):
     """Two rotational nodes; coordinates ``[phi_p, phi_q]``. Linear, so ``D_xx = 0``."""
@@ -24,9 +22,11 @@ class Hinge(ElementType):
         php, phq = c
         return [phq - php]
 
+    jacobian_entries = ((0, 0, 0, -1.0), (0, 1, 0, 1.0))  # feature: the constant 1
+
     @classmethod
-    def jacobian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
-        return np.broadcast_to(_JACOBIAN, (*xe.shape[:-1], 1, 2)).copy()
+    def deformations_and_features(cls, xe, ref, geometry=None):
+        return xe[..., 1:] - xe[..., :1], np.ones((*xe.shape[:-1], 1))
 
     @classmethod
     def hessian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:

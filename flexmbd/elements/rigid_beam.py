@@ -16,14 +16,14 @@ from .base import (
     ElementType,
     Reference,
     chord,
-    chord_of,
-    cos_sin,
     dot,
+    elongation_entries,
     elongation_hessian,
     elongation_matrices,
     elongation_rate2,
-    elongation_row,
+    end_rates,
     normal_distance_hessian,
+    rod_geometry,
     rod_gravity_load,
     rod_inertia_force,
     rod_mass_matrix,
@@ -31,6 +31,7 @@ from .base import (
 )
 
 _RP, _PHI_P, _RQ = [0, 1], 2, [3, 4]
+_ANGLE = slice(_PHI_P, _PHI_P + 1)
 _TRANS = np.array(_RP + _RQ)
 
 
@@ -60,33 +61,27 @@ class RigidBeam(ElementType):
 
     @classmethod
     def geometry(cls, xe, ref):
-        """The chord and ``cos, sin`` of the end angle, shared by the hot kernels."""
-        return (chord_of(xe, 0, 3), *cos_sin(ref.angle + xe[..., _PHI_P]))
+        """The :class:`~flexmbd.elements.base.RodGeometry` with the angle of ``p``."""
+        return rod_geometry(xe, ref, 0, 3, _ANGLE)
+
+    # features: e_l (0, 1), cos beta_p (2), sin beta_p (3), e_p . d (4);
+    # d e2 = n_p . (d r_q - d r_p) - (e_p . d) d phi_p with n_p = (-sin, cos)
+    jacobian_entries = (*elongation_entries(0, 3), (1, 0, 3, 1.0), (1, 1, 2, -1.0),
+                        (1, 2, 4, -1.0), (1, 3, 3, -1.0), (1, 4, 2, 1.0))
 
     @staticmethod
-    def _deformations_of(ch, c, s, ref):
-        e = np.empty((*ch.length.shape, 2))
-        e[..., 0], e[..., 1] = ch.length - ref.length, c * ch.dy - s * ch.dx  # n_p . d
-        return e
+    def _deformations_of(g, ref):
+        return np.concatenate([(g.length - ref.length)[..., None], g.normal], axis=-1)
 
     @classmethod
     def deformations(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
-        return cls._deformations_of(*cls.geometry(xe, ref), ref)
+        return cls._deformations_of(cls.geometry(xe, ref), ref)
 
     @classmethod
-    def jacobian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
-        return cls.deformations_and_jacobian(xe, ref)[1]
-
-    @classmethod
-    def deformations_and_jacobian(cls, xe, ref, geometry=None):
-        ch, c, s = geometry or cls.geometry(xe, ref)
-        e = cls._deformations_of(ch, c, s, ref)
-        jac = np.zeros((*xe.shape[:-1], 2, 5))
-        elongation_row(jac[..., 0, :], ch, 0, 3)
-        row = jac[..., 1, :]  # d e2 = n_p . (d r_q - d r_p) - (e_p . d) d phi_p
-        row[..., 0], row[..., 1], row[..., 3], row[..., 4] = s, -c, -s, c
-        row[..., 2] = -(c * ch.dx + s * ch.dy)
-        return e, jac
+    def deformations_and_features(cls, xe, ref, geometry=None):
+        g = geometry or cls.geometry(xe, ref)
+        return (cls._deformations_of(g, ref),
+                np.concatenate([g.unit, g.cos, g.sin, g.along], axis=-1))
 
     @classmethod
     def hessian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
@@ -100,13 +95,11 @@ class RigidBeam(ElementType):
     @classmethod
     def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference,
                            geometry=None) -> np.ndarray:
-        ch, c, s = geometry or cls.geometry(xe, ref)
-        dvx, dvy = xde[..., 3] - xde[..., 0], xde[..., 4] - xde[..., 1]
-        w_p = xde[..., _PHI_P]
+        g = geometry or cls.geometry(xe, ref)
+        dv = xde[..., 3:5] - xde[..., 0:2]
         out = np.empty((*xe.shape[:-1], 2))
-        out[..., 0] = elongation_rate2(ch, dvx, dvy)
-        # -w_p^2 (n_p . d) - 2 w_p (e_p . dv)
-        out[..., 1] = -w_p * (w_p * (c * ch.dy - s * ch.dx) + 2.0 * (c * dvx + s * dvy))
+        out[..., 0] = elongation_rate2(g, dv)
+        out[..., 1:] = -end_rates(g, dv, xde[..., _ANGLE])  # e2 = +n_p . d
         return out
 
     @classmethod

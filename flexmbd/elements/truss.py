@@ -9,11 +9,11 @@ from .base import (
     ElementType,
     Reference,
     chord,
-    chord_of,
+    elongation_entries,
     elongation_hessian,
     elongation_matrices,
     elongation_rate2,
-    elongation_row,
+    rod_geometry,
     rod_gravity_load,
     rod_inertia_force,
     rod_mass_matrix,
@@ -36,24 +36,21 @@ class Truss(ElementType):
         xp, yp, xq, yq = c
         return [m.sqrt((xq - xp) ** 2 + (yq - yp) ** 2) - length]
 
-    @classmethod
-    def jacobian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
-        return cls.deformations_and_jacobian(xe, ref)[1]
+    jacobian_entries = elongation_entries(0, 2)  # features: e_l
 
     @classmethod
     def deformations(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
-        return (chord_of(xe, 0, 2).length - ref.length)[..., None]
+        return (cls.geometry(xe, ref).length - ref.length)[..., None]
 
     @classmethod
     def geometry(cls, xe, ref):
-        return chord_of(xe, 0, 2)
+        """The chord, as a :class:`~flexmbd.elements.base.RodGeometry` without angles."""
+        return rod_geometry(xe, ref, 0, 2)
 
     @classmethod
-    def deformations_and_jacobian(cls, xe, ref, geometry=None):
-        ch = geometry or cls.geometry(xe, ref)
-        jac = np.zeros((*xe.shape[:-1], 1, 4))
-        elongation_row(jac[..., 0, :], ch, 0, 2)
-        return (ch.length - ref.length)[..., None], jac
+    def deformations_and_features(cls, xe, ref, geometry=None):
+        g = geometry or cls.geometry(xe, ref)
+        return (g.length - ref.length)[..., None], g.unit
 
     @classmethod
     def hessian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
@@ -63,8 +60,8 @@ class Truss(ElementType):
     @classmethod
     def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference,
                            geometry=None) -> np.ndarray:
-        ch = geometry or cls.geometry(xe, ref)
-        return elongation_rate2(ch, xde[..., 2] - xde[..., 0], xde[..., 3] - xde[..., 1])[..., None]
+        g = geometry or cls.geometry(xe, ref)
+        return elongation_rate2(g, xde[..., 2:4] - xde[..., 0:2])[..., None]
 
     @classmethod
     def mass_matrix(cls, xe, ref, mass, lumped):
