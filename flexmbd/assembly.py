@@ -179,9 +179,16 @@ class Assembly:
         self.constant_mass_blocks = [
             g.type.mass_matrix(model.x0[g.coordinates][None], g.reference, g.mass, g.lumped)[0]
             if g.has_mass and not g.type.mass_varies else None for g in self.groups]
+        #: the groups whose element mass matrices change with the configuration
+        self.varying_mass_groups = [
+            g for g, constant in zip(self.groups, self.constant_mass_blocks, strict=True)
+            if g.has_mass and constant is None]
         #: the part of ``M`` that never changes (dense models): nodal masses and the
         #: constant-mass elements
         self.constant_mass = None if self.sparse else self._constant_mass()
+        #: dense models: ``M = mass_base + `` the varying terms of
+        #: :meth:`~flexmbd.elements.ElementType.mass_terms`, see :meth:`mass_matrix`
+        self.mass_base, self._mass_scatter = (None, None) if self.sparse else self._mass_terms()
         self.stiffness, self.damping, self.prestress = self._elastic_law()
 
     def _feature_scatter(self, row_at: np.ndarray, dependent_at: np.ndarray) -> dict:
@@ -342,6 +349,39 @@ class Assembly:
         M = self.coordinate_matrix(blocks, 1)[0]
         M[self.nodal_mass_coordinates, self.nodal_mass_coordinates] += self.nodal_mass_values
         return M
+
+    def _mass_terms(self) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray, np.ndarray]]:
+        """``M0`` of the varying-mass groups added to :attr:`constant_mass`, and where the
+        entries of their ``phi_k M_k`` land: flat positions in ``M``, indices into the
+        concatenated features, weights."""
+        base, nx = self.constant_mass.copy(), self.nx
+        positions, index, weights, offset = [], [], [], 0
+        for g in self.varying_mass_groups:
+            M0, terms = g.type.mass_terms(g.reference, g.mass, g.lumped)
+            base += self.coordinate_matrix(
+                [M0[None] if h is g else None for h in self.groups], 1)[0]
+            element, k, a, b = np.nonzero(terms)
+            positions.append(g.coordinates[element, a] * nx + g.coordinates[element, b])
+            index.append(offset + element * terms.shape[1] + k)
+            weights.append(terms[element, k, a, b])
+            offset += terms.shape[0] * terms.shape[1]
+        if not positions:
+            return base, (np.zeros(0, dtype=int), np.zeros(0, dtype=int), np.zeros(0))
+        return base, (np.concatenate(positions), np.concatenate(index), np.concatenate(weights))
+
+    def mass_matrix(self, features: list[np.ndarray]) -> np.ndarray:
+        """The dense mass matrix ``(nb, nx, nx)`` from the
+        :meth:`~flexmbd.elements.ElementType.mass_features` ``(nb, n, k)`` of each of
+        :attr:`varying_mass_groups` (dense models)."""
+        positions, index, weights = self._mass_scatter
+        nb, size = features[0].shape[0] if features else 1, self.nx * self.nx
+        flat = (np.concatenate([f.reshape(nb, -1) for f in features], axis=1) if features
+                else np.zeros((nb, 0)))
+        if nb > 1:
+            positions = (np.arange(nb)[:, None] * size + positions).ravel()
+        varying = np.bincount(positions, (flat[:, index] * weights).ravel(),
+                              minlength=nb * size)
+        return varying.reshape(nb, self.nx, self.nx) + self.mass_base
 
     @cached_property
     def sparse_saddle_pattern(self) -> SparsePattern:

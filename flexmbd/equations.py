@@ -106,6 +106,7 @@ class EquationsOfMotion:
         self.loaded = bool(np.any(self.constant_load))
         self.gravity = np.asarray(model.gravity, dtype=float)
         self.gravity_on = bool(np.any(self.gravity))
+        self.prestressed = any(g.prestressed for g in self.asm.groups)
 
     # --- q from the integrated state and the laws -------------------------------------------
     def compose(self, t: np.ndarray, q_d: np.ndarray, qd_d: np.ndarray,
@@ -334,14 +335,12 @@ class EquationsOfMotion:
         return y
 
     # --- accelerations from the saddle-point system -----------------------------------------
-    def _mass_blocks(self, state: State, varying_only: bool = False
-                     ) -> list[np.ndarray | None]:
-        """Element mass matrices ``(nb, n, nc, nc)`` per group (``None`` without mass, and
-        with ``varying_only`` for the constant ones, :attr:`Assembly.constant_mass`)."""
+    def _mass_blocks(self, state: State) -> list[np.ndarray | None]:
+        """Element mass matrices ``(nb, n, nc, nc)`` per group (``None`` without mass)."""
         blocks = []
         for g, constant, (xe, _, _) in zip(self.asm.groups, self.asm.constant_mass_blocks,
                                            state.elements, strict=True):
-            if not g.has_mass or (varying_only and constant is not None):
+            if not g.has_mass:
                 blocks.append(None)
             elif constant is None:
                 blocks.append(g.type.mass_matrix(xe, g.reference, g.mass, g.lumped))
@@ -476,8 +475,9 @@ class EquationsOfMotion:
 
         Small models form ``S = F^T A F + G^T (c_q S + c_v C) G`` with the transfer
         function ``F`` (:meth:`transfer`), ``G = D_x F`` and ``A`` the mass matrix
-        (plus ``c_q`` times the geometric stiffness, ``M`` of the constant-mass elements
-        assembled once); large ones never form ``F`` and
+        (plus ``c_q`` times the geometric stiffness), assembled from the few mass
+        features of the elements whose mass varies (:meth:`Assembly.mass_matrix`);
+        large ones never form ``F`` and
         solve the saddle-point system with ``A = M + c_q (D^T S D + sum sigma_i
         D_xx,i) + c_v D^T C D`` instead (``S^-1 R = Q z`` for the right-hand side
         ``Q^T R``), whose cost grows linearly with the number of elements.
@@ -485,8 +485,15 @@ class EquationsOfMotion:
         if self.asm.sparse:
             return self._saddle_operator(state, c_q, c_v)
         asm = self.asm
-        blocks = self._stiffness_blocks(state, c_q, c_v, elastic=False, varying_only=True)
-        A = asm.coordinate_matrix(blocks, len(state.t)) + asm.constant_mass
+        # at x itself, not at the nearby point of D_x's geometry: the same matrix as
+        # the sparse form's
+        A = asm.mass_matrix([g.type.mass_features(xe, g.reference)
+                             for g, (xe, _, _) in zip(asm.groups, state.elements, strict=True)
+                             if g in asm.varying_mass_groups])
+        if self.prestressed:
+            A = A + asm.coordinate_matrix(
+                self._stiffness_blocks(state, c_q, c_v, elastic=False, mass=False),
+                len(state.t))
         F = self.transfer(state)
         G = state.jacobian.dense @ F
         law = c_q * asm.stiffness + c_v * asm.damping
@@ -514,13 +521,13 @@ class EquationsOfMotion:
         return F
 
     def _stiffness_blocks(self, state: State, c_q: float, c_v: float, elastic: bool,
-                          varying_only: bool = False) -> list[np.ndarray | None]:
+                          mass: bool = True) -> list[np.ndarray | None]:
         """Element matrices ``M + c_q sum sigma_i D_xx,i`` (pre-stressed groups) and, with
         ``elastic``, ``+ c_q D^T S D + c_v D^T C D`` ``(nb, n, nc, nc)`` per group
-        (``M`` as in :meth:`_mass_blocks`)."""
+        (``M`` as in :meth:`_mass_blocks`, left out without ``mass``; ``None`` = none)."""
         asm = self.asm
-        blocks = self._mass_blocks(state, varying_only)
-        sigma = self.stresses(state) if any(g.prestressed for g in asm.groups) else None
+        blocks = self._mass_blocks(state) if mass else [None] * len(asm.groups)
+        sigma = self.stresses(state) if self.prestressed else None
         for k, (g, (xe, _, _), jac) in enumerate(zip(asm.groups, state.elements,
                                                      state.jacobian.elements, strict=True)):
             stiffness = None

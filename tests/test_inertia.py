@@ -110,3 +110,20 @@ def test_inertia_force_is_mass_matrix_times_acceleration_plus_h(cls, lumped):
                 + cls.inertia_velocity(xe, xde, ref, mass, lumps))
     np.testing.assert_allclose(cls.inertia_force(xe, xde, xdde, ref, mass, lumps), expected,
                                rtol=1e-12, atol=1e-12)
+
+
+@pytest.mark.parametrize("cls", [Truss, RigidBeam, Beam], ids=lambda c: c.name)
+@pytest.mark.parametrize("lumped", [False, True])
+def test_mass_terms_rebuild_the_mass_matrix(cls, lumped):
+    """``M0 + sum_k phi_k M_k`` (the assembly's form) equals ``mass_matrix`` (the product
+    ``A^T (P x I) A`` for the beam) at random configurations, alone and batched."""
+    rng = np.random.default_rng(21)
+    xe0 = rng.uniform(-1.0, 1.0, size=(4, cls.n_coordinates()))
+    ref = cls.reference(xe0)
+    xe = xe0 + rng.normal(scale=0.4, size=(2, *xe0.shape))
+    mass, lumps = rng.uniform(0.5, 3.0, size=4), np.full(4, lumped)
+    M0, terms = cls.mass_terms(ref, mass, lumps)
+    phi = cls.mass_features(xe, ref)
+    rebuilt = M0 + np.einsum("bnk,nkij->bnij", phi, terms)
+    np.testing.assert_allclose(rebuilt, cls.mass_matrix(xe, ref, mass, lumps), atol=1e-14)
+    assert phi.shape[-1] == (5 if cls is Beam else 0)

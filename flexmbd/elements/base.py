@@ -172,6 +172,26 @@ class ElementType:
         return np.zeros((*xe.shape, cls.n_coordinates()))
 
     @classmethod
+    def mass_terms(cls, ref: Reference, mass: np.ndarray, lumped: np.ndarray
+                   ) -> tuple[np.ndarray, np.ndarray]:
+        """The mass matrix as ``M = M0 + sum_k phi_k M_k`` with the configuration-dependent
+        :meth:`mass_features` ``phi``: ``M0`` ``(n, nc, nc)`` and ``M_k`` ``(n, k, nc, nc)``
+        [kg, kg m, kg m^2]. Lets the assembly build the system mass matrix from a few
+        features. The default serves types of constant mass (``k = 0``)."""
+        if cls.mass_varies:
+            raise NotImplementedError(f"{cls.name}: a varying mass needs its mass_terms")
+        nc = cls.n_coordinates()
+        M0 = cls.mass_matrix(np.zeros((len(mass), nc)), ref, mass, lumped)
+        return M0, np.zeros((len(mass), 0, nc, nc))
+
+    @classmethod
+    def mass_features(cls, xe: np.ndarray, ref: Reference, geometry: Any = None
+                      ) -> np.ndarray:
+        """``phi`` of :meth:`mass_terms` ``(..., n, k)``, from :meth:`geometry` of ``xe``
+        when given."""
+        return np.zeros((*xe.shape[:-1], 0))
+
+    @classmethod
     def inertia_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference,
                          mass: np.ndarray, lumped: np.ndarray) -> np.ndarray:
         """Velocity-dependent inertia ``h`` ``(..., n, nc)``: inertia force ``M xddot + h``."""

@@ -6,6 +6,8 @@
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 
 from .base import (
@@ -164,6 +166,36 @@ class Beam(ElementType):
             return consistent
         return np.where(lumped[:, None, None], rod_mass_matrix(6, cls.ends, mass, lumped),
                         consistent)
+
+    @classmethod
+    def mass_terms(cls, ref, mass, lumped):
+        """The consistent ``m A^T (P x I) A`` is affine in ``phi = (sin beta_p, sin beta_q,
+        cos beta_p, cos beta_q, n_p . n_q)``: ``A`` holds ``l0 n`` (``n = (-sin, cos)``)
+        in the angle columns, and ``n . n = 1``. ``M0``: the translational blocks ``P_ij
+        I`` and ``l0^2 P_22``, ``l0^2 P_44`` at the angles; ``M_k``: ``l0 P_i2`` (``P_i4``)
+        times a component of ``n_p`` (``n_q``) between ``r_p, r_q`` and the angle, and
+        ``l0^2 P_24`` between the angles. Lumped: the constant rod matrix."""
+        n, P, l0 = len(mass), HERMITE_PRODUCTS, ref.length
+        M0, terms = np.zeros((n, 6, 6)), np.zeros((n, 5, 6, 6))
+        for (a, i), (b, j) in itertools.product(((0, 0), (3, 2)), repeat=2):  # r_p, r_q
+            M0[:, [a, a + 1], [b, b + 1]] = P[i, j]
+        M0[:, _PHI_P, _PHI_P], M0[:, _PHI_Q, _PHI_Q] = l0**2 * P[1, 1], l0**2 * P[3, 3]
+        for angle, k_sin, k_cos, shape in ((_PHI_P, 0, 2, 1), (_PHI_Q, 1, 3, 3)):
+            for r, i in ((0, 0), (3, 2)):  # n = (-sin, cos) against r_p (H1) and r_q (H3)
+                terms[:, k_sin, r, angle] = terms[:, k_sin, angle, r] = -l0 * P[i, shape]
+                terms[:, k_cos, r + 1, angle] = terms[:, k_cos, angle, r + 1] = l0 * P[i, shape]
+        terms[:, 4, _PHI_P, _PHI_Q] = terms[:, 4, _PHI_Q, _PHI_P] = l0**2 * P[1, 3]
+        M0 *= mass[:, None, None]
+        terms *= np.where(lumped, 0.0, mass)[:, None, None, None]
+        return np.where(lumped[:, None, None], rod_mass_matrix(6, cls.ends, mass, lumped),
+                        M0), terms
+
+    @classmethod
+    def mass_features(cls, xe, ref, geometry=None):
+        g = geometry or cls.geometry(xe, ref)
+        cos, sin = g.cos, g.sin
+        turn = cos[..., 0] * cos[..., 1] + sin[..., 0] * sin[..., 1]  # n_p . n_q
+        return np.concatenate([sin, cos, turn[..., None]], axis=-1)
 
     @classmethod
     def inertia_velocity(cls, xe, xde, ref, mass, lumped):
