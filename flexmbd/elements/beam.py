@@ -192,8 +192,11 @@ class Beam(ElementType):
 
     @classmethod
     def mass_features(cls, xe, ref, geometry=None):
-        g = geometry or cls.geometry(xe, ref)
-        cos, sin = g.cos, g.sin
+        if geometry is None:
+            beta = xe[..., _ANGLES] + ref.angle[:, None]
+            cos, sin = np.cos(beta), np.sin(beta)
+        else:
+            cos, sin = geometry.cos, geometry.sin
         turn = cos[..., 0] * cos[..., 1] + sin[..., 0] * sin[..., 1]  # n_p . n_q
         return np.concatenate([sin, cos, turn[..., None]], axis=-1)
 
