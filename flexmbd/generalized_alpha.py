@@ -173,6 +173,7 @@ class GeneralizedAlpha:
         self.status = "running" if span > 0 else "finished"
         self._previous = None
         self.trial_error: SimulationError | None = None
+        self._predictor_step = self._predictor_matrix = None
 
     @property
     def nfev(self) -> int:
@@ -195,22 +196,31 @@ class GeneralizedAlpha:
         """The step's update as a map of the end acceleration ``a_new`` to ``[q; v]`` at
         the end of the step and the algorithmic acceleration there; both are affine,
         ``y0 + [c_q; c_v] a_new`` and ``aa0 + k a_new``, with ``y0``, ``aa0`` computed
-        here once per step."""
-        m = self.m
-        q, v = self.y[:m], self.y[m:]
+        here once per step (one product: on a few dozen unknowns numpy's cost per call,
+        not arithmetic, is what counts)."""
+        start = self._predictor(h) @ np.concatenate([self.y, self.a, self.aa]).reshape(4, -1)
+        y0, aa0 = start[:2], start[2]
+        gain = np.array(self._coefficients(h))[:, None]
         k = (1 - self.alpha_f) / (1 - self.alpha_m)
-        aa0 = (self.alpha_f * self.a - self.alpha_m * self.aa) / (1 - self.alpha_m)
-        y0 = np.empty(self.n)
-        y0[:m] = q + h * v + h**2 * ((0.5 - self.beta) * self.aa + self.beta * aa0)
-        y0[m:] = v + h * ((1 - self.gamma) * self.aa + self.gamma * aa0)
-        c_q, c_v = self._coefficients(h)
 
         def update(a_new):
-            y = y0.copy()
-            y[:m] += c_q * a_new
-            y[m:] += c_v * a_new
-            return y, aa0 + k * a_new
+            return (y0 + gain * a_new).ravel(), aa0 + k * a_new
         return update
+
+    def _predictor(self, h) -> np.ndarray:
+        """``(3, 4)``: the Newmark formulas taking ``[q, v, a, aa]`` (start of the step) to
+        ``q, v`` at its end for ``a_new = 0`` and to ``aa0``, with the algorithmic
+        acceleration at the end ``aa_new = aa0 + k a_new``, ``aa0 = (alpha_f a - alpha_m
+        aa) / (1 - alpha_m)``."""
+        if self._predictor_step != h:
+            w_a, w_aa = self.alpha_f / (1 - self.alpha_m), -self.alpha_m / (1 - self.alpha_m)
+            b, g = self.beta, self.gamma
+            self._predictor_matrix = np.array([
+                [1.0, h, h * h * b * w_a, h * h * (0.5 - b + b * w_aa)],
+                [0.0, 1.0, h * g * w_a, h * (1 - g + g * w_aa)],
+                [0.0, 0.0, w_a, w_aa]])
+            self._predictor_step = h
+        return self._predictor_matrix
 
     def _operator_stale(self, h) -> bool:
         """Whether the Newton matrix must be renewed before a step of size ``h``."""
