@@ -107,6 +107,7 @@ class EquationsOfMotion:
         self.gravity = np.asarray(model.gravity, dtype=float)
         self.gravity_on = bool(np.any(self.gravity))
         self.prestressed = any(g.prestressed for g in self.asm.groups)
+        self._law_for, self._law_matrix = None, None
 
     # --- q from the integrated state and the laws -------------------------------------------
     def compose(self, t: np.ndarray, q_d: np.ndarray, qd_d: np.ndarray,
@@ -496,10 +497,17 @@ class EquationsOfMotion:
                 len(state.t))
         F = self.transfer(state)
         G = state.jacobian.dense @ F
-        law = c_q * asm.stiffness + c_v * asm.damping
+        law = self._law(c_q, c_v)
         S = np.swapaxes(F, -1, -2) @ A @ F + np.swapaxes(G, -1, -2) @ law @ G
         inverse = np.linalg.inv(S[0])
         return lambda residual: -(inverse @ residual[0])
+
+    def _law(self, c_q: float, c_v: float) -> np.ndarray:
+        """``c_q S + c_v C`` ``(ne, ne)`` of the whole model, kept while the step is."""
+        if self._law_for != (c_q, c_v):
+            self._law_for = (c_q, c_v)
+            self._law_matrix = c_q * self.asm.stiffness + c_v * self.asm.damping
+        return self._law_matrix
 
     def transfer(self, state: State) -> np.ndarray:
         """``F_d`` ``(nb, nx, nd)``: the motion of every coordinate per unit motion of each

@@ -289,11 +289,11 @@ def elongation_entries(p: int, q: int) -> tuple[tuple[int, int, int, float], ...
 
 
 def elongation_rate2(geometry: RodGeometry, dv: np.ndarray) -> np.ndarray:
-    """``(d2 l / dr2 rdot) rdot = (dv.dv - (e_l.dv)^2) / l`` for ``dv = rdot_q - rdot_p``
-    ``(..., 2)``."""
-    dvx, dvy = dv[..., 0], dv[..., 1]
-    along = geometry.unit[..., 0] * dvx + geometry.unit[..., 1] * dvy
-    return (dvx * dvx + dvy * dvy - along * along) / geometry.length
+    """``(d2 l / dr2 rdot) rdot = (dv.dv - (e_l.dv)^2) / l = (e_l x dv)^2 / l`` (in the
+    plane) for ``dv = rdot_q - rdot_p`` ``(..., 2)``."""
+    unit = geometry.unit
+    across = unit[..., 0] * dv[..., 1] - unit[..., 1] * dv[..., 0]
+    return across * across / geometry.length
 
 
 def end_rates(geometry: RodGeometry, dv: np.ndarray, w: np.ndarray) -> np.ndarray:

@@ -225,7 +225,7 @@ class Beam(ElementType):
         out[..., 0:2], out[..., 3:5] = b[..., 0, :], b[..., 2, :]
         out[..., _ANGLES] = l0 * (cos * b[..., 1::2, 1] - sin * b[..., 1::2, 0])  # l0 n . b
         out *= mass[:, None]
-        if np.any(lumped):
+        if lumped.any():
             out = np.where(lumped[:, None], rod_inertia_force(xdde, cls.ends, mass, lumped), out)
         return out
 
