@@ -101,6 +101,7 @@ class EquationsOfMotion:
                           if tolerance is None else float(tolerance))
         self.max_iterations = max_iterations
         self._regularity_limit = regularity_limit(model, self.tolerance)
+        self._fixed_values = np.asarray(model.x0, dtype=float)[model.fixed]
         self.n_xm = len(model.independent_coordinates)
         self.constant_load = _constant_load(model)
         self.loaded = bool(np.any(self.constant_load))
@@ -141,8 +142,8 @@ class EquationsOfMotion:
         else:
             factor = DenseFactor.of_scaled(jacobian.scaled_constraint_matrix(),
                                            asm.constraint_unscale)
-        bad = np.flatnonzero(~(factor.conditioning > SINGULAR_RCOND))
-        if len(bad):
+        if not factor.conditioning.min() > SINGULAR_RCOND:  # also NaN
+            bad = np.flatnonzero(~(factor.conditioning > SINGULAR_RCOND))
             raise self._singular(jacobian, t, bad[0], "D_c is singular")
         return factor
 
@@ -188,7 +189,7 @@ class EquationsOfMotion:
         """
         asm, model = self.asm, self.model
         x = np.array(guess, dtype=float)
-        x[:, model.fixed] = model.x0[model.fixed]
+        x[:, model.fixed] = self._fixed_values
         x[:, asm.q_coordinates] = q[:, :self.n_xm]
         target = np.zeros((len(t), len(asm.rows)))
         target[:, asm.n_rigid:] = q[:, self.n_xm:]
@@ -205,7 +206,7 @@ class EquationsOfMotion:
         for iteration in range(self.max_iterations + 1):
             residual = e[:, asm.rows] - target
             norm = np.abs(residual).max(axis=1)
-            if (norm <= near).all():
+            if norm.max() <= near:
                 break
             if not np.isfinite(norm).all() or iteration == self.max_iterations:
                 raise self._not_converged(t, residual, norm, iteration)
@@ -224,7 +225,7 @@ class EquationsOfMotion:
             norm = np.abs(residual).max(axis=1)
             factor = self.factorize(jacobian, t)
         limit = self._regularity_limit
-        if (factor.conditioning < limit).any():
+        if factor.conditioning.min() < limit:
             weak = np.flatnonzero(factor.conditioning < limit)
             raise self._singular(
                 jacobian, t, weak[0],
