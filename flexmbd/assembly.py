@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cached_property
+from typing import NamedTuple
 
 import numpy as np
 
@@ -66,6 +67,22 @@ class GroupData:
             flags["prestressed"]
         for name, value in flags.items():
             object.__setattr__(self, name, value)
+
+
+class Scatter(NamedTuple):
+    """Entries ``weights * values[:, index]`` written to the flat ``positions`` (distinct)
+    of a target of ``size`` entries per batch member."""
+
+    positions: np.ndarray
+    index: np.ndarray
+    weights: np.ndarray
+    size: int
+
+    def apply(self, values: np.ndarray) -> np.ndarray:
+        """The targets ``(nb, size)``, zero elsewhere, for ``values`` ``(nb, k)``."""
+        out = np.zeros((values.shape[0], self.size))
+        out[:, self.positions] = values[:, self.index] * self.weights
+        return out
 
 
 def _positions(index: np.ndarray, size: int) -> np.ndarray:
@@ -168,7 +185,8 @@ class Assembly:
         # small models hold D_x as a dense matrix: one product per use instead of one
         # per element group (numpy's cost per call dominates at this size); it and the
         # scaled D_c are scattered from the Jacobian features of all groups at once
-        self._jacobian_scatter = self._feature_scatter(row_at, dependent_at)
+        self._jacobian_scatter, self._constraint_scatter = self._feature_scatter(
+            row_at, dependent_at)
         #: ``c r^T`` of the scales of ``D_c``: undoes them on its inverse
         self.constraint_unscale = self.row_scale_columns[:, None] * self.constraint_row_scale
         self._constraint_flat = (self.rows[:, None] * nx + self.dependent[None, :]).ravel()
@@ -191,38 +209,41 @@ class Assembly:
         self.mass_base, self._mass_scatter = (None, None) if self.sparse else self._mass_terms()
         self.stiffness, self.damping, self.prestress = self._elastic_law()
 
-    def _feature_scatter(self, row_at: np.ndarray, dependent_at: np.ndarray) -> dict:
+    def _feature_scatter(self, row_at: np.ndarray, dependent_at: np.ndarray
+                         ) -> tuple[Scatter, Scatter]:
         """Where the Jacobian features (:attr:`ElementType.jacobian_entries`) of all groups,
-        concatenated per batch member, land in ``D_x`` and in the scaled ``D_c`` (flat
-        positions, feature indices and weights, the signs times the scales of ``D_c``)."""
+        concatenated per batch member, land in ``D_x`` and in the scaled ``D_c`` (there
+        with the signs times the scales of ``D_c`` as weights)."""
         rows, cols, features, signs, offset = [], [], [], [], 0
         for g in self.groups:
-            t, n = g.type, len(g.coordinates)
-            rows.append(g.deformations[:, t._entry_rows].ravel())
-            cols.append(g.coordinates[:, t._entry_columns].ravel())
-            features.append((offset + np.arange(n)[:, None] * t.n_features
-                             + t._entry_features).ravel())
-            signs.append(np.broadcast_to(t._entry_signs, (n, len(t._entry_signs))).ravel())
-            offset += n * t.n_features
+            pattern, n = g.type.jacobian_pattern, len(g.coordinates)
+            rows.append(g.deformations[:, pattern.rows].ravel())
+            cols.append(g.coordinates[:, pattern.columns].ravel())
+            features.append((offset + np.arange(n)[:, None] * g.type.n_features
+                             + pattern.features).ravel())
+            signs.append(np.tile(pattern.signs, n))
+            offset += n * g.type.n_features
         rows, cols = np.concatenate(rows), np.concatenate(cols)
         features, signs = np.concatenate(features), np.concatenate(signs)
         in_c = (row_at[rows] >= 0) & (dependent_at[cols] >= 0)
         r, c = row_at[rows[in_c]], dependent_at[cols[in_c]]
-        return {"jacobian": (rows * self.nx + cols, features, signs),
-                "constraint": (r * len(self.dependent) + c, features[in_c],
-                               signs[in_c] * self.constraint_row_scale[r]
-                               * self.row_scale_columns[c])}
+        n = len(self.dependent)
+        return (Scatter(rows * self.nx + cols, features, signs, self.ne * self.nx),
+                Scatter(r * n + c, features[in_c],
+                        signs[in_c] * self.constraint_row_scale[r] * self.row_scale_columns[c],
+                        n * n))
 
-    def scatter_features(self, features: np.ndarray, target: str) -> np.ndarray:
-        """``D_x`` ``(nb, ne * nx)`` (``target="jacobian"``) or ``diag(r) D_c diag(c)``
-        ``(nb, nr * nr)`` with the scales of :attr:`constraint_row_scale` and
-        :attr:`row_scale_columns` (``"constraint"``), flat, from the Jacobian features
-        of all groups concatenated ``(nb, k)`` (dense models)."""
-        positions, index, weights = self._jacobian_scatter[target]
-        size = self.ne * self.nx if target == "jacobian" else len(self.dependent) ** 2
-        out = np.zeros((features.shape[0], size))
-        out[:, positions] = features[:, index] * weights
-        return out
+    def jacobian_matrix(self, features: np.ndarray) -> np.ndarray:
+        """``D_x`` ``(nb, ne, nx)`` from the Jacobian features of all groups concatenated
+        per member ``(nb, k)`` (dense models)."""
+        return self._jacobian_scatter.apply(features).reshape(-1, self.ne, self.nx)
+
+    def scaled_constraint_matrix(self, features: np.ndarray) -> np.ndarray:
+        """``diag(r) D_c diag(c)`` ``(nb, nr, nr)`` with the scales
+        :attr:`constraint_row_scale` and :attr:`row_scale_columns`, from the features as
+        for :meth:`jacobian_matrix` (dense models)."""
+        n = len(self.dependent)
+        return self._constraint_scatter.apply(features).reshape(-1, n, n)
 
     def _elastic_law(self):
         """``S``, ``C`` ``(ne, ne)`` and ``sigma0`` ``(ne,)`` of the whole model (dense
@@ -358,8 +379,7 @@ class Assembly:
         positions, index, weights, offset = [], [], [], 0
         for g in self.varying_mass_groups:
             M0, terms = g.type.mass_terms(g.reference, g.mass, g.lumped)
-            base += self.coordinate_matrix(
-                [M0[None] if h is g else None for h in self.groups], 1)[0]
+            np.add.at(base, (g.coordinates[:, :, None], g.coordinates[:, None, :]), M0)
             element, k, a, b = np.nonzero(terms)
             positions.append(g.coordinates[element, a] * nx + g.coordinates[element, b])
             index.append(offset + element * terms.shape[1] + k)
@@ -369,14 +389,14 @@ class Assembly:
             return base, (np.zeros(0, dtype=int), np.zeros(0, dtype=int), np.zeros(0))
         return base, (np.concatenate(positions), np.concatenate(index), np.concatenate(weights))
 
-    def mass_matrix(self, features: list[np.ndarray]) -> np.ndarray:
+    def mass_matrix(self, features: list[np.ndarray], nb: int) -> np.ndarray:
         """The dense mass matrix ``(nb, nx, nx)`` from the
         :meth:`~flexmbd.elements.ElementType.mass_features` ``(nb, n, k)`` of each of
         :attr:`varying_mass_groups` (dense models)."""
         positions, index, weights = self._mass_scatter
-        nb, size = features[0].shape[0] if features else 1, self.nx * self.nx
-        flat = (np.concatenate([f.reshape(nb, -1) for f in features], axis=1) if features
-                else np.zeros((nb, 0)))
+        size = self.nx * self.nx
+        flat = np.concatenate([f.reshape(nb, -1) for f in features] + [np.zeros((nb, 0))],
+                              axis=1)
         if nb > 1:
             positions = (np.arange(nb)[:, None] * size + positions).ravel()
         varying = np.bincount(positions, (flat[:, index] * weights).ravel(),
@@ -443,8 +463,7 @@ class SystemJacobian:
         self.dense = self._flat = None
         if not assembly.sparse:
             self._flat = np.concatenate([f.reshape(self.nb, -1) for f in features], axis=1)
-            self.dense = assembly.scatter_features(self._flat, "jacobian").reshape(
-                self.nb, assembly.ne, assembly.nx)
+            self.dense = assembly.jacobian_matrix(self._flat)
 
     @cached_property
     def elements(self) -> list[np.ndarray]:
@@ -478,8 +497,7 @@ class SystemJacobian:
     def scaled_constraint_matrix(self) -> np.ndarray:
         """``diag(r) D_c diag(c)`` ``(nb, nr, nr)`` with the scales of :class:`Assembly`
         (dense models)."""
-        n = len(self.assembly.dependent)
-        return self.assembly.scatter_features(self._flat, "constraint").reshape(self.nb, n, n)
+        return self.assembly.scaled_constraint_matrix(self._flat)
 
     def member(self, k: int) -> SystemJacobian:
         """The Jacobian of batch member ``k`` alone."""

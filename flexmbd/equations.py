@@ -491,7 +491,7 @@ class EquationsOfMotion:
         # the sparse form's
         A = asm.mass_matrix([g.type.mass_features(xe, g.reference)
                              for g, (xe, _, _) in zip(asm.groups, state.elements, strict=True)
-                             if g in asm.varying_mass_groups])
+                             if g in asm.varying_mass_groups], len(state.t))
         if self.prestressed:
             A = A + asm.coordinate_matrix(
                 self._stiffness_blocks(state, c_q, c_v, elastic=False, mass=False),

@@ -65,7 +65,7 @@ class DenseFactor:
             inverse = np.stack([_inverse_or_nan(a) for a in scaled])
         with np.errstate(divide="ignore", invalid="ignore"):
             self.conditioning = 1.0 / np.abs(inverse).sum(axis=-2).max(axis=-1)
-        inverse *= unscale  # (diag(r) A diag(c))^-1 = diag(1/c) A^-1 diag(1/r)
+        inverse *= unscale  # A^-1 = diag(c) (diag(r) A diag(c))^-1 diag(r)
         self.inverse = inverse
 
     @classmethod

@@ -28,6 +28,16 @@ ROTATIONAL = "rotational"
 COORDINATES_PER_NODE = {TRANSLATIONAL: 2, ROTATIONAL: 1}
 
 
+class JacobianPattern(NamedTuple):
+    """Where the Jacobian features of an element type go: entry ``k`` of ``D_x`` at
+    ``(rows[k], columns[k])`` is ``signs[k]`` times feature ``features[k]``."""
+
+    rows: np.ndarray
+    columns: np.ndarray
+    features: np.ndarray
+    signs: np.ndarray
+
+
 @dataclass(frozen=True)
 class Reference:
     """Reference (initial) geometry of ``n`` elements of one type.
@@ -74,12 +84,16 @@ class ElementType:
     #: per matrix instead of an element Jacobian per type and a copy per matrix).
     jacobian_entries: ClassVar[tuple[tuple[int, int, int, float], ...]] = ()
 
+    #: :attr:`jacobian_entries` as arrays (set for each type)
+    jacobian_pattern: ClassVar[JacobianPattern]
+    #: number of Jacobian features (set for each type)
+    n_features: ClassVar[int]
+
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
         entries = np.array(cls.jacobian_entries, dtype=float).reshape(-1, 4)
         rows, columns, features = entries[:, :3].T.astype(int)
-        cls._entry_rows, cls._entry_columns, cls._entry_features = rows, columns, features
-        cls._entry_signs = entries[:, 3]
+        cls.jacobian_pattern = JacobianPattern(rows, columns, features, entries[:, 3])
         cls.n_features = int(features.max()) + 1 if len(features) else 0
 
     @classmethod
@@ -126,9 +140,9 @@ class ElementType:
     @classmethod
     def jacobian_of(cls, features: np.ndarray) -> np.ndarray:
         """The element Jacobians ``(..., n, nd, nc)`` from their ``features`` ``(..., n, nf)``."""
+        p = cls.jacobian_pattern
         jac = np.zeros((*features.shape[:-1], cls.n_deformations(), cls.n_coordinates()))
-        jac[..., cls._entry_rows, cls._entry_columns] = (features[..., cls._entry_features]
-                                                         * cls._entry_signs)
+        jac[..., p.rows, p.columns] = features[..., p.features] * p.signs
         return jac
 
     @classmethod
