@@ -78,13 +78,14 @@ class DenseFactor:
 
     def solve(self, rhs: np.ndarray) -> np.ndarray:
         """``A^-1 rhs`` for ``rhs`` ``(nb, n)`` or ``(nb, n, k)``."""
+        # matmul, not einsum: half the cost on these small stacks
         if rhs.ndim == self.inverse.ndim - 1:
-            return np.einsum("bij,bj->bi", self.inverse, rhs)
+            return (self.inverse @ rhs[..., None])[..., 0]
         return self.inverse @ rhs
 
     def solve_transposed(self, rhs: np.ndarray) -> np.ndarray:
         """``A^-T rhs`` for ``rhs`` ``(nb, n)``."""
-        return np.einsum("bji,bj->bi", self.inverse, rhs)
+        return (rhs[:, None, :] @ self.inverse)[:, 0]
 
 
 def _inverse_or_nan(a: np.ndarray) -> np.ndarray:
