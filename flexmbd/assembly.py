@@ -185,6 +185,7 @@ class Assembly:
         # small models hold D_x as a dense matrix: one product per use instead of one
         # per element group (numpy's cost per call dominates at this size); it and the
         # scaled D_c are scattered from the Jacobian features of all groups at once
+        self._nodal_index: dict[tuple[int, tuple[bool, ...]], np.ndarray] = {}
         self._jacobian_scatter, self._constraint_scatter = self._feature_scatter(
             row_at, dependent_at)
         #: ``c r^T`` of the scales of ``D_c``: undoes them on its inverse
@@ -271,16 +272,20 @@ class Assembly:
 
     def nodal_sum(self, values: list[np.ndarray | None], nb: int) -> np.ndarray:
         """Sum element loads ``(nb, n, nc)`` per group (``None`` = none) into ``(nb, nx)``."""
-        index, weights = [], []
-        offsets = np.arange(nb)[:, None, None] * self.nx
-        for g, v in zip(self.groups, values, strict=True):
-            if v is not None:
-                index.append((offsets + g.coordinates).ravel())
-                weights.append(v.ravel())
-        if not index:
+        weights = [v.reshape(nb, -1) for v in values if v is not None]
+        if not weights:
             return np.zeros((nb, self.nx))
-        return np.bincount(np.concatenate(index), np.concatenate(weights),
-                           minlength=nb * self.nx).reshape(nb, self.nx)
+        present = tuple(v is not None for v in values)
+        index = self._nodal_index.get((nb, present))
+        if index is None:  # the same few layouts every step: computed once each
+            coordinates = np.concatenate([g.coordinates.ravel() for g, p in
+                                          zip(self.groups, present, strict=True) if p])
+            index = (np.arange(nb)[:, None] * self.nx + coordinates).ravel()
+            if len(self._nodal_index) > 32:  # batch sizes vary between runs: stay bounded
+                self._nodal_index.clear()
+            self._nodal_index[(nb, present)] = index
+        flat = weights[0] if len(weights) == 1 else np.concatenate(weights, axis=1)
+        return np.bincount(index, flat.ravel(), minlength=nb * self.nx).reshape(nb, self.nx)
 
     @staticmethod
     def contract(jacobians: list[np.ndarray], values: list[np.ndarray]) -> list[np.ndarray]:
