@@ -21,7 +21,9 @@ at ``--flexmbd-steps``. Reported per configuration:
   elongation, ``--reference-steps`` steps per turn, Newton iterated to
   convergence), against the threshold ``--threshold``;
 
-then the ratios flexmbd / Exudyn for every Exudyn configuration, and the
+The configurations take turns run by run (not all runs of one, then the next):
+the machine's speed drifts within minutes, and a block of runs would catch one
+phase of it. Then the ratios flexmbd / Exudyn for every Exudyn configuration, and the
 start-up times of ``import flexmbd`` and ``flexmbd --version`` (median of
 ``--runs`` fresh processes). Needs ``pip install exudyn`` (benchmark only).
 
@@ -117,17 +119,24 @@ def startup_times(runs: int) -> dict[str, float]:
     return medians
 
 
-def measure(config: Config, nbeams: int, runs: int, reference: np.ndarray, folder: Path
-            ) -> tuple[float, float, float]:
-    """Median solver time, median process time [s] and the deviation from ``reference``."""
-    runner = RUNNERS[config.tool]
-    solves, processes = [], []
+def measure(configs: list[Config], nbeams: int, runs: int, reference: np.ndarray,
+            folder: Path) -> dict[Config, tuple[float, float, float]]:
+    """Per configuration: median solver time, median process time [s] and the deviation
+    from ``reference``. The configurations take turns, run by run, so that the
+    machine's drift (its speed changes by tens of percent within minutes) and the
+    state the previous job leaves reach them all alike."""
+    solves = {config: [] for config in configs}
+    processes = {config: [] for config in configs}
+    deviations = {}
     for k in range(runs):
-        v, solve = runner(nbeams, config.steps, config.flexible)
-        solves.append(solve)
-        processes.append(process_time(config, nbeams, folder / f"{k}.npy"))
-    return (float(np.median(solves)), float(np.median(processes)),
-            float(np.max(np.abs(v - reference))))
+        for config in configs:
+            v, solve = RUNNERS[config.tool](nbeams, config.steps, config.flexible)
+            solves[config].append(solve)
+            processes[config].append(process_time(config, nbeams, folder / f"{k}.npy"))
+            deviations[config] = float(np.max(np.abs(v - reference)))
+        print(f"  run {k + 1} of {runs}: done", flush=True)
+    return {config: (float(np.median(solves[config])), float(np.median(processes[config])),
+                     deviations[config]) for config in configs}
 
 
 def main() -> None:
@@ -162,11 +171,8 @@ def main() -> None:
     configs = [Config("flexmbd", args.flexmbd_steps, True),
                Config("flexmbd", args.flexmbd_steps, False)]
     configs += [Config("exudyn", steps) for steps in args.exudyn_steps]
-    rows = {}
     with tempfile.TemporaryDirectory() as folder:
-        for config in configs:
-            rows[config] = measure(config, args.nbeams, args.runs, reference, Path(folder))
-            print(f"  {config.label}: done", flush=True)
+        rows = measure(configs, args.nbeams, args.runs, reference, Path(folder))
     startup = startup_times(args.runs)
 
     print(f"\nflexible slider-crank, {args.nbeams} elements, 2 revolutions, fixed-step "
