@@ -232,7 +232,7 @@ class EquationsOfMotion:
                 f"D_c is singular within the position tolerance (scaled smallest singular "
                 f"value {factor.conditioning[weak[0]]:.2g} < {limit:.2g})")
         if norm.max() > _ROUND_OFF * self.tolerance:
-            change = np.zeros_like(x)
+            change = np.zeros(x.shape)
             change[:, asm.dependent] = -factor.solve(residual)
             x += change
             # the deformations there, to first order (the rest is second order: negligible)
@@ -273,7 +273,7 @@ class EquationsOfMotion:
         :meth:`positions` for ``guess``, ``near`` and ``factor``)."""
         asm = self.asm
         x, elements, jacobian, factor, e = self.positions(t, q, guess, near, factor)
-        xd = np.zeros_like(x)
+        xd = np.zeros(x.shape)
         xd[:, asm.q_coordinates] = qd[:, :self.n_xm]
         xd = self.dependent_rates(xd, jacobian, factor, qd[:, self.n_xm:])
         rates = asm.element_values(xd)
@@ -282,7 +282,7 @@ class EquationsOfMotion:
             g.type.quadratic_velocity(xe, xde, g.reference, shared)
             for g, xe, xde, shared in zip(asm.groups, elements, rates, jacobian.geometry,
                                           strict=True)])
-        xdd = np.zeros_like(x)
+        xdd = np.zeros(x.shape)
         xdd[:, asm.q_coordinates] = qdd[:, :self.n_xm]
         xdd = self.dependent_rates(xdd, jacobian, factor, qdd[:, self.n_xm:], quadratic)
         groups = list(zip(elements, rates, asm.element_values(xdd), strict=True))

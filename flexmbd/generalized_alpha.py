@@ -276,7 +276,7 @@ class GeneralizedAlpha:
                 self._renew_operator(h)
                 self._since_renewal = 0
             a_new = a_new + self.operator(residual)
-        if not np.all(np.isfinite(a_new)):
+        if not np.isfinite(a_new).all():
             return None
         y_new, aa_new = update(a_new)
         return y_new, a_new, aa_new
