@@ -85,6 +85,34 @@ class Scatter(NamedTuple):
         return out
 
 
+def as_selector(index: np.ndarray) -> slice | np.ndarray:
+    """``index`` as a slice when it is a contiguous increasing range, else itself: a slice
+    indexes as a view, several times cheaper than an index array on small arrays."""
+    index = np.asarray(index, dtype=int)
+    if not len(index):
+        return slice(0, 0)
+    start = int(index[0])
+    if np.array_equal(index, np.arange(start, start + len(index))):
+        return slice(start, start + len(index))
+    return index
+
+
+class Selectors(NamedTuple):
+    """The index sets of :class:`Assembly` the per-step code indexes with, each a slice
+    where contiguous (see :func:`as_selector`). Indexing by a slice gives a view: use
+    them for reading into new arrays and for assigning, as the index arrays."""
+
+    rows: slice | np.ndarray
+    dependent: slice | np.ndarray
+    free: slice | np.ndarray
+    multipliers: slice | np.ndarray
+    q_coordinates: slice | np.ndarray
+    q_input: slice | np.ndarray
+    q_dynamic: slice | np.ndarray
+    dynamic_deformations: slice | np.ndarray
+    dynamic_deformation_rows: slice | np.ndarray
+
+
 def _positions(index: np.ndarray, size: int) -> np.ndarray:
     """Position of each global index within ``index`` (``-1`` where absent), ``(size,)``."""
     where = np.full(size, -1)
@@ -138,6 +166,10 @@ class Assembly:
         dynamic_def_at = _positions(self.dynamic_deformations, ne)
         #: positions of the dynamic deformations among the rows of ``D_c``
         self.dynamic_deformation_rows = row_at[self.dynamic_deformations]
+        #: the index sets as slices where contiguous, for the per-step paths
+        self.take = Selectors(*(as_selector(getattr(self, name)) for name in Selectors._fields))
+        self._deformations_of_groups = [as_selector(g.deformations.ravel())
+                                        for g in model.groups]
         self.groups: list[GroupData] = []
         self._constraint_pattern, self._saddle_mass, self._saddle_jacobian = [], [], []
         self._dynamic_rows = []
@@ -265,9 +297,10 @@ class Assembly:
 
     def per_deformation(self, values: list[np.ndarray]) -> np.ndarray:
         """Element values ``(nb, n, nd)`` per group into one array ``(nb, ne)``."""
-        out = np.empty((values[0].shape[0], self.ne))
-        for g, v in zip(self.groups, values, strict=True):
-            out[:, g.deformations] = v
+        nb = values[0].shape[0]
+        out = np.empty((nb, self.ne))
+        for where, v in zip(self._deformations_of_groups, values, strict=True):
+            out[:, where] = v.reshape(nb, -1)
         return out
 
     def nodal_sum(self, values: list[np.ndarray | None], nb: int) -> np.ndarray:

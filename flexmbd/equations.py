@@ -119,10 +119,11 @@ class EquationsOfMotion:
         out = np.zeros((3, nb, self.model.n_dof))
         if self.input_laws:
             values = np.array([[law(float(tk)) for law in self.input_laws] for tk in t])
-            out[:, :, asm.q_input] = values.transpose(2, 0, 1)
-        out[0][:, asm.q_dynamic], out[1][:, asm.q_dynamic] = q_d, qd_d
+            out[:, :, asm.take.q_input] = values.transpose(2, 0, 1)
+        dynamic = asm.take.q_dynamic
+        out[0][:, dynamic], out[1][:, dynamic] = q_d, qd_d
         if qdd_d is not None:
-            out[2][:, asm.q_dynamic] = qdd_d
+            out[2][:, dynamic] = qdd_d
         return out[0], out[1], out[2]
 
     # --- kinematics (THEORY 3, 4) -----------------------------------------------------------
@@ -190,7 +191,7 @@ class EquationsOfMotion:
         asm, model = self.asm, self.model
         x = np.array(guess, dtype=float)
         x[:, model.fixed] = self._fixed_values
-        x[:, asm.q_coordinates] = q[:, :self.n_xm]
+        x[:, asm.take.q_coordinates] = q[:, :self.n_xm]
         target = np.zeros((len(t), len(asm.rows)))
         target[:, asm.n_rigid:] = q[:, self.n_xm:]
         near = self.tolerance if near is None else max(self.tolerance, near)
@@ -204,13 +205,13 @@ class EquationsOfMotion:
         else:  # D_c from near the guess: chord steps, then the Jacobian at the solution
             e, fresh = self._deformations(elements), False
         for iteration in range(self.max_iterations + 1):
-            residual = e[:, asm.rows] - target
+            residual = e[:, asm.take.rows] - target
             norm = np.abs(residual).max(axis=1)
             if norm.max() <= near:
                 break
             if not np.isfinite(norm).all() or iteration == self.max_iterations:
                 raise self._not_converged(t, residual, norm, iteration)
-            x[:, asm.dependent] -= factor.solve(residual)
+            x[:, asm.take.dependent] -= factor.solve(residual)
             elements = asm.element_values(x)
             slow = previous is not None and np.any(norm > _SLOW_CHORD * previous)
             fresh, previous = slow, (None if slow else norm)
@@ -221,7 +222,7 @@ class EquationsOfMotion:
                 e = self._deformations(elements)
         if not fresh:  # the Jacobian at the last point
             e, jacobian = self._deformations_and_jacobian(elements)
-            residual = e[:, asm.rows] - target
+            residual = e[:, asm.take.rows] - target
             norm = np.abs(residual).max(axis=1)
             factor = self.factorize(jacobian, t)
         limit = self._regularity_limit
@@ -233,7 +234,7 @@ class EquationsOfMotion:
                 f"value {factor.conditioning[weak[0]]:.2g} < {limit:.2g})")
         if norm.max() > _ROUND_OFF * self.tolerance:
             change = np.zeros(x.shape)
-            change[:, asm.dependent] = -factor.solve(residual)
+            change[:, asm.take.dependent] = -factor.solve(residual)
             x += change
             # the deformations there, to first order (the rest is second order: negligible)
             e = e + jacobian.times(change)
@@ -260,11 +261,12 @@ class EquationsOfMotion:
         asm = self.asm
         if factor is None:
             return rates
-        rhs = -jacobian.times(rates)[:, asm.rows]
+        rows = asm.take.rows
+        rhs = -jacobian.times(rates)[:, rows]
         if extra is not None:
-            rhs -= extra[:, asm.rows]
+            rhs -= extra[:, rows]
         rhs[:, asm.n_rigid:] += targets
-        rates[:, asm.dependent] = factor.solve(rhs)
+        rates[:, asm.take.dependent] = factor.solve(rhs)
         return rates
 
     def kinematics(self, t, q, qd, qdd, guess, near: float | None = None,
@@ -274,7 +276,7 @@ class EquationsOfMotion:
         asm = self.asm
         x, elements, jacobian, factor, e = self.positions(t, q, guess, near, factor)
         xd = np.zeros(x.shape)
-        xd[:, asm.q_coordinates] = qd[:, :self.n_xm]
+        xd[:, asm.take.q_coordinates] = qd[:, :self.n_xm]
         xd = self.dependent_rates(xd, jacobian, factor, qd[:, self.n_xm:])
         rates = asm.element_values(xd)
         # the velocity terms from the geometry of D_x, as accurate as D_x itself
@@ -283,7 +285,7 @@ class EquationsOfMotion:
             for g, xe, xde, shared in zip(asm.groups, elements, rates, jacobian.geometry,
                                           strict=True)])
         xdd = np.zeros(x.shape)
-        xdd[:, asm.q_coordinates] = qdd[:, :self.n_xm]
+        xdd[:, asm.take.q_coordinates] = qdd[:, :self.n_xm]
         xdd = self.dependent_rates(xdd, jacobian, factor, qdd[:, self.n_xm:], quadratic)
         groups = list(zip(elements, rates, asm.element_values(xdd), strict=True))
         return State(t, q, qd, qdd, x, xd, xdd, e, jacobian.times(xd), quadratic, groups,
@@ -452,12 +454,12 @@ class EquationsOfMotion:
         asm = self.asm
         w = np.zeros((len(state.t), asm.ne))
         if state.factor is not None:
-            w[:, asm.rows] = state.factor.solve_transposed(force[:, asm.dependent])
+            w[:, asm.take.rows] = state.factor.solve_transposed(force[:, asm.take.dependent])
         if not len(asm.dynamic_coordinates):
-            return w[:, asm.dynamic_deformations]
+            return w[:, asm.take.dynamic_deformations]
         pulled = state.jacobian.transpose_times(w)
         return np.concatenate([(force - pulled)[:, asm.dynamic_coordinates],
-                               w[:, asm.dynamic_deformations]], axis=1)
+                               w[:, asm.take.dynamic_deformations]], axis=1)
 
     def iteration_operator(self, state: State, c_q: float, c_v: float
                            ) -> Callable[[np.ndarray], np.ndarray]:
@@ -523,7 +525,7 @@ class EquationsOfMotion:
             return F
         # D_c x(c) = [0; e(m)] - D_m x(m) on the constrained rows
         inverse = state.factor.inverse
-        F[:, asm.dependent, n_coord:] = inverse[:, :, asm.dynamic_deformation_rows]
+        F[:, asm.dependent, n_coord:] = inverse[:, :, asm.take.dynamic_deformation_rows]
         if n_coord:
             D_m = state.jacobian.dense[:, asm.rows][:, :, asm.dynamic_coordinates]
             F[:, asm.dependent, :n_coord] = -(inverse @ D_m)

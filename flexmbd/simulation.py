@@ -115,7 +115,7 @@ class MechanicalSystem:
         missed = q - (last.q + dt * last.qd + (0.5 * dt * dt) * last.qdd)
         eq = self.equations
         change = np.zeros((1, len(guess)))
-        change[:, eq.asm.q_coordinates] = missed[:, :eq.n_xm]
+        change[:, eq.asm.take.q_coordinates] = missed[:, :eq.n_xm]
         change = eq.dependent_rates(change, last.jacobian, last.factor, missed[:, eq.n_xm:])
         return guess[None] + change
 
