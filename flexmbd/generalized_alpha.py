@@ -173,7 +173,7 @@ class GeneralizedAlpha:
         self.status = "running" if span > 0 else "finished"
         self._previous = None
         self.trial_error: SimulationError | None = None
-        self._predictor_step = self._predictor_matrix = None
+        self._predictor_step = self._predictor_matrix = self._predictor_gain = None
 
     @property
     def nfev(self) -> int:
@@ -200,8 +200,7 @@ class GeneralizedAlpha:
         not arithmetic, is what counts)."""
         start = self._predictor(h) @ np.concatenate([self.y, self.a, self.aa]).reshape(4, -1)
         y0, aa0 = start[:2], start[2]
-        gain = np.array(self._coefficients(h))[:, None]
-        k = (1 - self.alpha_f) / (1 - self.alpha_m)
+        gain, k = self._predictor_gain, (1 - self.alpha_f) / (1 - self.alpha_m)
 
         def update(a_new):
             return (y0 + gain * a_new).ravel(), aa0 + k * a_new
@@ -219,6 +218,7 @@ class GeneralizedAlpha:
                 [1.0, h, h * h * b * w_a, h * h * (0.5 - b + b * w_aa)],
                 [0.0, 1.0, h * g * w_a, h * (1 - g + g * w_aa)],
                 [0.0, 0.0, w_a, w_aa]])
+            self._predictor_gain = np.array(self._coefficients(h))[:, None]  # [c_q; c_v]
             self._predictor_step = h
         return self._predictor_matrix
 
