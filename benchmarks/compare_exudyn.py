@@ -21,9 +21,12 @@ at ``--flexmbd-steps``. Reported per configuration:
   elongation, ``--reference-steps`` steps per turn, Newton iterated to
   convergence), against the threshold ``--threshold``;
 
-The configurations take turns run by run (not all runs of one, then the next):
-the machine's speed drifts within minutes, and a block of runs would catch one
-phase of it. Then the ratios flexmbd / Exudyn for every Exudyn configuration, and the
+The configurations take turns run by run (all solver runs first, then all
+processes), not all runs of one and then the next: the machine's speed drifts
+within minutes, and a block of runs would catch one phase of it. Then the ratios
+flexmbd / Exudyn for every Exudyn configuration, both as the ratio of the
+medians and as the median of the run-by-run ratios (each run's configurations
+ran within seconds of each other, so the latter cancels slow drifts), and the
 start-up times of ``import flexmbd`` and ``flexmbd --version`` (median of
 ``--runs`` fresh processes). Needs ``pip install exudyn`` (benchmark only).
 
@@ -119,24 +122,50 @@ def startup_times(runs: int) -> dict[str, float]:
     return medians
 
 
+@dataclass
+class Timings:
+    """The runs of one configuration: solver and process times [s], deviation of ``v/l2``."""
+
+    solves: list[float]
+    processes: list[float]
+    deviation: float = float("nan")
+
+    @property
+    def solve(self) -> float:
+        return float(np.median(self.solves))
+
+    @property
+    def process(self) -> float:
+        return float(np.median(self.processes))
+
+
 def measure(configs: list[Config], nbeams: int, runs: int, reference: np.ndarray,
-            folder: Path) -> dict[Config, tuple[float, float, float]]:
-    """Per configuration: median solver time, median process time [s] and the deviation
-    from ``reference``. The configurations take turns, run by run, so that the
-    machine's drift (its speed changes by tens of percent within minutes) and the
-    state the previous job leaves reach them all alike."""
-    solves = {config: [] for config in configs}
-    processes = {config: [] for config in configs}
-    deviations = {}
-    for k in range(runs):
+            folder: Path) -> dict[Config, Timings]:
+    """The solver runs of all configurations, then their processes, each in turns, run by
+    run: the machine's speed drifts (by tens of percent within minutes), and turns let
+    the drift reach all configurations alike and make each run's ratios comparable."""
+    timings = {config: Timings([], []) for config in configs}
+    for _ in range(runs):
         for config in configs:
             v, solve = RUNNERS[config.tool](nbeams, config.steps, config.flexible)
-            solves[config].append(solve)
-            processes[config].append(process_time(config, nbeams, folder / f"{k}.npy"))
-            deviations[config] = float(np.max(np.abs(v - reference)))
-        print(f"  run {k + 1} of {runs}: done", flush=True)
-    return {config: (float(np.median(solves[config])), float(np.median(processes[config])),
-                     deviations[config]) for config in configs}
+            timings[config].solves.append(solve)
+            timings[config].deviation = float(np.max(np.abs(v - reference)))
+    print("  solver runs: done", flush=True)
+    for k in range(runs):
+        for config in configs:
+            timings[config].processes.append(process_time(config, nbeams,
+                                                          folder / f"{k}.npy"))
+    print("  process runs: done", flush=True)
+    return timings
+
+
+def ratios(a: Timings, b: Timings) -> str:
+    """``a / b``: ratio of the medians and median of the run-by-run ratios, solver and
+    process."""
+    paired = [float(np.median(np.divide(x, y))) for x, y in
+              ((a.solves, b.solves), (a.processes, b.processes))]
+    return (f"solver {a.solve / b.solve:.2f} (run by run {paired[0]:.2f}), "
+            f"whole process {a.process / b.process:.2f} (run by run {paired[1]:.2f})")
 
 
 def main() -> None:
@@ -181,17 +210,14 @@ def main() -> None:
     print("| tool | elongation | steps per turn | solver [s] | whole process [s] "
           "| max abs dev v/l2 | within threshold |")
     print("|---|---|---|---|---|---|---|")
-    for config, (solve, process, deviation) in rows.items():
+    for config, row in rows.items():
         print(f"| {config.tool} | {'flexible' if config.flexible else 'rigid'} "
-              f"| {config.steps} | {solve:.3f} | {process:.3f} | {deviation:.2e} "
-              f"| {'yes' if deviation <= args.threshold else 'NO'} |")
+              f"| {config.steps} | {row.solve:.3f} | {row.process:.3f} | {row.deviation:.2e} "
+              f"| {'yes' if row.deviation <= args.threshold else 'NO'} |")
     flexible, rigid = rows[configs[0]], rows[configs[1]]
-    print(f"\nflexmbd rigid / flexible elongation: solver {rigid[0] / flexible[0]:.2f}, "
-          f"whole process {rigid[1] / flexible[1]:.2f}")
+    print(f"\nflexmbd rigid / flexible elongation: {ratios(rigid, flexible)}")
     for config in configs[2:]:
-        exudyn = rows[config]
-        print(f"flexmbd (flexible) / {config.label}: solver {flexible[0] / exudyn[0]:.2f}, "
-              f"whole process {flexible[1] / exudyn[1]:.2f}")
+        print(f"flexmbd (flexible) / {config.label}: {ratios(flexible, rows[config])}")
     print("\nstart-up (fresh process, median):")
     for name, wall in startup.items():
         print(f"  {name}: {wall:.3f} s")
