@@ -192,11 +192,7 @@ class Beam(ElementType):
 
     @classmethod
     def mass_features(cls, xe, ref, geometry=None):
-        if geometry is None:
-            beta = xe[..., _ANGLES] + ref.angle[:, None]
-            cos, sin = np.cos(beta), np.sin(beta)
-        else:
-            cos, sin = geometry.cos, geometry.sin
+        cos, sin = _end_cos_sin(xe, ref, geometry)
         turn = cos[..., 0] * cos[..., 1] + sin[..., 0] * sin[..., 1]  # n_p . n_q
         return np.concatenate([sin, cos, turn[..., None]], axis=-1)
 
@@ -209,11 +205,7 @@ class Beam(ElementType):
     def inertia_force(cls, xe, xde, xdde, ref, mass, lumped, geometry=None):
         """``M xddot + h = m sum_ij P_ij A_i^T c_j`` with ``c = (a_p, l0 (phidd_p n_p -
         phid_p^2 e_p), a_q, l0 (phidd_q n_q - phid_q^2 e_q))``; lumped: ``m/2 (a_p, a_q)``."""
-        if geometry is None:
-            beta = xe[..., _ANGLES] + ref.angle[:, None]
-            cos, sin = np.cos(beta), np.sin(beta)
-        else:
-            cos, sin = geometry.cos, geometry.sin
+        cos, sin = _end_cos_sin(xe, ref, geometry)
         l0 = ref.length[:, None]
         alpha, omega2 = xdde[..., _ANGLES], xde[..., _ANGLES] ** 2  # both ends, (..., n, 2)
         c = np.empty((*xe.shape[:-1], 4, 2))
@@ -261,3 +253,12 @@ class Beam(ElementType):
         C[:, 1, 1] = C[:, 2, 2] = 4 * damping
         C[:, 1, 2] = C[:, 2, 1] = -2 * damping
         return S, C
+
+
+def _end_cos_sin(xe, ref, geometry=None) -> tuple[np.ndarray, np.ndarray]:
+    """``cos beta, sin beta`` at both ends ``(..., n, 2)``, from ``geometry`` when given
+    (the inertia kernels need the angles alone, not the chord)."""
+    if geometry is not None:
+        return geometry.cos, geometry.sin
+    beta = xe[..., _ANGLES] + ref.angle[:, None]
+    return np.cos(beta), np.sin(beta)
