@@ -56,3 +56,17 @@ def test_mass_matrix_from_features():
     M = asm.mass_matrix(features, len(x))
     for k in range(len(x)):
         np.testing.assert_allclose(M[k], mass_matrix(model, x[k]), rtol=0, atol=1e-15)
+
+
+def test_selectors_index_as_the_index_sets():
+    """``Assembly.take`` holds slices for contiguous index sets: the same entries."""
+    from flexmbd.assembly import as_selector
+
+    assert as_selector(np.array([3, 4, 5])) == slice(3, 6)
+    assert as_selector(np.array([], dtype=int)) == slice(0, 0)
+    np.testing.assert_array_equal(as_selector(np.array([3, 5, 6])), [3, 5, 6])
+    asm = everything_at_random_configurations()[0].assembly
+    for name, selector in asm.take._asdict().items():
+        index = getattr(asm, name)
+        table = np.arange(40.0)[None].repeat(2, axis=0)
+        np.testing.assert_array_equal(table[:, selector], table[:, index], err_msg=name)
