@@ -498,7 +498,7 @@ class SystemJacobian:
         self.assembly, self.features = assembly, features
         self.geometry = geometry if geometry is not None else [None] * len(features)
         self.nb = features[0].shape[0] if features else 0
-        self.dense = self._flat = None
+        self.dense = self._flat = self._constrained = None
         if not assembly.sparse:
             self._flat = np.concatenate([f.reshape(self.nb, -1) for f in features], axis=1)
             self.dense = assembly.jacobian_matrix(self._flat)
@@ -515,6 +515,15 @@ class SystemJacobian:
             return (self.dense @ v[:, :, None])[:, :, 0]
         asm = self.assembly
         return asm.per_deformation(asm.contract(self.elements, asm.element_values(v)))
+
+    def constrained_times(self, v: np.ndarray) -> np.ndarray:
+        """The rows of ``D_c`` (constrained deformations, in ``D_c``'s order) of ``D_x v``
+        ``(nb, nr)``: a position or velocity solve needs only those."""
+        if self.dense is None:
+            return self.times(v)[:, self.assembly.take.rows]
+        if self._constrained is None:  # a view where the rows are contiguous
+            self._constrained = self.dense[:, self.assembly.take.rows]
+        return (self._constrained @ v[:, :, None])[:, :, 0]
 
     def transpose_times(self, s: np.ndarray) -> np.ndarray:
         """``D_x^T s`` ``(nb, nx)`` for deformation values ``s`` ``(nb, ne)``."""

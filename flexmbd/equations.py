@@ -261,10 +261,9 @@ class EquationsOfMotion:
         asm = self.asm
         if factor is None:
             return rates
-        rows = asm.take.rows
-        rhs = -jacobian.times(rates)[:, rows]
+        rhs = -jacobian.constrained_times(rates)
         if extra is not None:
-            rhs -= extra[:, rows]
+            rhs -= extra[:, asm.take.rows]
         rhs[:, asm.n_rigid:] += targets
         rates[:, asm.take.dependent] = factor.solve(rhs)
         return rates
