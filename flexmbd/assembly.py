@@ -166,6 +166,8 @@ class Assembly:
         dynamic_def_at = _positions(self.dynamic_deformations, ne)
         #: positions of the dynamic deformations among the rows of ``D_c``
         self.dynamic_deformation_rows = row_at[self.dynamic_deformations]
+        #: positions of the multipliers (rigid and input deformations) among those rows
+        self.multiplier_rows = row_at[self.multipliers]
         #: the index sets as slices where contiguous, for the per-step paths
         self.take = Selectors(*(as_selector(getattr(self, name)) for name in Selectors._fields))
         self._deformations_of_groups = [as_selector(g.deformations.ravel())
@@ -409,10 +411,11 @@ class Assembly:
         M[self.nodal_mass_coordinates, self.nodal_mass_coordinates] += self.nodal_mass_values
         return M
 
-    def _mass_terms(self) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    def _mass_terms(self) -> tuple[np.ndarray, tuple[np.ndarray, ...]]:
         """``M0`` of the varying-mass groups added to :attr:`constant_mass`, and where the
-        entries of their ``phi_k M_k`` land: flat positions in ``M``, indices into the
-        concatenated features, weights."""
+        entries of their ``phi_k M_k`` land: their flat positions in ``M``, the distinct
+        ones among those and each entry's place there, indices into the concatenated
+        features, weights."""
         base, nx = self.constant_mass.copy(), self.nx
         positions, index, weights, offset = [], [], [], 0
         for g in self.varying_mass_groups:
@@ -424,22 +427,33 @@ class Assembly:
             weights.append(terms[element, k, a, b])
             offset += terms.shape[0] * terms.shape[1]
         if not positions:
-            return base, (np.zeros(0, dtype=int), np.zeros(0, dtype=int), np.zeros(0))
-        return base, (np.concatenate(positions), np.concatenate(index), np.concatenate(weights))
+            empty = np.zeros(0, dtype=int)
+            return base, (empty, empty, empty, empty, np.zeros(0))
+        # elements sharing a node add to the same entries: summed over the few distinct
+        # positions, not over the whole matrix (a batch of 128 matrices: 0.2 ms, not 1 ms)
+        positions = np.concatenate(positions)
+        distinct, slot = np.unique(positions, return_inverse=True)
+        return base, (positions, distinct, slot.ravel(), np.concatenate(index),
+                      np.concatenate(weights))
 
     def mass_matrix(self, features: list[np.ndarray], nb: int) -> np.ndarray:
         """The dense mass matrix ``(nb, nx, nx)`` from the
         :meth:`~flexmbd.elements.ElementType.mass_features` ``(nb, n, k)`` of each of
         :attr:`varying_mass_groups` (dense models)."""
-        positions, index, weights = self._mass_scatter
-        size = self.nx * self.nx
+        positions, distinct, slot, index, weights = self._mass_scatter
         flat = np.concatenate([f.reshape(nb, -1) for f in features] + [np.zeros((nb, 0))],
                               axis=1)
-        if nb > 1:
-            positions = (np.arange(nb)[:, None] * size + positions).ravel()
-        varying = np.bincount(positions, (flat[:, index] * weights).ravel(),
-                              minlength=nb * size)
-        return varying.reshape(nb, self.nx, self.nx) + self.mass_base
+        values = flat[:, index] * weights
+        if nb == 1:  # one matrix (the integrator's): summed straight into all its entries
+            varying = np.bincount(positions, values[0], minlength=self.nx * self.nx)
+            return varying.reshape(1, self.nx, self.nx) + self.mass_base
+        # a batch: summed over the distinct positions only, then added there
+        slot = (np.arange(nb)[:, None] * len(distinct) + slot).ravel()
+        varying = np.bincount(slot, values.ravel(), minlength=nb * len(distinct))
+        M = np.empty((nb, self.nx * self.nx))
+        M[:] = self.mass_base.reshape(-1)
+        M[:, distinct] += varying.reshape(nb, -1)
+        return M.reshape(nb, self.nx, self.nx)
 
     @cached_property
     def sparse_saddle_pattern(self) -> SparsePattern:
