@@ -318,6 +318,49 @@ def end_rates(geometry: RodGeometry, dv: np.ndarray, w: np.ndarray) -> np.ndarra
     return w * (w * g.normal + 2.0 * (g.cos * dv[..., :1] + g.sin * dv[..., 1:]))
 
 
+class AngledRod(ElementType):
+    """A rod from ``r_p`` (columns 0, 1) to ``r_q`` (columns 3, 4) with rotational nodes
+    at :attr:`angles`: its deformations are the elongation and ``normal_signs`` times
+    ``n(beta) . d`` at each of them (the beams). Supplies the geometry, the deformations
+    with their Jacobian features (``e_l``, ``cos beta``, ``sin beta``, ``e(beta) . d``,
+    in that order) and the quadratic velocity terms."""
+
+    #: columns of the node angles in ``xe``
+    angles: ClassVar[slice]
+    #: sign of ``n(beta) . d`` in each deformation after the elongation
+    normal_signs: ClassVar[np.ndarray]
+
+    @classmethod
+    def geometry(cls, xe, ref):
+        """The :class:`RodGeometry` with the angles of :attr:`angles`."""
+        return rod_geometry(xe, ref, 0, 3, cls.angles)
+
+    @classmethod
+    def _deformations_of(cls, g, ref):
+        return np.concatenate([(g.length - ref.length)[..., None], cls.normal_signs * g.normal],
+                              axis=-1)
+
+    @classmethod
+    def deformations(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
+        return cls._deformations_of(cls.geometry(xe, ref), ref)
+
+    @classmethod
+    def deformations_and_features(cls, xe, ref, geometry=None):
+        g = geometry or cls.geometry(xe, ref)
+        return (cls._deformations_of(g, ref),
+                np.concatenate([g.unit, g.cos, g.sin, g.along], axis=-1))
+
+    @classmethod
+    def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference,
+                           geometry=None) -> np.ndarray:
+        g = geometry or cls.geometry(xe, ref)
+        dv = xde[..., 3:5] - xde[..., 0:2]
+        out = np.empty((*xe.shape[:-1], 1 + len(cls.normal_signs)))
+        out[..., 0] = elongation_rate2(g, dv)
+        out[..., 1:] = -cls.normal_signs * end_rates(g, dv, xde[..., cls.angles])
+        return out
+
+
 def chord(xe: np.ndarray, ends) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``d = r_q - r_p`` ``(..., 2)``, its length ``l`` ``(...,)`` and direction ``e_l``."""
     (px, py), (qx, qy) = ends

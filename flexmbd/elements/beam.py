@@ -13,17 +13,14 @@ import numpy as np
 from .base import (
     ROTATIONAL,
     TRANSLATIONAL,
-    ElementType,
+    AngledRod,
     Reference,
     chord,
     dot,
     elongation_entries,
     elongation_hessian,
     elongation_matrices,
-    elongation_rate2,
-    end_rates,
     normal_distance_hessian,
-    rod_geometry,
     rod_gravity_load,
     rod_inertia_force,
     rod_mass_matrix,
@@ -52,7 +49,7 @@ _SHAPE_TEMPLATE[[0, 1, 4, 5], [0, 1, 3, 4]] = 1.0
 _HERMITE_BLOCKS = np.kron(HERMITE_PRODUCTS, np.eye(2))
 
 
-class Beam(ElementType):
+class Beam(AngledRod):
     """Coordinates ``[x_p, y_p, phi_p, x_q, y_q, phi_q]``."""
 
     name = "beam"
@@ -61,6 +58,8 @@ class Beam(ElementType):
     node_roles = ("p", "phi_p", "q", "phi_q")
     deformation_names = ("elongation", "bending at p", "bending at q")
     ends = ((0, 1), (3, 4))
+    angles = _ANGLES
+    normal_signs = _BENDING_SIGNS
 
     @staticmethod
     def formula(c, length, angle, m):
@@ -90,26 +89,6 @@ class Beam(ElementType):
         return d, length, e_l, e_p, n_p, e_q, n_q
 
     @classmethod
-    def geometry(cls, xe, ref):
-        """The :class:`~flexmbd.elements.base.RodGeometry` with both end angles."""
-        return rod_geometry(xe, ref, 0, 3, _ANGLES)
-
-    @staticmethod
-    def _deformations_of(g, ref):
-        return np.concatenate([(g.length - ref.length)[..., None], _BENDING_SIGNS * g.normal],
-                              axis=-1)
-
-    @classmethod
-    def deformations(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
-        return cls._deformations_of(cls.geometry(xe, ref), ref)
-
-    @classmethod
-    def deformations_and_features(cls, xe, ref, geometry=None):
-        g = geometry or cls.geometry(xe, ref)
-        return (cls._deformations_of(g, ref),
-                np.concatenate([g.unit, g.cos, g.sin, g.along], axis=-1))
-
-    @classmethod
     def hessian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
         d, length, e_l, e_p, n_p, e_q, n_q = cls._frames(xe, ref)
         hess = np.zeros((*xe.shape[:-1], 3, 6, 6))
@@ -120,17 +99,6 @@ class Beam(ElementType):
         normal_distance_hessian(hess[..., 2, :, :], cls.ends, _PHI_Q, dot(n_q, d), e_q,
                                 sign=1.0)
         return hess
-
-    @classmethod
-    def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference,
-                           geometry=None) -> np.ndarray:
-        g = geometry or cls.geometry(xe, ref)
-        dv = xde[..., 3:5] - xde[..., 0:2]
-        out = np.empty((*xe.shape[:-1], 3))
-        out[..., 0] = elongation_rate2(g, dv)
-        # e2 = -n_p . d, e3 = +n_q . d
-        out[..., 1:] = -_BENDING_SIGNS * end_rates(g, dv, xde[..., _ANGLES])
-        return out
 
     @classmethod
     def interpolate(cls, xe: np.ndarray, ref: Reference, xi: float) -> np.ndarray:

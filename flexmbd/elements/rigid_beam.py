@@ -13,17 +13,14 @@ import numpy as np
 from .base import (
     ROTATIONAL,
     TRANSLATIONAL,
-    ElementType,
+    AngledRod,
     Reference,
     chord,
     dot,
     elongation_entries,
     elongation_hessian,
     elongation_matrices,
-    elongation_rate2,
-    end_rates,
     normal_distance_hessian,
-    rod_geometry,
     rod_gravity_load,
     rod_inertia_force,
     rod_mass_matrix,
@@ -35,7 +32,7 @@ _ANGLE = slice(_PHI_P, _PHI_P + 1)
 _TRANS = np.array(_RP + _RQ)
 
 
-class RigidBeam(ElementType):
+class RigidBeam(AngledRod):
     """Beam with rotational node at p only; two deformations."""
 
     name = "rigid beam"
@@ -45,6 +42,8 @@ class RigidBeam(ElementType):
     deformation_names = ("elongation", "normal offset")
     ends = ((0, 1), (3, 4))
     mass_varies = False
+    angles = _ANGLE
+    normal_signs = np.array([1.0])  # e2 = +n_p . d
 
     @staticmethod
     def formula(c, length, angle, m):
@@ -59,29 +58,10 @@ class RigidBeam(ElementType):
         e_p, n_p = unit_and_normal(ref.angle + xe[..., _PHI_P])
         return d, length, e_l, e_p, n_p
 
-    @classmethod
-    def geometry(cls, xe, ref):
-        """The :class:`~flexmbd.elements.base.RodGeometry` with the angle of ``p``."""
-        return rod_geometry(xe, ref, 0, 3, _ANGLE)
-
     # features: e_l (0, 1), cos beta_p (2), sin beta_p (3), e_p . d (4);
     # d e2 = n_p . (d r_q - d r_p) - (e_p . d) d phi_p with n_p = (-sin, cos)
     jacobian_entries = (*elongation_entries(0, 3), (1, 0, 3, 1.0), (1, 1, 2, -1.0),
                         (1, 2, 4, -1.0), (1, 3, 3, -1.0), (1, 4, 2, 1.0))
-
-    @staticmethod
-    def _deformations_of(g, ref):
-        return np.concatenate([(g.length - ref.length)[..., None], g.normal], axis=-1)
-
-    @classmethod
-    def deformations(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
-        return cls._deformations_of(cls.geometry(xe, ref), ref)
-
-    @classmethod
-    def deformations_and_features(cls, xe, ref, geometry=None):
-        g = geometry or cls.geometry(xe, ref)
-        return (cls._deformations_of(g, ref),
-                np.concatenate([g.unit, g.cos, g.sin, g.along], axis=-1))
 
     @classmethod
     def hessian(cls, xe: np.ndarray, ref: Reference) -> np.ndarray:
@@ -91,16 +71,6 @@ class RigidBeam(ElementType):
         normal_distance_hessian(hess[..., 1, :, :], cls.ends, _PHI_P, dot(n_p, d), e_p,
                                 sign=1.0)
         return hess
-
-    @classmethod
-    def quadratic_velocity(cls, xe: np.ndarray, xde: np.ndarray, ref: Reference,
-                           geometry=None) -> np.ndarray:
-        g = geometry or cls.geometry(xe, ref)
-        dv = xde[..., 3:5] - xde[..., 0:2]
-        out = np.empty((*xe.shape[:-1], 2))
-        out[..., 0] = elongation_rate2(g, dv)
-        out[..., 1:] = -end_rates(g, dv, xde[..., _ANGLE])  # e2 = +n_p . d
-        return out
 
     @classmethod
     def mass_matrix(cls, xe, ref, mass, lumped):
