@@ -423,10 +423,7 @@ class EquationsOfMotion:
         their rows (on the dynamic rows ``w`` vanishes, as the reduced residual does)."""
         asm, nb = self.asm, len(state.t)
         F = self.transfer(state)
-        M = asm.mass_matrix([g.type.mass_features(xe, g.reference)
-                             for g, (xe, _, _) in zip(asm.groups, state.elements, strict=True)
-                             if g in asm.varying_mass_groups], nb)
-        MF = M @ F
+        MF = self._mass_matrix(state) @ F
         reduced = F.swapaxes(-1, -2) @ MF
         try:
             qdd = -np.linalg.solve(reduced, (force[:, None, :] @ F).swapaxes(-1, -2))[..., 0]
@@ -526,11 +523,7 @@ class EquationsOfMotion:
         if self.asm.sparse:
             return self._saddle_operator(state, c_q, c_v)
         asm = self.asm
-        # at x itself, not at the nearby point of D_x's geometry: the same matrix as
-        # the sparse form's
-        A = asm.mass_matrix([g.type.mass_features(xe, g.reference)
-                             for g, (xe, _, _) in zip(asm.groups, state.elements, strict=True)
-                             if g in asm.varying_mass_groups], len(state.t))
+        A = self._mass_matrix(state)
         if self.prestressed:
             A = A + asm.coordinate_matrix(
                 self._stiffness_blocks(state, c_q, c_v, elastic=False, mass=False),
@@ -541,6 +534,16 @@ class EquationsOfMotion:
         S = np.swapaxes(F, -1, -2) @ A @ F + np.swapaxes(G, -1, -2) @ law @ G
         inverse = np.linalg.inv(S[0])
         return lambda residual: -(inverse @ residual[0])
+
+    def _mass_matrix(self, state: State) -> np.ndarray:
+        """The dense mass matrix ``(nb, nx, nx)`` at the state's coordinates (small
+        models), from the mass features of the elements whose mass varies; at ``x``
+        itself, not at the nearby point of ``D_x``'s geometry, so that it is the matrix
+        of the element kernels (and of the sparse forms)."""
+        asm = self.asm
+        return asm.mass_matrix([g.type.mass_features(xe, g.reference)
+                                for g, (xe, _, _) in zip(asm.groups, state.elements, strict=True)
+                                if g in asm.varying_mass_groups], len(state.t))
 
     def _law(self, c_q: float, c_v: float) -> np.ndarray:
         """``c_q S + c_v C`` ``(ne, ne)`` of the whole model, kept while the step is."""
