@@ -39,8 +39,6 @@ from flexmbd.examples.slider_crank_kinematics import closed_form
 
 import flexmbd as fm
 from flexmbd import plot
-from flexmbd.dynamics import dynamic_terms
-from flexmbd.inertia import mass_matrix
 
 L1, L2 = 0.15, 0.30  #: crank and rod length [m]
 M2 = 0.06676  #: rod mass [kg]
@@ -168,8 +166,7 @@ def checks(gravity: bool = False, omega: float = OMEGA) -> list[Check]:
     mbar = {}
     for f, run in runs.items():
         model = run.model
-        mbar[f] = np.array([dynamic_terms(model, q, qd, x_guess=x).reduced_mass[0, 0]
-                            for q, qd, x in zip(run.q, run.qd, run.x, strict=True)])
+        mbar[f] = np.array([fm.reduced_mass_matrix(model, x)[0, 0] for x in run.x])
     phi = runs["consistent"]["x2.1"]
     J, _ = generalized_inertia(phi)
     tau_closed = lagrange_torque(phi, omega, 0.0, gravity)
@@ -200,15 +197,14 @@ def print_mass_matrices(phi: float = math.radians(60.0)) -> None:
     """Rod element mass matrices and ``Mbar`` at crank angle ``phi``, lumped and consistent."""
     for f in ("lumped", "consistent"):
         model = build_model(f)
-        q = np.array([phi])
-        terms = dynamic_terms(model, q, np.zeros(1))
+        x = fm.solve_position(model, np.array([phi]))
         rod = model.elements[2]
-        M = mass_matrix(model, terms.x)[np.ix_(rod.coordinates, rod.coordinates)]
+        M = fm.mass_matrix(model, x)[np.ix_(rod.coordinates, rod.coordinates)]
         names = [model.coordinate_labels[i] for i in rod.coordinates]
         print(f"\nrod mass matrix, {f} (coordinates of element 2):\n"
               + format_matrix(M, names, names))
         print(f"Mbar ({f}) at phi = {math.degrees(phi):.0f} deg: "
-              f"{terms.reduced_mass[0, 0]:.12g} kg m^2")
+              f"{fm.reduced_mass_matrix(model, x)[0, 0]:.12g} kg m^2")
 
 
 def main(argv: list[str] | None = None, prog: str | None = None) -> int:

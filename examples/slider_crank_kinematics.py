@@ -128,7 +128,7 @@ def print_partitions(model: fm.Model, x: np.ndarray) -> None:
     ):
         names = [model.coordinate_labels[i] for i in columns]
         print(f"D_x, {title} columns:\n{format_matrix(block, rows, names)}")
-    F_q = fm.first_order_transfer(model, x, jac)
+    F_q = fm.first_order_transfer(model, x)
     print("F_q = dx/dq:\n" + format_matrix(F_q, list(model.coordinate_labels),
                                            list(model.q_labels)))
     print("E_q = D_x F_q (rigid deformations do not move):\n"

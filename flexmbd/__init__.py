@@ -1,12 +1,15 @@
 """flexmbd: planar flexible multibody dynamics with the finite-element approach.
 
 A mechanism is a set of nodes and elements whose deformation parameters are
-functions of the nodal coordinates (THEORY.md). Build a :class:`Model` with
-:class:`ModelBuilder`, then analyse it with the functions below.
+functions of the nodal coordinates. Build a :class:`Model` with
+:class:`ModelBuilder` (or read a SPACAR file with :func:`read_dat`), then analyse
+it with the functions below; every analysis runs on the compiled core
+(:mod:`flexmbd.engine`).
 """
 
 from .builder import ModelBuilder
 from .dat import read_dat, write_dat
+from .dynamics import inverse_dynamics, mass_matrix, reduced_mass_matrix, simulate
 from .elements import Beam, Hinge, RigidBeam, Truss
 from .errors import (
     ConvergenceError,
@@ -16,8 +19,6 @@ from .errors import (
     SimulationError,
     SingularConfigurationError,
 )
-from .inverse import inverse_dynamics
-from .kinematic_run import kinematic_analysis
 from .kinematics import (
     accelerations,
     deformation_transfer,
@@ -26,6 +27,7 @@ from .kinematics import (
     hessian,
     initial_q,
     jacobian,
+    kinematic_analysis,
     partition_jacobian,
     position_analysis,
     quadratic_velocity,
@@ -36,9 +38,9 @@ from .kinematics import (
 from .model import CoordinateClass, DeformationClass, Model
 from .motion import Custom, Polynomial
 from .results import KinematicResult, SimulationResult
-from .simulation import simulate
+from .settings import RunSettings
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"
 
 __all__ = [
     "Beam",
@@ -55,6 +57,7 @@ __all__ = [
     "ModelError",
     "Polynomial",
     "RigidBeam",
+    "RunSettings",
     "SimulationError",
     "SimulationResult",
     "SingularConfigurationError",
@@ -69,10 +72,12 @@ __all__ = [
     "inverse_dynamics",
     "jacobian",
     "kinematic_analysis",
+    "mass_matrix",
     "partition_jacobian",
     "position_analysis",
     "quadratic_velocity",
     "read_dat",
+    "reduced_mass_matrix",
     "second_order_transfer",
     "simulate",
     "solve_position",

@@ -12,37 +12,29 @@ import math
 from collections import defaultdict
 from dataclasses import dataclass
 from types import MappingProxyType
+from typing import Literal
 
 import numpy as np
 
+from .diagnosis import diagnose_rank
 from .elements import ROTATIONAL, TRANSLATIONAL, Beam, ElementType, Hinge, RigidBeam, Truss
+from .engine import dense_jacobian
 from .errors import ModelError
-from .kinematics import constraint_jacobian, diagnose_rank
 from .model import (
     DIRECTION_NAMES,
     CoordinateClass,
     DeformationClass,
     Element,
-    ElementGroup,
+    ElementProperties,
     Model,
     Node,
     direction_number,
     frozen_array,
 )
 from .motion import Law
-from .properties import ElementProperties, MassFormulation
-from .settings import AnalysisSettings
 
 _ZERO_LENGTH = 1e-12  # relative to the model size
-
-_ROD = {"mass_per_length", "mass_formulation", "axial_stiffness", "axial_damping"}
-#: the properties that make sense for each element type
-_APPLICABLE = {
-    "truss": _ROD,
-    "rigid beam": _ROD,
-    "beam": _ROD | {"bending_stiffness", "shear_stiffness", "bending_damping"},
-    "hinge": {"hinge_stiffness", "hinge_damping"},
-}
+MASS_FORMULATIONS = ("consistent", "lumped")
 
 
 def _finite_number(value) -> bool:
@@ -90,14 +82,12 @@ class ModelBuilder:
         self._elements: list[tuple[int, type[ElementType], tuple[int, ...]]] = []
         self._coordinate_requests: list[_Request] = []
         self._deformation_requests: list[_Request] = []
-        self._properties: dict[int, dict[str, object]] = {}
-        self._property_commands: dict[int, set[tuple[str, str]]] = {}
+        self._masses: dict[int, tuple[float, bool]] = {}
+        self._values: dict[tuple[int, str], dict[str, float]] = {}  # (element, what) -> values
         self._prestress: dict[int, dict[int, float]] = {}
         self._nodal_masses: dict[int, float] = {}
         self._nodal_forces: dict[int, tuple[float, ...]] = {}
         self._gravity: tuple[float, float] = (0.0, 0.0)
-        self._settings: dict[str, object] = {}
-        self._initial: dict[str, tuple[float, float]] = {}
         self._problems: list[str] = []
 
     # --- nodes and elements -----------------------------------------------------
@@ -118,10 +108,10 @@ class ModelBuilder:
     def add_element(self, number: int, element_type: type[ElementType], nodes) -> ModelBuilder:
         """Element ``number`` of ``element_type`` on ``nodes`` (in the type's node order)."""
         nodes = tuple(nodes)
-        if len(nodes) != len(element_type.node_kinds):
-            roles = ", ".join(element_type.node_roles)
+        if len(nodes) != len(element_type.roles):
+            roles = ", ".join(r.name for r in element_type.roles)
             self._problems.append(
-                f"{element_type.name} {number} needs {len(element_type.node_kinds)} nodes "
+                f"{element_type.name} {number} needs {len(element_type.roles)} nodes "
                 f"({roles}), got {len(nodes)}"
             )
             return self
@@ -197,46 +187,45 @@ class ModelBuilder:
         return self._deformations(DeformationClass.RELEASED, element, ks, command="release")
 
     # --- properties (SPACAR block 2) ------------------------------------------------
-    def _set_properties(self, element: int, command: str, **values) -> ModelBuilder:
+    def set_mass(self, element: int, mass_per_length: float,
+                 formulation: Literal["consistent", "lumped"] = "consistent") -> ModelBuilder:
+        """Distributed mass ``rhoA`` [kg/m] of an element that has mass: truss, beam, rigid
+        beam (EM). ``formulation`` is ``"consistent"`` (default) or ``"lumped"`` (THEORY 5).
+        """
+        if formulation not in MASS_FORMULATIONS:
+            self._problems.append(f"set_mass element {element}: formulation {formulation!r} "
+                                  f"is not 'consistent' or 'lumped'")
+        elif not _finite_number(mass_per_length):
+            self._problems.append(f"set_mass element {element}: mass_per_length = "
+                                  f"{mass_per_length!r} is not a finite number")
+        else:
+            self._masses[element] = (float(mass_per_length), formulation == "lumped")
+        return self
+
+    def _set_values(self, element: int, what: str, values: dict) -> ModelBuilder:
         for name, value in values.items():
             if value is None:
                 continue
-            if name != "mass_formulation" and not _finite_number(value):
-                self._problems.append(f"{command} element {element}: {name} = {value!r} is "
+            if not _finite_number(value):
+                self._problems.append(f"set_{what} element {element}: {name} = {value!r} is "
                                       f"not a finite number")
                 continue
-            self._properties.setdefault(element, {})[name] = value
-            self._property_commands.setdefault(element, set()).add((command, name))
+            self._values.setdefault((element, what), {})[name] = float(value)
         return self
 
-    def set_mass(self, element: int, mass_per_length: float,
-                 formulation: MassFormulation = "consistent") -> ModelBuilder:
-        """Distributed mass ``rhoA`` [kg/m] of a truss, beam or rigid beam (EM).
+    def set_stiffness(self, element: int, **values: float) -> ModelBuilder:
+        """Stiffness values (ESTIFF) by the names the element type takes
+        (:attr:`~flexmbd.elements.base.ElementType.stiffness_values`): a truss or rigid
+        beam ``axial = EA`` [N]; a beam also ``bending = EI`` [N m^2] and ``shear = G
+        A_s`` [N] (Timoshenko correction); a hinge ``hinge`` [N m/rad]; a spring-damper
+        ``spring`` [N/m]."""
+        return self._set_values(element, "stiffness", values)
 
-        ``formulation`` is ``"consistent"`` (default) or ``"lumped"`` (THEORY 5).
-        """
-        if formulation not in ("consistent", "lumped"):
-            self._problems.append(f"set_mass element {element}: formulation {formulation!r} "
-                                  f"is not 'consistent' or 'lumped'")
-        return self._set_properties(element, "set_mass", mass_per_length=mass_per_length,
-                                    mass_formulation=formulation)
-
-    def set_stiffness(self, element: int, *, axial: float | None = None,
-                      bending: float | None = None, shear: float | None = None,
-                      hinge: float | None = None) -> ModelBuilder:
-        """Stiffness (ESTIFF): ``axial = EA`` [N], ``bending = EI`` [N m^2], ``shear = G A_s``
-        [N] (Timoshenko correction of the bending stiffness), ``hinge`` [N m/rad]."""
-        return self._set_properties(element, "set_stiffness", axial_stiffness=axial,
-                                    bending_stiffness=bending, shear_stiffness=shear,
-                                    hinge_stiffness=hinge)
-
-    def set_damping(self, element: int, *, axial: float | None = None,
-                    bending: float | None = None, hinge: float | None = None) -> ModelBuilder:
+    def set_damping(self, element: int, **values: float) -> ModelBuilder:
         """Viscous damping (EDAMP), the twins of the stiffnesses: ``axial`` [N s] acts as
         ``axial / l0 * e1dot``, ``bending`` [N m^2 s] with the bending matrix of ``EI``,
-        ``hinge`` [N m s/rad]."""
-        return self._set_properties(element, "set_damping", axial_damping=axial,
-                                    bending_damping=bending, hinge_damping=hinge)
+        ``hinge`` [N m s/rad], ``spring`` [N s/m]."""
+        return self._set_values(element, "damping", values)
 
     def set_prestress(self, element: int, k: int, sigma0: float) -> ModelBuilder:
         """Pre-stress ``sigma0`` [N or N m] of deformation ``k`` (1-based) of ``element`` (ESIG)."""
@@ -276,50 +265,6 @@ class ModelBuilder:
         self._gravity = (float(gx), float(gy))
         return self
 
-    # --- analysis settings (SPACAR TIMESTEP, STARTDE, ERROR, ITERSTEP) -----------------
-    def set_time_grid(self, t_end: float, steps: int) -> ModelBuilder:
-        """Default output grid: ``steps + 1`` times from 0 to ``t_end`` [s] (TIMESTEP)."""
-        if not (_finite_number(t_end) and float(t_end) > 0):
-            self._problems.append(f"set_time_grid: end time {t_end!r} is not a positive number")
-        elif not isinstance(steps, (int, np.integer)) or isinstance(steps, bool) or steps < 1:
-            self._problems.append(f"set_time_grid: step count {steps!r} is not a positive "
-                                  f"integer")
-        else:
-            self._settings.update(t_end=float(t_end), steps=int(steps))
-        return self
-
-    def set_initial(self, label: str, value: float, rate: float = 0.0) -> ModelBuilder:
-        """Initial value and rate of a dynamic degree of freedom (``"e2.2"``, ``"x2.1"``)
-        [m or rad, per s] (STARTDE); :func:`flexmbd.simulate` starts from it."""
-        if not (_finite_number(value) and _finite_number(rate)):
-            self._problems.append(f"set_initial {label}: ({value!r}, {rate!r}) is not two "
-                                  f"finite numbers")
-            return self
-        self._initial[str(label)] = (float(value), float(rate))
-        return self
-
-    def set_tolerances(self, *, atol: float | None = None, rtol: float | None = None,
-                       max_iterations: int | None = None, tolerance: float | None = None
-                       ) -> ModelBuilder:
-        """Default tolerances of runs: integrator ``atol``, ``rtol`` (ERROR); position
-        solve ``max_iterations`` and ``tolerance`` [m, rad] (ITERSTEP)."""
-        for name, value in (("atol", atol), ("rtol", rtol), ("tolerance", tolerance)):
-            if value is None:
-                continue
-            if not (_finite_number(value) and float(value) > 0):
-                self._problems.append(f"set_tolerances: {name} = {value!r} is not a positive "
-                                      f"number")
-            else:
-                self._settings[name] = float(value)
-        if max_iterations is not None:
-            if (not isinstance(max_iterations, (int, np.integer))
-                    or isinstance(max_iterations, bool) or max_iterations < 1):
-                self._problems.append(f"set_tolerances: max_iterations = {max_iterations!r} "
-                                      f"is not a positive integer")
-            else:
-                self._settings["max_iterations"] = int(max_iterations)
-        return self
-
     # --- building -------------------------------------------------------------------
     def build(self) -> Model:
         """Check the description and return the immutable :class:`Model`.
@@ -329,11 +274,13 @@ class ModelBuilder:
                 elements, conflicting classes, a degree-of-freedom count that
                 does not close, a singular ``D_c`` in the initial configuration).
         """
+        # structural problems stop the assembly; every other one is collected with them
+        structural: list[str] = []
+        kinds = self._node_kinds(structural)
+        structural += self._element_problems()
+        if structural:
+            raise ModelError(self._problems + structural)
         problems = list(self._problems)
-        kinds = self._node_kinds(problems)
-        problems += self._element_problems()
-        if problems:
-            raise ModelError(problems)
         model = self._assemble(kinds, problems)
         if problems:
             raise ModelError(problems)
@@ -346,7 +293,7 @@ class ModelBuilder:
         """Kind of every node from its use by elements; reports conflicts."""
         users: dict[int, dict[str, list[str]]] = defaultdict(lambda: defaultdict(list))
         for number, etype, nodes in self._elements:
-            for node, kind in zip(nodes, etype.node_kinds, strict=True):
+            for node, kind in zip(nodes, etype.node_kinds(), strict=True):
                 users[node][kind].append(f"{etype.name} {number}")
         kinds: dict[int, str] = {}
         for node, by_kind in users.items():
@@ -403,33 +350,26 @@ class ModelBuilder:
             labels += [f"x{number}.{k}" for k in range(1, len(values) + 1)]
             nodes[number] = Node(number, kind, position,
                                  tuple(range(first, first + len(values))))
+        x0_array = np.array(x0, dtype=float)
 
         elements: dict[int, Element] = {}
         deformation_labels: list[str] = []
+        default_class: list[DeformationClass] = []
         for number, etype, element_nodes in sorted(self._elements, key=lambda e: e[0]):
             coords = tuple(i for n in element_nodes for i in nodes[n].coordinates)
             first = len(deformation_labels)
             nd = etype.n_deformations()
             deformation_labels += [f"e{number}.{k}" for k in range(1, nd + 1)]
+            default_class += [DeformationClass.RELEASED if etype.released_by_default
+                              else DeformationClass.RIGID] * nd
+            reference = tuple(float(v) for v in
+                              etype.reference_parameters(x0_array[list(coords)])[0])
             elements[number] = Element(number, etype, element_nodes, coords,
-                                       tuple(range(first, first + nd)))
-
-        x0_array = np.array(x0, dtype=float)
-        groups = _group_elements(elements, x0_array)
-        scale = max((float(g.reference.length.max()) for g in groups if g.type.ends), default=1.0)
-        for g in groups:
-            if g.type.ends is None:
-                continue
-            for number, length in zip(g.numbers, g.reference.length, strict=True):
-                if length <= _ZERO_LENGTH * max(scale, 1.0):
-                    ends = elements[int(number)].nodes
-                    problems.append(
-                        f"{g.type.name} {number} has zero length: its nodes "
-                        f"{ends[0]} and {ends[g.type.node_roles.index('q')]} coincide"
-                    )
+                                       tuple(range(first, first + nd)), reference)
+        self._check_lengths(elements, problems)
 
         coordinate_class = np.full(len(x0), CoordinateClass.DEPENDENT, dtype=int)
-        deformation_class = np.full(len(deformation_labels), DeformationClass.RIGID, dtype=int)
+        deformation_class = np.array(default_class, dtype=int)
         laws: dict[str, Law] = {}
         self._classify_coordinates(nodes, labels, coordinate_class, laws, problems)
         self._classify_deformations(elements, deformation_labels, deformation_class, laws,
@@ -440,7 +380,6 @@ class ModelBuilder:
             name=self.name,
             nodes=MappingProxyType(nodes),
             elements=MappingProxyType(elements),
-            groups=groups,
             x0=frozen_array(x0_array),
             coordinate_class=frozen_array(coordinate_class),
             deformation_class=frozen_array(deformation_class),
@@ -451,44 +390,57 @@ class ModelBuilder:
             nodal_masses=MappingProxyType(dict(self._nodal_masses)),
             nodal_forces=MappingProxyType(dict(self._nodal_forces)),
             gravity=self._gravity,
-            settings=self._analysis_settings(labels, deformation_labels, coordinate_class,
-                                             deformation_class, problems),
         )
 
-    def _analysis_settings(self, labels, deformation_labels, coordinate_class,
-                           deformation_class, problems) -> AnalysisSettings:
-        """The settings, with initial values checked to name dynamic degrees of freedom."""
-        dynamic = {label for label, c in zip(labels, coordinate_class, strict=True)
-                   if c == CoordinateClass.DYNAMIC}
-        dynamic |= {label for label, c in zip(deformation_labels, deformation_class, strict=True)
-                    if c == DeformationClass.DYNAMIC}
-        initial = {}
-        for label, pair in self._initial.items():
-            canonical = _canonical_label(label)
-            if canonical not in dynamic:
-                problems.append(f"set_initial {label}: not a dynamic degree of freedom of the "
-                                f"model (those are: {', '.join(sorted(dynamic)) or 'none'})")
-            else:
-                initial[canonical] = pair
-        return AnalysisSettings(initial=MappingProxyType(initial), **self._settings)
+    @staticmethod
+    def _check_lengths(elements: dict[int, Element], problems: list[str]) -> None:
+        """Elements between translational nodes need a length: coinciding nodes make
+        their chord direction undefined."""
+        lengths = [e.reference[0] for e in elements.values() if e.type.ends() and e.reference]
+        scale = max(max(lengths, default=1.0), 1.0)
+        for number, element in elements.items():
+            ends = element.type.ends()
+            if ends and element.reference and element.reference[0] <= _ZERO_LENGTH * scale:
+                translational = [n for n, r in zip(element.nodes, element.type.roles,
+                                                   strict=True) if r.kind == TRANSLATIONAL]
+                problems.append(f"{element.type.name} {number} has zero length: its nodes "
+                                f"{translational[0]} and {translational[1]} coincide")
 
     def _element_properties(self, elements, problems) -> dict[int, ElementProperties]:
-        """Properties by element, with every one checked against the element's type."""
+        """Properties by element, each checked against what the element's type takes."""
         out = {}
-        for number in sorted(set(self._properties) | set(self._prestress)):
+        numbers = {*self._masses, *self._prestress, *(n for n, _ in self._values)}
+        for number in sorted(numbers):
             if number not in elements:
                 problems.append(f"properties given for element {number}, which is not in "
                                 f"the model")
                 continue
             etype = elements[number].type
-            values = dict(self._properties.get(number, {}))
-            for command, name in sorted(self._property_commands.get(number, ())):
-                if name not in _APPLICABLE[etype.name]:
-                    problems.append(f"{command} element {number}: a {etype.name} has no "
-                                    f"{name.replace('_', ' ')}")
-                elif name != "mass_formulation" and float(values[name]) < 0:
-                    problems.append(f"{command} element {number}: {name.replace('_', ' ')} "
-                                    f"{values[name]} is negative")
+            fields: dict[str, object] = {}
+            if number in self._masses:
+                rho_a, lumped = self._masses[number]
+                if not etype.has_mass:
+                    problems.append(f"set_mass element {number}: a {etype.name} has no mass; "
+                                    f"put point masses or rotary inertias on its nodes")
+                elif rho_a < 0:
+                    problems.append(f"set_mass element {number}: mass per length {rho_a} is "
+                                    f"negative")
+                fields.update(mass_per_length=rho_a, lumped=lumped)
+            for what, declared in (("stiffness", etype.stiffness_values),
+                                   ("damping", etype.damping_values)):
+                values = self._values.get((number, what), {})
+                names = {v.name: v for v in declared}
+                for name, value in values.items():
+                    if name not in names:
+                        takes = ", ".join(f"{v.name} ({v.symbol} [{v.unit}])"
+                                          for v in declared) or "none"
+                        problems.append(f"set_{what} element {number}: a {etype.name} has no "
+                                        f"{name} {what}; it takes {takes}")
+                    elif value < 0:
+                        problems.append(f"set_{what} element {number}: {name} {value} is "
+                                        f"negative")
+                if values:
+                    fields[what] = MappingProxyType(dict(values))
             nd = etype.n_deformations()
             prestress = [0.0] * nd
             for k, sigma0 in self._prestress.get(number, {}).items():
@@ -498,8 +450,8 @@ class ModelBuilder:
                     problems.append(f"set_prestress element {number}: deformation {k!r} does "
                                     f"not exist; a {etype.name} has deformations 1 to {nd}")
             if number in self._prestress:
-                values["prestress"] = tuple(prestress)
-            out[number] = ElementProperties(**values)
+                fields["prestress"] = tuple(prestress)
+            out[number] = ElementProperties(**fields)
         return out
 
     def _check_nodal_loads(self, nodes, problems) -> None:
@@ -587,32 +539,6 @@ def _assign(i, label, req, classes, assigned, problems):
     classes[i] = req.what
 
 
-def _canonical_label(label: str) -> str:
-    """``"E2.2 "`` -> ``"e2.2"``; a label without ``.k`` means entry 1."""
-    text = label.strip().lower()
-    return text if "." in text else f"{text}.1"
-
-
-def _group_elements(elements: dict[int, Element], x0: np.ndarray) -> tuple[ElementGroup, ...]:
-    by_type: dict[type[ElementType], list[Element]] = defaultdict(list)
-    for element in elements.values():
-        by_type[element.type].append(element)
-    groups = []
-    for etype, members in by_type.items():
-        coords = np.array([m.coordinates for m in members], dtype=np.intp)
-        defs = np.array([m.deformations for m in members], dtype=np.intp)
-        groups.append(
-            ElementGroup(
-                type=etype,
-                numbers=frozen_array([m.number for m in members]),
-                coordinates=frozen_array(coords),
-                deformations=frozen_array(defs),
-                reference=etype.reference(x0[coords]),
-            )
-        )
-    return tuple(groups)
-
-
 def check_solvability(model: Model) -> list[str]:
     """Problems with the square, nonsingular ``D_c`` required by THEORY section 3.
 
@@ -626,7 +552,8 @@ def check_solvability(model: Model) -> list[str]:
     if rows == cols == 0:
         return []
     if rows and cols:
-        diagnosis = diagnose_rank(model, constraint_jacobian(model, np.asarray(model.x0)))
+        D_x = dense_jacobian(model, np.asarray(model.x0))
+        diagnosis = diagnose_rank(model, D_x[np.ix_(model.constrained, model.dependent)])
     elif rows:
         names = ", ".join(model.describe_deformation(i) for i in model.constrained)
         diagnosis = f"the equations of {names} have no dependent coordinate to solve for"

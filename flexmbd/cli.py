@@ -22,7 +22,8 @@ def _parser() -> argparse.ArgumentParser:
         prog="flexmbd",
         description="Planar flexible multibody dynamics with the finite-element approach.",
     )
-    parser.add_argument("--version", action="version", version=f"flexmbd {__version__}")
+    parser.add_argument("--version", action="version",
+                        version=f"flexmbd {__version__} (core: {_core_build()})")
     commands = parser.add_subparsers(dest="command", metavar="COMMAND")
     example = commands.add_parser(
         "example", help="run one of the course exercises (flexmbd example --list)",
@@ -41,6 +42,13 @@ def _parser() -> argparse.ArgumentParser:
 
     add_arguments(run)
     return parser
+
+
+def _core_build() -> str:
+    """What the compiled core was built with, or why it cannot be loaded."""
+    from .engine import CORE_BUILD
+
+    return CORE_BUILD
 
 
 def _one_line(error: BaseException) -> str:

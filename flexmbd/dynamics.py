@@ -1,188 +1,248 @@
-"""Reduced equations of motion, inverse dynamics and reactions (THEORY sections 7, 8).
+"""Dynamics (THEORY sections 5-8): forward simulation, inverse dynamics, the mass matrix.
 
 With ``xdot = F_q qdot`` and ``edot = E_q qdot`` the virtual power of inertia,
 applied and elastic forces reduces to
 
     Mbar qddot = F_q^T (f - h - M (F_qq qdot) qdot) - E_q^T sigma,   Mbar = F_q^T M F_q.
 
-``q`` splits into dynamic entries ``d`` and prescribed (rheonomic) entries ``r``
-(``model.q_is_input``); ``Mbar_dd qddot_d = g_d - Mbar_dr qddot_r`` is the ODE of
-a forward simulation, ``tau_r = Mbar_rd qddot_d + Mbar_rr qddot_r - g_r`` the
-driving force of the prescribed entries.
+``q`` splits into dynamic entries and prescribed (rheonomic) ones. The compiled
+core solves these equations without forming ``F_q`` or ``Mbar``: the accelerations
+from the saddle-point system over the free coordinates and the multipliers of the
+rigid and input deformations, the constraint stresses and reactions from the nodal
+equilibrium of the dependent coordinates (THEORY 8), and an implicit integrator's
+Newton matrix ``Mbar + c_q K + c_v C`` as the same saddle-point system with the
+element stiffness and damping added to the mass.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from collections.abc import Mapping
+from typing import Literal
 
 import numpy as np
 
-from .errors import ModelError, SingularConfigurationError
-from .inertia import applied_forces, elastic_stresses, inertia_velocity, mass_matrix
-from .kinematics import (
-    PartitionedJacobian,
-    accelerations,
-    deformations,
-    first_order_transfer,
-    position_analysis,
-    velocities,
-)
+from .engine import Engine, Forces, initial_q, q_index, resolve_laws
+from .errors import ModelError
+from .integrate import AlphaOptions, check_method, integrate
 from .model import Model
+from .motion import Law
+from .progress import progress_bar
+from .results import SimulationResult, check_on_failure, check_times, conclude
 
-#: applied loads as a function of time and state: ``forces(t, x, xdot)`` returning an
-#: array ``(nx,)`` or a mapping from coordinate labels (``"x2.1"``) to values [N, N m]
-Forces = Callable[[float, np.ndarray, np.ndarray], "np.ndarray | Mapping[str, float]"]
+#: generalized-alpha's position solves take D_x within this share of the model size: its
+#: residual need not be exact below its truncation error, and this saves chord steps
+GA_JACOBIAN_POINT = 1e-6
+
+__all__ = ["Forces", "initial_state", "inverse_dynamics", "mass_matrix",
+           "reduced_mass_matrix", "simulate"]
 
 
-@dataclass(frozen=True, eq=False)
-class DynamicTerms:
-    """The terms of the reduced equations at one time and state.
+def mass_matrix(model: Model, x: np.ndarray) -> np.ndarray:
+    """The system mass matrix ``M(x)`` ``(nx, nx)`` [kg, kg m, kg m^2] (THEORY 5): the
+    inertia force is ``M xddot + h``."""
+    return Engine(model).mass(x)[0]
 
-    Attributes:
-        time: [s].
-        x, xd: coordinates and velocities ``(nx,)``.
-        jacobian: the partitioned Jacobian at ``x``.
-        F_q, E_q: first-order transfer functions ``(nx, nq)``, ``(ne, nq)``.
-        convective: ``(F_qq qdot) qdot`` ``(nx,)``, the acceleration at ``qddot = 0``.
-        M, h, f: system mass matrix, velocity term and applied forces.
-        e, ed: deformations and their rates ``(ne,)``.
-        sigma: stresses of the dynamic and released deformations ``(ne,)``.
-        reduced_mass: ``Mbar = F_q^T M F_q`` ``(nq, nq)``.
-        generalized_force: ``g = F_q^T (f - h - M convective) - E_q^T sigma`` ``(nq,)``.
+
+def reduced_mass_matrix(model: Model, x: np.ndarray) -> np.ndarray:
+    """``Mbar = F_q^T M F_q`` ``(nq, nq)`` at the configuration ``x`` (THEORY 7): the mass
+    matrix of the generalized coordinates ``q = [x(m); e(m)]``."""
+    from .kinematics import first_order_transfer
+
+    F_q = first_order_transfer(model, x)
+    return F_q.T @ mass_matrix(model, x) @ F_q
+
+
+def initial_state(model: Model, initial: Mapping[str, tuple[float, float]] | None
+                  ) -> tuple[np.ndarray, np.ndarray]:
+    """``q_d(0), qdot_d(0)`` of the dynamic entries: the initial configuration at rest
+    unless ``initial`` says otherwise (``{"e2.2": (value, rate)}`` [m or rad, per s])."""
+    d = ~model.q_is_input
+    q0, qd0 = initial_q(model), np.zeros(model.n_dof)
+    for label, pair in (initial or {}).items():
+        j = q_index(model, label)
+        if not d[j]:
+            raise ModelError(f"initial value given for {label}, which is prescribed, not "
+                             f"dynamic; its law sets its value")
+        try:
+            q0[j], qd0[j] = (float(v) for v in pair)
+        except (TypeError, ValueError):
+            raise ModelError(f"initial value of {label} must be (value, rate), got "
+                             f"{pair!r}") from None
+        if not (np.isfinite(q0[j]) and np.isfinite(qd0[j])):
+            raise ModelError(f"initial value of {label} is not finite: {pair!r}")
+    return q0[d], qd0[d]
+
+
+def simulate(
+    model: Model,
+    times,
+    *,
+    inputs: Mapping[str, Law] | None = None,
+    forces: Forces | None = None,
+    initial: Mapping[str, tuple[float, float]] | None = None,
+    method: str = "RK45",
+    rtol: float = 1e-6,
+    atol: float = 1e-9,
+    max_step: float = np.inf,
+    step: float | None = None,
+    iterations: int | None = None,
+    renew_every: int = 1,
+    rho_inf: float = 0.8,
+    tolerance: float | None = None,
+    with_reactions: bool = False,
+    progress: bool | None = None,
+    on_failure: Literal["raise", "return"] = "raise",
+) -> SimulationResult:
+    """Forward simulation of the dynamic degrees of freedom.
+
+    Args:
+        model: a model with dynamic degrees of freedom and mass.
+        times: output times [s], increasing; the run starts at ``times[0]``.
+        inputs: laws of prescribed entries by label, overriding the model's.
+        forces: applied loads ``forces(t, x, xdot)`` -> array ``(nx,)`` or
+            ``{"x2.1": torque}`` [N, N m], on top of the model's constant loads.
+        initial: ``{label: (value, rate)}`` for dynamic entries of ``q``; the others
+            start at rest in the initial configuration.
+        method: ``"RK45"`` (default, as ode45), ``"Radau"``, ``"BDF"``, ``"LSODA"``,
+            ``"DOP853"``, ``"RK23"`` (scipy's, error-controlled) or ``"GeneralizedAlpha"``
+            (fixed ``step``, numerically damped: the choice for models with stiff,
+            barely excited modes such as a rod of many beams or a flexible elongation;
+            it runs entirely in the compiled core).
+        rtol, atol: integrator tolerances on ``[q_d, qdot_d]`` (for GeneralizedAlpha:
+            of its Newton iteration).
+        max_step: largest integrator step [s].
+        step: step size [s] of GeneralizedAlpha (default: the output interval).
+        iterations: GeneralizedAlpha's Newton corrections per step: ``None`` (default)
+            iterates to ``rtol``/``atol``; ``1`` is the linearly implicit method, one
+            evaluation and one Newton correction per step, as accurate for the slow
+            motion at a fraction of the cost.
+        renew_every: with ``iterations`` set, steps between renewals of
+            GeneralizedAlpha's Newton matrix (default 1: every step).
+        rho_inf: GeneralizedAlpha's spectral radius at infinite frequency, 0 (strongest
+            damping of unresolved modes) to 1 (none); default 0.8.
+        tolerance: Newton tolerance of the position solve [m, rad].
+        with_reactions: keep the loads of supports and drives (``f<node>.<k>`` columns).
+        progress: progress bar (default: long interactive runs only).
+        on_failure: ``"raise"`` the :class:`SimulationError` (with the output so far
+            as ``error.partial_result``) or ``"return"`` it with ``success=False``.
+
+    Returns:
+        :class:`~flexmbd.results.SimulationResult` with ``stats`` of the integrator.
     """
-
-    time: float | None
-    x: np.ndarray
-    xd: np.ndarray
-    jacobian: PartitionedJacobian
-    F_q: np.ndarray
-    E_q: np.ndarray
-    convective: np.ndarray
-    M: np.ndarray
-    h: np.ndarray
-    f: np.ndarray
-    e: np.ndarray
-    ed: np.ndarray
-    sigma: np.ndarray
-    reduced_mass: np.ndarray
-    generalized_force: np.ndarray
-
-
-def load_vector(model: Model, loads, t, x, xd) -> np.ndarray:
-    """User loads (array or label mapping, see :data:`Forces`) as an array ``(nx,)``."""
-    value = loads(t, x, xd)
-    if isinstance(value, Mapping):
-        f = np.zeros(model.n_coordinates)
-        for label, v in value.items():
-            try:
-                f[model.coordinate_index(label)] += v
-            except KeyError as err:
-                raise ModelError(f"forces: {err.args[0]}") from None
-        return f
-    f = np.asarray(value, dtype=float)
-    if f.shape != (model.n_coordinates,):
-        raise ModelError(f"forces must return an array of shape ({model.n_coordinates},) or a "
-                         f"mapping of coordinate labels, got shape {f.shape}")
-    return f
-
-
-def dynamic_terms(model: Model, q: np.ndarray, qd: np.ndarray, time: float | None = None, *,
-                  x_guess: np.ndarray | None = None, forces: Forces | None = None,
-                  tolerance: float | None = None) -> DynamicTerms:
-    """Solve the kinematics at ``(q, qdot)`` and evaluate the reduced equations (THEORY 7)."""
-    solution = position_analysis(model, q, x_guess, time=time, tolerance=tolerance)
-    x, jac = solution.x, solution.jacobian
-    xd = velocities(model, x, qd, jac)
-    F_q = first_order_transfer(model, x, jac)
-    E_q = jac.full @ F_q
-    convective = accelerations(model, x, xd, np.zeros(model.n_dof), jac)
-    M = mass_matrix(model, x)
-    h = inertia_velocity(model, x, xd)
-    f = applied_forces(model, x)
-    if forces is not None:
-        f = f + load_vector(model, forces, time, x, xd)
-    e = deformations(model, x)
-    ed = jac.full @ xd
-    sigma = elastic_stresses(model, e, ed)
-    reduced_mass = F_q.T @ M @ F_q
-    generalized_force = F_q.T @ (f - h - M @ convective) - E_q.T @ sigma
-    return DynamicTerms(time, x, xd, jac, F_q, E_q, convective, M, h, f, e, ed, sigma,
-                        reduced_mass, generalized_force)
+    times = check_times(times)
+    check_on_failure(on_failure)
+    if not np.any(~model.q_is_input):
+        raise ModelError("the model has no dynamic degree of freedom to simulate; use "
+                         "kinematic_analysis or inverse_dynamics for prescribed motion")
+    if not model.has_mass:
+        raise ModelError("the model has no mass: give elements set_mass() or nodes "
+                         "add_point_mass() before simulating")
+    check_method(method)
+    alpha = None
+    if method == "GeneralizedAlpha":
+        interval = float(np.diff(times).min()) if len(times) > 1 else float(max_step)
+        alpha = AlphaOptions(min(interval if step is None else step, max_step), rho_inf, rtol,
+                             atol, iterations, renew_every)
+    elif step is not None or iterations is not None or renew_every != 1 or rho_inf != 0.8:
+        raise ValueError(f"step, iterations, renew_every and rho_inf belong to "
+                         f"GeneralizedAlpha; {method} chooses its own steps (bound them with "
+                         f"max_step)")
+    laws = resolve_laws(model, inputs)
+    q0, qd0 = initial_state(model, initial)
+    engine = Engine(model, tolerance)
+    work = round((times[-1] - times[0]) / alpha.step) if alpha else len(times)
+    with progress_bar(times, f"simulating ({method})", progress, work) as advance:
+        arrays = engine.prepare(laws, len(times), integrated=True, dynamics=True,
+                                forces=forces, progress=advance)
+        if alpha is not None:
+            status = engine.core.alpha_run(
+                times, q0, qd0, near=GA_JACOBIAN_POINT * model.characteristic_length,
+                **alpha.core_arguments())
+            done, error = status["reached"], engine.error(status)
+            stats = {name: int(status[name]) for name in ("nfev", "njev", "nlu", "nsteps")}
+        else:
+            done, error, stats = _scipy_run(engine, times, q0, qd0, method, rtol, atol,
+                                            max_step)
+    if not with_reactions:
+        arrays.pop("reactions")
+    result = SimulationResult(model, times[:done], **{k: v[:done] for k, v in arrays.items()})
+    result.stats = {**stats, "method": method}
+    return conclude(result, error, on_failure,
+                    f"completed {len(times)} points to t = {times[-1]:.6g} s "
+                    f"({stats['nsteps']} steps, {stats['nfev']} evaluations)")
 
 
-def generalized_accelerations(model: Model, terms: DynamicTerms, qdd_prescribed: np.ndarray
-                              ) -> np.ndarray:
-    """``qddot`` ``(nq,)``: dynamic entries from ``Mbar_dd qdd_d = g_d - Mbar_dr qdd_r``.
+def _scipy_run(engine: Engine, times, q0, qd0, method, rtol, atol, max_step):
+    """A scipy integrator over the core's accelerations; each output evaluated as soon as
+    it is reached, from the solution of the evaluation before it."""
+    core, n = engine.core, len(q0)
+    core.reset()
+    accelerations = np.empty(n)
 
-    Raises:
-        SingularConfigurationError: ``Mbar_dd`` is singular (a massless degree of freedom).
+    def fun(t, y):
+        engine.call(core.accelerations, t, np.ascontiguousarray(y), accelerations)
+        return np.concatenate([y[n:], accelerations])
+
+    def output(k, t, y):
+        engine.call(core.output, k, float(t), np.ascontiguousarray(y))
+
+    run = integrate(fun, np.concatenate([q0, qd0]), times, method=method, rtol=rtol,
+                    atol=atol, max_step=max_step, progress=False, on_output=output)
+    error = run.error
+    if error is None and not run.success:
+        from .errors import SimulationError
+
+        error = SimulationError(run.message, float(run.t[-1]) if len(run.t) else None)
+    return len(run.t), error, run.stats
+
+
+def inverse_dynamics(
+    model: Model,
+    times,
+    inputs: Mapping[str, Law] | None = None,
+    *,
+    forces: Forces | None = None,
+    tolerance: float | None = None,
+    with_reactions: bool = True,
+    on_failure: Literal["raise", "return"] = "raise",
+    progress: bool | None = None,
+) -> SimulationResult:
+    """Driving forces, constraint stresses and support reactions along a prescribed motion.
+
+    Every entry of ``q`` follows a law: the model's input laws, overridden by
+    ``inputs``; dynamic entries without a law are held at their initial value
+    (their ``driving`` column is then the load that holds them).
+
+    Args:
+        model: a model with mass (elements or point masses).
+        times: increasing output times [s], shape ``(nt,)``.
+        inputs: laws by label (``{"x2.1": Polynomial(0, 150)}``).
+        forces: applied loads ``forces(t, x, xdot)`` [N, N m] as in :func:`simulate`.
+        tolerance: Newton tolerance of the position solve [m, rad].
+        with_reactions: keep the loads of supports and drives (THEORY 8); default on.
+        on_failure: ``"raise"`` (with ``error.partial_result``) or ``"return"``.
+        progress: progress bar (default: long interactive runs only).
+
+    Returns:
+        :class:`~flexmbd.results.SimulationResult` whose ``driving`` holds
+        ``tau = Mbar qddot - g`` per entry of ``q`` and ``reactions`` the loads on
+        fixed and input coordinates (columns ``f<node>.<k>``).
     """
-    d, r = ~model.q_is_input, model.q_is_input
-    qdd = np.zeros(model.n_dof)
-    qdd[r] = qdd_prescribed
-    if not np.any(d):
-        return qdd
-    Mbar = terms.reduced_mass
-    rhs = terms.generalized_force[d] - Mbar[np.ix_(d, r)] @ qdd[r]
-    # Cholesky doubles as the positive-definiteness check (numpy: no scipy at import)
-    try:
-        factor = np.linalg.cholesky(Mbar[np.ix_(d, d)])
-    except np.linalg.LinAlgError:
-        dofs = ", ".join(model.describe_q(j) for j in np.flatnonzero(d))
-        at = "" if terms.time is None else f" at t = {terms.time:.6g} s"
-        raise SingularConfigurationError(
-            f"the reduced mass matrix of the dynamic degrees of freedom ({dofs}) is not "
-            f"positive definite{at}: give every dynamic degree of freedom mass or inertia",
-            terms.time) from None
-    qdd[d] = np.linalg.solve(factor.T, np.linalg.solve(factor, rhs))
-    return qdd
-
-
-def driving_forces(model: Model, terms: DynamicTerms, qdd: np.ndarray) -> np.ndarray:
-    """Inverse dynamics: ``tau = Mbar qddot - g``, the generalized force the drives supply.
-
-    Returns an array over all entries of ``q`` (``model.q_labels``) [N, N m]: the
-    driving forces of the prescribed entries; on dynamic entries it is the force
-    that would be needed beyond the model's own loads, zero for a motion that
-    solves the equations of motion.
-    """
-    return terms.reduced_mass @ qdd - terms.generalized_force
-
-
-@dataclass(frozen=True, eq=False)
-class Reactions:
-    """Stresses of all deformations and the support and driving loads (THEORY 8).
-
-    Attributes:
-        sigma: generalized stresses ``(ne,)``: constraint stresses on rigid
-            deformations, actuator stresses on input deformations, the elastic law
-            elsewhere (on dynamic deformations the solved value agrees with it).
-        nodal: loads ``(nx,)`` the supports exert on fixed coordinates and the drives on
-            input coordinates [N, N m]; zero on dependent and dynamic coordinates.
-    """
-
-    sigma: np.ndarray
-    nodal: np.ndarray
-
-
-def reactions(model: Model, terms: DynamicTerms, qdd: np.ndarray) -> Reactions:
-    """Constraint stresses and support reactions once ``qddot`` is known (THEORY 8).
-
-    Nodal equilibrium ``f + f_support - M xddot - h = D_x^T sigma`` holds on every
-    coordinate; the dependent rows give ``D_c^T [sigma(o); sigma(m)] = (f - M xddot
-    - h)(c) - (de(c)/dx(c))^T sigma(c)``, then the fixed and input rows give the loads.
-    """
-    xdd = terms.F_q @ qdd + terms.convective
-    D_x = terms.jacobian.full
-    unbalanced = terms.f - terms.M @ xdd - terms.h
-    dep, rows, released = model.dependent, model.constrained, model.released
-    rhs = unbalanced[dep] - D_x[np.ix_(released, dep)].T @ terms.sigma[released]
-    sigma = terms.sigma.copy()
-    if len(rows):
-        sigma[rows] = np.linalg.solve(terms.jacobian.D_c.T, rhs)
-    nodal = D_x.T @ sigma - unbalanced
-    supported = np.concatenate([model.fixed, model.input_coordinates])
-    out = np.zeros(model.n_coordinates)
-    out[supported] = nodal[supported]
-    return Reactions(sigma, out)
+    times = check_times(times)
+    check_on_failure(on_failure)
+    if not model.has_mass:
+        raise ModelError("the model has no mass: give elements set_mass() or nodes "
+                         "add_point_mass() before inverse dynamics")
+    laws = resolve_laws(model, inputs)
+    engine = Engine(model, tolerance)
+    with progress_bar(times, "inverse dynamics", progress) as advance:
+        arrays = engine.prepare(laws, len(times), dynamics=True, forces=forces,
+                                progress=advance)
+        status = engine.core.kinematic_run(times)
+    if not with_reactions:
+        arrays.pop("reactions")
+    done = status["reached"]
+    result = SimulationResult(model, times[:done], **{k: v[:done] for k, v in arrays.items()})
+    return conclude(result, engine.error(status), on_failure,
+                    f"completed {len(times)} points from t = {times[0]:.6g} s to "
+                    f"{times[-1]:.6g} s")

@@ -1,9 +1,13 @@
-"""Time integration front end over scipy's ``OdeSolver`` classes.
+"""Time integration: the methods by name, and the front end over scipy's ``OdeSolver``s.
 
-Like ``solve_ivp`` but stepping the solver itself, so that a failed right-hand
-side (a position solve that does not converge, a singular configuration) ends
-the run with the output computed so far instead of losing it, and a progress
-bar can follow the steps.
+``GeneralizedAlpha`` is flexmbd's own integrator and lives in the compiled core
+(``flexmbd/csrc/alpha.c``): for a model it runs the whole simulation there
+(:func:`flexmbd.simulate`), and for any ``y' = fun(t, y)`` with ``y = [q; v]``
+:func:`integrate` drives it with ``fun`` called back. scipy's methods (``RK45``,
+the course's ode45, and the others) are stepped here by hand like ``solve_ivp``,
+so that a failed right-hand side (a position solve that does not converge, a
+singular configuration) ends the run with the output computed so far instead of
+losing it.
 """
 
 from __future__ import annotations
@@ -27,16 +31,35 @@ def check_method(method: str) -> None:
         raise ValueError(f"unknown method {method!r}; choose from {', '.join(METHODS)}")
 
 
-def solver_class(method: str) -> type:
-    """The solver class of ``method`` (scipy's are imported only when asked for)."""
-    check_method(method)
-    if method == "GeneralizedAlpha":
-        from .generalized_alpha import GeneralizedAlpha
+@dataclass(frozen=True)
+class AlphaOptions:
+    """The settings of generalized-alpha (see :func:`flexmbd.simulate` for their meaning)."""
 
-        return GeneralizedAlpha
-    import scipy.integrate
+    step: float
+    rho_inf: float = 0.8
+    rtol: float = 1e-6
+    atol: float = 1e-9
+    iterations: int | None = None
+    renew_every: int = 1
 
-    return getattr(scipy.integrate, method)
+    def __post_init__(self):
+        if not (np.isfinite(self.step) and self.step > 0):
+            raise ValueError(f"step must be positive, got {self.step}")
+        if not 0.0 <= self.rho_inf <= 1.0:
+            raise ValueError(f"rho_inf must lie in [0, 1], got {self.rho_inf}")
+        if self.iterations is not None and not (
+                isinstance(self.iterations, (int, np.integer)) and self.iterations >= 1):
+            raise ValueError(f"iterations must be None or a positive integer, got "
+                             f"{self.iterations!r}")
+        if not (isinstance(self.renew_every, (int, np.integer)) and self.renew_every >= 1):
+            raise ValueError(f"renew_every must be a positive integer, got "
+                             f"{self.renew_every!r}")
+
+    def core_arguments(self) -> dict[str, float | int]:
+        """The keyword arguments of the core's generalized-alpha runs."""
+        return {"step": float(self.step), "rho_inf": float(self.rho_inf),
+                "rtol": float(self.rtol), "atol": float(self.atol),
+                "iterations": int(self.iterations or 0), "renew_every": int(self.renew_every)}
 
 
 @dataclass(eq=False)
@@ -57,33 +80,73 @@ class IntegrationResult:
     stats: dict[str, int] = field(default_factory=dict)
 
 
+def _check_grid(t_eval) -> np.ndarray:
+    t_eval = np.asarray(t_eval, dtype=float)
+    if t_eval.size < 2 or np.any(np.diff(t_eval) <= 0) or not np.all(np.isfinite(t_eval)):
+        raise ValueError("output times must be at least two, finite, strictly increasing")
+    return t_eval
+
+
 def integrate(fun: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarray,
               t_eval: np.ndarray, *, method: str = "RK45", rtol: float = 1e-6,
-              atol: float | np.ndarray = 1e-9, max_step: float = np.inf,
-              progress: bool | None = None, on_output: Callable[[int], None] | None = None,
+              atol: float = 1e-9, max_step: float = np.inf, progress: bool | None = None,
+              on_output: Callable[[int, float, np.ndarray], None] | None = None,
               **options) -> IntegrationResult:
     """Integrate ``y' = fun(t, y)`` from ``t_eval[0]`` to ``t_eval[-1]``, output at ``t_eval``.
 
-    ``on_output(k)``, when given, is called as soon as output ``k`` is reached (right
-    after the step that passes ``t_eval[k]``). Other ``options`` go to the solver
-    (e.g. ``step`` and ``system`` of :class:`~flexmbd.generalized_alpha.GeneralizedAlpha`).
+    With ``method="GeneralizedAlpha"`` ``y`` is ``[q; v]`` (even length) and ``options``
+    are those of :class:`AlphaOptions` (``step`` defaults to the output interval).
+    ``on_output(k, t, y)``, for scipy's methods, is called as soon as output ``k`` is
+    reached (right after the step that passes it).
 
     Raises:
-        ValueError: an unknown ``method`` or bad ``t_eval``.
+        ValueError: an unknown ``method``, bad ``t_eval`` or bad options.
     """
-    solver_type = solver_class(method)
-    t_eval = np.asarray(t_eval, dtype=float)
-    if t_eval.size < 2 or np.any(np.diff(t_eval) <= 0):
-        raise ValueError("output times must be at least two, strictly increasing")
-    ys = [np.array(y0, dtype=float)]
-    solver = solver_type(fun, t_eval[0], ys[0], t_eval[-1], rtol=rtol, atol=atol,
-                         max_step=max_step, **options)
+    check_method(method)
+    t_eval = _check_grid(t_eval)
+    y0 = np.array(y0, dtype=float)
+    if method == "GeneralizedAlpha":
+        return _integrate_alpha(fun, y0, t_eval, rtol, atol, max_step, **options)
+    return _integrate_scipy(fun, y0, t_eval, method, rtol, atol, max_step, progress, on_output,
+                            **options)
+
+
+def _integrate_alpha(fun, y0, t_eval, rtol, atol, max_step, *, step: float | None = None,
+                     **options) -> IntegrationResult:
+    from . import _core
+
+    if len(y0) % 2:
+        raise ValueError("generalized-alpha needs a state [q; v] of even length")
+    step = float(np.diff(t_eval).min()) if step is None else step
+    settings = AlphaOptions(min(step, max_step), rtol=rtol, atol=atol, **options)
+    y = np.zeros((len(t_eval), len(y0)))
+    status = _core.alpha_ode(fun, t_eval, y0, y, **settings.core_arguments())
+    done, error = status["reached"], status["exception"]
+    message = "completed"
+    if status["code"] == _core.STEP_FAILED:
+        message = (f"the GeneralizedAlpha integrator failed at t = {status['time']:.6g} s: "
+                   f"its Newton iteration did not converge even with step "
+                   f"{status['step']:.3g} s")
+    elif error is not None:
+        if not isinstance(error, SimulationError):
+            raise error
+        message = str(error)
+    stats = {name: int(status[name]) for name in ("nfev", "njev", "nlu", "nsteps")}
+    return IntegrationResult(t_eval[:done], y[:done], status["code"] == _core.OK, message,
+                             error, stats)
+
+
+def _integrate_scipy(fun, y0, t_eval, method, rtol, atol, max_step, progress, on_output,
+                     **options) -> IntegrationResult:
+    import scipy.integrate
+
+    solver = getattr(scipy.integrate, method)(fun, t_eval[0], y0, t_eval[-1], rtol=rtol,
+                                              atol=atol, max_step=max_step, **options)
+    ys = [y0]
     if on_output is not None:
-        on_output(0)
+        on_output(0, t_eval[0], y0)
     k, nsteps, error, message = 1, 0, None, "completed"
-    span = t_eval[-1] - t_eval[0]
-    with progress_bar(1000, f"simulating ({method})", progress) as bar:
-        done_permille = 0
+    with progress_bar(t_eval, f"simulating ({method})", progress) as advance:
         while solver.status == "running":
             try:
                 step_message = solver.step()
@@ -94,25 +157,25 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarray,
             if solver.status == "failed":
                 message = f"the {method} integrator failed at t = {solver.t:.6g} s: {step_message}"
                 break
-            # an output within round-off of the step's end is reached by this step: fixed
-            # steps accumulate round-off in t (about 1e-16 t per step); such an output
-            # would otherwise wait for the next step (and start its solve from there)
-            round_off = 1e-9 * (solver.t - solver.t_old)
-            if k < len(t_eval) and t_eval[k] <= solver.t + round_off:
-                dense = None
-                while k < len(t_eval) and t_eval[k] <= solver.t + round_off:
-                    if t_eval[k] >= solver.t - round_off:  # at the end of the step
-                        ys.append(solver.y.copy())
-                    else:
-                        dense = dense or solver.dense_output()
-                        ys.append(dense(t_eval[k]))
-                    if on_output is not None:
-                        on_output(k)
-                    k += 1
-            permille = int(1000 * (solver.t - t_eval[0]) / span)
-            if permille > done_permille:
-                bar.update(permille - done_permille)
-                done_permille = permille
+            dense = None
+            while k < len(t_eval) and t_eval[k] <= solver.t:
+                if t_eval[k] == solver.t:
+                    ys.append(solver.y.copy())
+                else:
+                    dense = dense or solver.dense_output()
+                    ys.append(dense(t_eval[k]))
+                if on_output is not None:
+                    try:
+                        on_output(k, t_eval[k], ys[-1])
+                    except SimulationError as err:
+                        error, message = err, str(err)
+                        ys.pop()
+                        break
+                k += 1
+            if error is not None:
+                break
+            if advance is not None:
+                advance(solver.t)
     stats = {"nfev": solver.nfev, "njev": solver.njev, "nlu": solver.nlu, "nsteps": nsteps}
     success = error is None and solver.status == "finished"
-    return IntegrationResult(t_eval[:k], np.array(ys), success, message, error, stats)
+    return IntegrationResult(t_eval[:len(ys)], np.array(ys), success, message, error, stats)

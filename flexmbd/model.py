@@ -1,8 +1,9 @@
-"""The model: nodes, elements, classification of coordinates and deformations.
+"""The model: nodes, elements, classification of coordinates and deformations, properties.
 
-A :class:`Model` is immutable once built (its arrays are read-only); analyses
-are functions of ``(model, state)`` with the state in plain numpy arrays. Build
-one with :class:`flexmbd.ModelBuilder`.
+A :class:`Model` is immutable once built (its arrays are read-only, its tables
+mapping proxies); analyses are functions of ``(model, state)`` with the state in
+plain numpy arrays, and every run builds its own workspace
+(:class:`flexmbd.engine.Engine`). Build one with :class:`flexmbd.ModelBuilder`.
 
 Numbering follows SPACAR: node and element numbers are the user's; coordinate
 ``k`` of node ``n`` is labelled ``x<n>.<k>`` (``k = 1, 2`` for ``x, y`` of a
@@ -17,14 +18,11 @@ import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from enum import IntEnum
-from functools import cached_property
 
 import numpy as np
 
-from .elements import ROTATIONAL, ElementType, Reference
+from .elements import ROTATIONAL, ElementType
 from .motion import Law
-from .properties import ElementProperties, GroupProperties, group_properties
-from .settings import AnalysisSettings
 
 
 class CoordinateClass(IntEnum):
@@ -60,32 +58,38 @@ class Node:
 
 @dataclass(frozen=True)
 class Element:
-    """An element: number, type, node numbers in connection order, global indices."""
+    """An element: number, type, node numbers in connection order, global coordinate and
+    deformation indices, and its reference parameters (``l0`` [m], ``beta0`` [rad], as
+    many as the type uses; see :meth:`ElementType.reference_parameters`)."""
 
     number: int
     type: type[ElementType]
     nodes: tuple[int, ...]
     coordinates: tuple[int, ...]
     deformations: tuple[int, ...]
+    reference: tuple[float, ...]
 
 
-@dataclass(frozen=True, eq=False)
-class ElementGroup:
-    """All elements of one type, with index maps for vectorised assembly.
+@dataclass(frozen=True)
+class ElementProperties:
+    """Properties of one element; every field defaults to 'none'.
 
     Attributes:
-        type: the element type.
-        numbers: element numbers, shape ``(n,)``.
-        coordinates: global coordinate index of each element coordinate, ``(n, nc)``.
-        deformations: global deformation index of each element deformation, ``(n, nd)``.
-        reference: reference length and angle of each element.
+        mass_per_length: ``rhoA`` [kg/m]; the element mass is ``rhoA * l0``.
+        lumped: lumped instead of consistent mass (THEORY section 5).
+        stiffness: the type's stiffness values by name (``{"axial": EA}``), see
+            :attr:`ElementType.stiffness_values` for names and units.
+        damping: the type's damping values by name, see
+            :attr:`ElementType.damping_values`.
+        prestress: ``sigma0`` per deformation [N or N m] (tuple of the element's
+            length), or ``None``.
     """
 
-    type: type[ElementType]
-    numbers: np.ndarray
-    coordinates: np.ndarray
-    deformations: np.ndarray
-    reference: Reference
+    mass_per_length: float = 0.0
+    lumped: bool = False
+    stiffness: Mapping[str, float] = field(default_factory=dict)
+    damping: Mapping[str, float] = field(default_factory=dict)
+    prestress: tuple[float, ...] | None = None
 
 
 def frozen_array(a) -> np.ndarray:
@@ -103,7 +107,6 @@ class Model:
         name: a name for messages and plots.
         nodes: nodes by number.
         elements: elements by number.
-        groups: elements grouped by type for vectorised kernels.
         x0: initial (reference) coordinates, shape ``(nx,)`` [m, rad].
         coordinate_class: :class:`CoordinateClass` of each coordinate, ``(nx,)``.
         deformation_class: :class:`DeformationClass` of each deformation, ``(ne,)``.
@@ -116,14 +119,14 @@ class Model:
         nodal_forces: constant applied force ``(Fx, Fy)`` [N] or torque ``(M,)`` [N m]
             by node number.
         gravity: ``(gx, gy)`` [m/s^2].
-        settings: how the model is meant to be run (time grid, initial values,
-            tolerances), e.g. from a SPACAR input file.
+
+    The index sets below (``fixed``, ``dependent``, ...) are computed once, when the
+    model is made, and are read-only like everything else.
     """
 
     name: str
     nodes: Mapping[int, Node]
     elements: Mapping[int, Element]
-    groups: tuple[ElementGroup, ...]
     x0: np.ndarray
     coordinate_class: np.ndarray
     deformation_class: np.ndarray
@@ -134,9 +137,75 @@ class Model:
     nodal_masses: Mapping[int, float] = field(default_factory=dict)
     nodal_forces: Mapping[int, tuple[float, ...]] = field(default_factory=dict)
     gravity: tuple[float, float] = (0.0, 0.0)
-    settings: AnalysisSettings = field(default_factory=AnalysisSettings)
 
-    # --- sizes and index sets -------------------------------------------------
+    #: ``x(o)``
+    fixed: np.ndarray = field(init=False, repr=False)
+    #: ``x(c)``: the columns of ``D_c``
+    dependent: np.ndarray = field(init=False, repr=False)
+    #: ``x(m)`` (inputs and dynamic coordinates), in coordinate order
+    independent_coordinates: np.ndarray = field(init=False, repr=False)
+    #: the prescribed coordinates (the inputs among ``x(m)``)
+    input_coordinates: np.ndarray = field(init=False, repr=False)
+    #: ``e(o)``
+    rigid: np.ndarray = field(init=False, repr=False)
+    #: ``e(m)`` (input and dynamic deformations), in deformation order
+    independent_deformations: np.ndarray = field(init=False, repr=False)
+    #: ``e(c)``
+    released: np.ndarray = field(init=False, repr=False)
+    #: rows of ``D_c``: ``e(o)`` followed by ``e(m)`` (THEORY section 3)
+    constrained: np.ndarray = field(init=False, repr=False)
+    #: mask ``(ne,)`` of the deformations whose stress follows the elastic law
+    carries_elastic_stress: np.ndarray = field(init=False, repr=False)
+    #: labels of ``q = [x(m); e(m)]``
+    q_labels: tuple[str, ...] = field(init=False, repr=False)
+    #: mask over ``q``: prescribed (rheonomic) entries; the rest are dynamic
+    q_is_input: np.ndarray = field(init=False, repr=False)
+    #: largest element reference length [m] (1 when no element has a length)
+    characteristic_length: float = field(init=False, repr=False)
+    #: per coordinate 1 for translations, ``1 / characteristic_length`` for angles: makes
+    #: an angle count like a displacement of the model's size in conditioning checks
+    coordinate_scale: np.ndarray = field(init=False, repr=False)
+
+    def __post_init__(self):
+        def coordinates_of(*classes):
+            return frozen_array(np.flatnonzero(np.isin(self.coordinate_class, classes)))
+
+        def deformations_of(*classes):
+            return frozen_array(np.flatnonzero(np.isin(self.deformation_class, classes)))
+
+        c, d = CoordinateClass, DeformationClass
+        sets = {
+            "fixed": coordinates_of(c.FIXED),
+            "dependent": coordinates_of(c.DEPENDENT),
+            "independent_coordinates": coordinates_of(c.INPUT, c.DYNAMIC),
+            "input_coordinates": coordinates_of(c.INPUT),
+            "rigid": deformations_of(d.RIGID),
+            "independent_deformations": deformations_of(d.INPUT, d.DYNAMIC),
+            "released": deformations_of(d.RELEASED),
+            "carries_elastic_stress": frozen_array(
+                np.isin(self.deformation_class, (d.DYNAMIC, d.RELEASED))),
+        }
+        sets["constrained"] = frozen_array(np.concatenate(
+            [sets["rigid"], sets["independent_deformations"]]))
+        sets["q_labels"] = tuple(
+            [self.coordinate_labels[i] for i in sets["independent_coordinates"]]
+            + [self.deformation_labels[i] for i in sets["independent_deformations"]])
+        sets["q_is_input"] = frozen_array(np.concatenate([
+            self.coordinate_class[sets["independent_coordinates"]] == c.INPUT,
+            self.deformation_class[sets["independent_deformations"]] == d.INPUT]))
+        lengths = [e.reference[0] for e in self.elements.values()
+                   if e.type.ends() is not None and e.reference]
+        length = max(lengths, default=0.0)
+        sets["characteristic_length"] = float(length) if length > 0 else 1.0
+        scale = np.ones(len(self.x0))
+        for node in self.nodes.values():
+            if node.kind == ROTATIONAL:
+                scale[list(node.coordinates)] = 1.0 / sets["characteristic_length"]
+        sets["coordinate_scale"] = frozen_array(scale)
+        for name, value in sets.items():
+            object.__setattr__(self, name, value)
+
+    # --- sizes --------------------------------------------------------------------------
     @property
     def n_coordinates(self) -> int:
         return len(self.x0)
@@ -145,123 +214,18 @@ class Model:
     def n_deformations(self) -> int:
         return len(self.deformation_class)
 
-    def _coordinates_of(self, *classes: CoordinateClass) -> np.ndarray:
-        return frozen_array(np.flatnonzero(np.isin(self.coordinate_class, classes)))
-
-    def _deformations_of(self, *classes: DeformationClass) -> np.ndarray:
-        return frozen_array(np.flatnonzero(np.isin(self.deformation_class, classes)))
-
-    @cached_property
-    def fixed(self) -> np.ndarray:
-        """Indices of ``x(o)``."""
-        return self._coordinates_of(CoordinateClass.FIXED)
-
-    @cached_property
-    def dependent(self) -> np.ndarray:
-        """Indices of ``x(c)``: the columns of ``D_c``."""
-        return self._coordinates_of(CoordinateClass.DEPENDENT)
-
-    @cached_property
-    def independent_coordinates(self) -> np.ndarray:
-        """Indices of ``x(m)`` (inputs and dynamic coordinates), in coordinate order."""
-        return self._coordinates_of(CoordinateClass.INPUT, CoordinateClass.DYNAMIC)
-
-    @cached_property
-    def input_coordinates(self) -> np.ndarray:
-        """Indices of the prescribed coordinates (the inputs among ``x(m)``)."""
-        return self._coordinates_of(CoordinateClass.INPUT)
-
-    @cached_property
-    def carries_elastic_stress(self) -> np.ndarray:
-        """Mask ``(ne,)`` of the deformations whose stress follows the elastic law
-        (dynamic and released ones)."""
-        return frozen_array(np.isin(self.deformation_class,
-                                    (DeformationClass.DYNAMIC, DeformationClass.RELEASED)))
-
-    @cached_property
-    def rigid(self) -> np.ndarray:
-        """Indices of ``e(o)``."""
-        return self._deformations_of(DeformationClass.RIGID)
-
-    @cached_property
-    def independent_deformations(self) -> np.ndarray:
-        """Indices of ``e(m)`` (input and dynamic deformations), in deformation order."""
-        return self._deformations_of(DeformationClass.INPUT, DeformationClass.DYNAMIC)
-
-    @cached_property
-    def released(self) -> np.ndarray:
-        """Indices of ``e(c)``."""
-        return self._deformations_of(DeformationClass.RELEASED)
-
-    @cached_property
-    def constrained(self) -> np.ndarray:
-        """Rows of ``D_c``: ``e(o)`` followed by ``e(m)`` (THEORY section 3)."""
-        return frozen_array(np.concatenate([self.rigid, self.independent_deformations]))
-
-    @cached_property
+    @property
     def n_dof(self) -> int:
         """Number of generalized coordinates ``q = [x(m); e(m)]``."""
-        return len(self.independent_coordinates) + len(self.independent_deformations)
+        return len(self.q_labels)
 
-    @cached_property
-    def q_labels(self) -> tuple[str, ...]:
-        """Labels of ``q = [x(m); e(m)]``."""
-        return tuple(
-            [self.coordinate_labels[i] for i in self.independent_coordinates]
-            + [self.deformation_labels[i] for i in self.independent_deformations]
-        )
-
-    @cached_property
-    def q_is_input(self) -> np.ndarray:
-        """Boolean mask over ``q``: prescribed (rheonomic) entries; the rest are dynamic."""
-        return frozen_array(
-            np.concatenate(
-                [
-                    self.coordinate_class[self.independent_coordinates] == CoordinateClass.INPUT,
-                    self.deformation_class[self.independent_deformations]
-                    == DeformationClass.INPUT,
-                ]
-            )
-        )
-
-    @cached_property
-    def characteristic_length(self) -> float:
-        """Largest element reference length [m] (1 when no element has a length)."""
-        lengths = [g.reference.length.max() for g in self.groups if g.type.ends is not None]
-        return float(max(lengths)) if lengths and max(lengths) > 0 else 1.0
-
-    @cached_property
-    def coordinate_scale(self) -> np.ndarray:
-        """Per coordinate: 1 for translations, ``1 / characteristic_length`` for angles.
-
-        Multiplying the columns of ``D_x`` by this makes an angle count like a
-        displacement of the model's size, so that conditioning checks do not
-        depend on the units or the size of the mechanism.
-        """
-        scale = np.ones(self.n_coordinates)
-        for node in self.nodes.values():
-            if node.kind == ROTATIONAL:
-                scale[list(node.coordinates)] = 1.0 / self.characteristic_length
-        return frozen_array(scale)
-
-    @cached_property
-    def group_properties(self) -> tuple[GroupProperties, ...]:
-        """Element properties as arrays, aligned with :attr:`groups`."""
-        return tuple(group_properties(g, dict(self.element_properties)) for g in self.groups)
-
-    @cached_property
-    def assembly(self):
-        """Index maps for fast, batched assembly (:class:`flexmbd.assembly.Assembly`)."""
-        from .assembly import Assembly  # built on first use: the kinematics API needs none
-
-        return Assembly(self)
-
-    @cached_property
+    @property
     def has_mass(self) -> bool:
         """Whether any element or node carries mass (dynamics needs it)."""
-        return bool(self.nodal_masses) or any(np.any(p.mass != 0) for p in self.group_properties)
+        return bool(self.nodal_masses) or any(
+            p.mass_per_length for p in self.element_properties.values())
 
-    # --- labels and look-up ---------------------------------------------------
+    # --- labels and look-up ---------------------------------------------------------------
     def coordinate_index(self, label: str | tuple[int, int | str]) -> int:
         """Global index of a coordinate given as ``"x3.2"``, ``(3, 2)`` or ``(3, "y")``."""
         node, k = _parse_label(label, "x")
@@ -352,4 +316,3 @@ def direction_number(kind: str, direction: int | str) -> int | None:
     if isinstance(direction, (int, np.integer)) and not isinstance(direction, bool):
         return int(direction)
     return None
-

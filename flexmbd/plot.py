@@ -10,7 +10,6 @@ from pathlib import Path
 
 import numpy as np
 
-from .elements import Beam
 from .errors import OptionalDependencyError, OutputError
 from .model import CoordinateClass, Model
 from .results import KinematicResult
@@ -31,33 +30,23 @@ def _new_figure(window: bool, **kwargs):
     return Figure(**kwargs)
 
 
-def element_polylines(model: Model, x: np.ndarray, exaggeration: float = 1.0) -> list[np.ndarray]:
-    """Drawable shape of every element with translational nodes at coordinates ``x``.
+def element_polylines(model: Model, x: np.ndarray, exaggeration: float = 1.0,
+                      e: np.ndarray | None = None) -> list[np.ndarray]:
+    """Drawable shape of every element at coordinates ``x``, as its type draws it
+    (:meth:`~flexmbd.elements.base.ElementType.outline`): straight lines for trusses and
+    rigid beams, the deflected centre line for beams (``exaggeration`` times the
+    deflection from the chord), a zigzag for springs. Each polyline has shape ``(n, 2)``
+    [m]; ``e`` are the deformations at ``x`` when known."""
+    x = np.asarray(x, dtype=float)
+    if e is None:
+        from .kinematics import deformations
 
-    Straight lines for trusses and rigid beams; beams follow the cubic Hermite
-    interpolation of THEORY section 5, with the transverse deflection from the
-    chord multiplied by ``exaggeration``. Each polyline has shape ``(n, 2)`` [m].
-    """
+        e = deformations(model, x)
     lines = []
-    xi = np.linspace(0.0, 1.0, _HERMITE_POINTS)
-    for g in model.groups:
-        if g.type.ends is None:
-            continue
-        xe = x[g.coordinates]
-        rp, rq = xe[:, list(g.type.ends[0])], xe[:, list(g.type.ends[1])]
-        if g.type is not Beam:
-            lines += [np.stack([a, b]) for a, b in zip(rp, rq, strict=True)]
-            continue
-        e = Beam.deformations(xe, g.reference)
-        d = rq - rp
-        length = np.hypot(d[:, 0], d[:, 1])
-        e_l = d / length[:, None]
-        n_l = np.stack([-e_l[:, 1], e_l[:, 0]], axis=1)
-        # deflection from the chord: v(xi) = (xi - 2 xi^2 + xi^3) e2 + (xi^2 - xi^3) e3
-        h2, h3 = xi - 2 * xi**2 + xi**3, xi**2 - xi**3
-        for k in range(len(xe)):
-            v = exaggeration * (h2 * e[k, 1] + h3 * e[k, 2])
-            lines.append(rp[k] + np.outer(xi, d[k]) + np.outer(v, n_l[k]))
+    for element in model.elements.values():
+        xe = x[list(element.coordinates)][None]
+        lines += element.type.outline(xe, np.array([element.reference]),
+                                      e[list(element.deformations)][None], exaggeration)
     return lines
 
 
@@ -116,7 +105,7 @@ def animate(result: KinematicResult, filename: str | Path | None = None, *,
     ax.set_title(title or model.name)
     ax.grid(True, alpha=0.3)
 
-    n_lines = len(element_polylines(model, result.x[0]))
+    n_lines = len(element_polylines(model, result.x[0], e=result.e[0]))
     lines = [ax.plot([], [], "-", color="0.2", lw=2.5)[0] for _ in range(n_lines)]
     moving = ax.plot([], [], "o", color="tab:orange", ms=6, zorder=3)[0]
     anchored = ax.plot([], [], "s", color="k", ms=7, zorder=3)[0]
@@ -140,7 +129,8 @@ def animate(result: KinematicResult, filename: str | Path | None = None, *,
 
     def draw(k):
         x = result.x[k]
-        for line, poly in zip(lines, element_polylines(model, x, exaggeration), strict=True):
+        for line, poly in zip(lines, element_polylines(model, x, exaggeration, result.e[k]),
+                              strict=True):
             line.set_data(poly[:, 0], poly[:, 1])
         pts = x[index]
         moving.set_data(pts[~fixed, 0], pts[~fixed, 1])
@@ -233,7 +223,7 @@ def _unit(model: Model, columns: list[str]) -> str:
             units.add("rad" if node.kind == "rotational" else "m")
         else:
             etype = model.elements[int(name[1:].split(".")[0])].type
-            units.add("rad" if etype.ends is None else "m")
+            units.add("rad" if etype.ends() is None else "m")
     return units.pop() if len(units) == 1 else ""
 
 

@@ -207,14 +207,20 @@ def _writing(path: str | Path, write) -> Path:
     return path
 
 
-def conclude(result: KinematicResult, error: SimulationError | None, on_failure: str,
+def conclude(result: KinematicResult, error: BaseException | None, on_failure: str,
              completed: str) -> KinematicResult:
     """Finish a run: on failure raise ``error`` with ``result`` as its partial result
-    (``on_failure="raise"``) or return ``result`` with ``success=False``."""
+    (``on_failure="raise"``) or return ``result`` with ``success=False``. An exception
+    that is not a :class:`SimulationError` (raised by a user's law or load, or an
+    interrupt) is raised in either case, with the partial result attached."""
     check_on_failure(on_failure)
     if error is None:
         result.message = completed
         return result
+    if not isinstance(error, SimulationError):
+        result.success, result.message = False, f"stopped by {type(error).__name__}: {error}"
+        error.partial_result = result
+        raise error
     result.success, result.message, result.error = False, str(error), error
     if on_failure == "raise":
         error.partial_result = result

@@ -10,13 +10,13 @@ import numpy as np
 
 from .dat import read_dat
 from .dat.syntax import LARGEST_INTEGER
+from .dynamics import inverse_dynamics, simulate
 from .errors import ModelError, OptionalDependencyError
 from .integrate import METHODS
-from .inverse import inverse_dynamics
-from .kinematic_run import kinematic_analysis
+from .kinematics import kinematic_analysis
 from .model import CoordinateClass, Model
 from .results import KinematicResult
-from .simulation import simulate
+from .settings import RunSettings
 
 MODES = ("kinematic", "dynamic", "inverse")
 RESULT_TYPES = (".csv", ".npz", ".h5", ".hdf5")
@@ -46,10 +46,10 @@ def default_mode(model: Model) -> str:
     return "dynamic" if np.any(~model.q_is_input) else "kinematic"
 
 
-def output_times(model: Model, steps: int | None, t_end: float | None) -> np.ndarray:
+def output_times(settings: RunSettings, steps: int | None, t_end: float | None) -> np.ndarray:
     """``steps + 1`` times from 0 to ``t_end``, each defaulting to the file's TIMESTEP."""
-    steps = model.settings.steps if steps is None else steps
-    t_end = model.settings.t_end if t_end is None else t_end
+    steps = settings.steps if steps is None else steps
+    t_end = settings.t_end if t_end is None else t_end
     if steps is None or t_end is None:
         raise ModelError("the file has no TIMESTEP line: give --t-end and --steps")
     if not 1 <= steps <= LARGEST_INTEGER or not 0 < t_end < np.inf:
@@ -58,17 +58,18 @@ def output_times(model: Model, steps: int | None, t_end: float | None) -> np.nda
     return np.linspace(0.0, t_end, steps + 1)
 
 
-def analyse(model: Model, mode: str, times: np.ndarray, method: str = "RK45"
-            ) -> KinematicResult:
-    """Run ``mode`` on ``model`` with the file's tolerances; failures are returned."""
-    s = model.settings
+def analyse(model: Model, settings: RunSettings, mode: str, times: np.ndarray,
+            method: str = "RK45") -> KinematicResult:
+    """Run ``mode`` on ``model`` with the file's settings; failures are returned."""
+    s = settings
     if mode == "kinematic":
         return kinematic_analysis(model, times, tolerance=s.tolerance,
                                   max_iterations=s.max_iterations or 25, on_failure="return")
     if mode == "inverse":
         return inverse_dynamics(model, times, tolerance=s.tolerance, on_failure="return")
-    return simulate(model, times, method=method, rtol=s.rtol or 1e-6, atol=s.atol or 1e-9,
-                    tolerance=s.tolerance, with_reactions=True, on_failure="return")
+    return simulate(model, times, initial=s.initial, method=method, rtol=s.rtol or 1e-6,
+                    atol=s.atol or 1e-9, tolerance=s.tolerance, with_reactions=True,
+                    on_failure="return")
 
 
 def default_columns(result: KinematicResult, mode: str) -> list[str]:
@@ -96,13 +97,13 @@ def run(args: argparse.Namespace) -> int:
         # refuse before the run, not after it: results are never computed to be lost
         raise OptionalDependencyError("writing .h5 needs h5py: pip install 'flexmbd[hdf5]' "
                                       "(or write .csv or .npz)")
-    model = read_dat(args.file)
+    model, settings = read_dat(args.file)
     mode = args.mode or default_mode(model)
-    times = output_times(model, args.steps, args.t_end)
+    times = output_times(settings, args.steps, args.t_end)
     print(model.summary())
     print(f"{mode} analysis of {Path(args.file).name}: {len(times)} output times to "
           f"t = {times[-1]:.6g} s")
-    result = analyse(model, mode, times, args.method)
+    result = analyse(model, settings, mode, times, args.method)
     print(result.message)
     if args.out:  # written even after a failure: the rows before it
         result.save(args.out)

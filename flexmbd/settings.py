@@ -1,4 +1,5 @@
-"""Analysis settings a model can carry (the run part of a SPACAR input file)."""
+"""How a model is meant to be run: the run part of a SPACAR input file, kept apart from
+the model (which describes the mechanism alone)."""
 
 from __future__ import annotations
 
@@ -6,9 +7,11 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
 
+import numpy as np
+
 
 @dataclass(frozen=True)
-class AnalysisSettings:
+class RunSettings:
     """How a model is meant to be run; every field is optional.
 
     Attributes:
@@ -16,9 +19,10 @@ class AnalysisSettings:
         steps: number of output intervals from 0 to ``t_end`` (TIMESTEP), so
             ``steps + 1`` output times.
         initial: initial value and rate of dynamic degrees of freedom by label,
-            ``{"e2.2": (value, rate)}`` (STARTDE) [m or rad, per s].
+            ``{"e2.2": (value, rate)}`` (STARTDE, STARTDX) [m or rad, per s].
         atol, rtol: integrator tolerances (ERROR).
         max_iterations: Newton iterations of the position solve (ITERSTEP).
+        load_steps: load steps of a static analysis (ITERSTEP's second value).
         tolerance: Newton tolerance of the position solve [m, rad] (ITERSTEP).
     """
 
@@ -29,12 +33,11 @@ class AnalysisSettings:
     atol: float | None = None
     rtol: float | None = None
     max_iterations: int | None = None
+    load_steps: int | None = None
     tolerance: float | None = None
 
-    def output_times(self):
-        """``steps + 1`` equally spaced times from 0 to ``t_end``, or ``None`` when unset."""
-        import numpy as np
-
+    def output_times(self) -> np.ndarray | None:
+        """``steps + 1`` equally spaced times from 0 to ``t_end`` [s], or ``None`` when unset."""
         if self.t_end is None or self.steps is None:
             return None
         return np.linspace(0.0, self.t_end, self.steps + 1)

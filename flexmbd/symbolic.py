@@ -1,10 +1,11 @@
 """The symbolic path: deformation functions, Jacobians and transfer functions in SymPy.
 
-The expressions come from the same :meth:`ElementType.formula` definitions
-that the numeric kernels evaluate, so the symbolic and numeric paths rest on
-one definition of every element. Reference lengths and angles are taken from
-the model and turned into exact numbers where they are simple (``sqrt(3)``
-stays ``sqrt(3)``). Needs the ``symbolic`` extra (SymPy); imported only here.
+The expressions come from the same :meth:`ElementType.deformations` definitions
+from which the compiled kernels are generated (:mod:`flexmbd.codegen`), so the
+symbolic and numeric paths rest on one definition of every element. Reference
+lengths and angles are taken from the model and turned into exact numbers where
+they are simple (``sqrt(3)`` stays ``sqrt(3)``). Needs the ``symbolic`` extra
+(SymPy); imported only here.
 
 Symbols: coordinate ``x<n>.<k>`` is the symbol ``x<n>_<k>``, its rate
 ``xd<n>_<k>``.
@@ -51,12 +52,11 @@ def deformations(model: Model):
     sp = _sympy()
     x = coordinate_symbols(model)
     e = [None] * model.n_deformations
-    for g in model.groups:
-        for row, (coords, defs) in enumerate(zip(g.coordinates, g.deformations, strict=True)):
-            exprs = g.type.formula([x[i] for i in coords], _exact(g.reference.length[row]),
-                                   _exact(g.reference.angle[row]), sp)
-            for i, expr in zip(defs, exprs, strict=True):
-                e[i] = expr
+    for element in model.elements.values():
+        exprs = element.type.deformations([x[i] for i in element.coordinates],
+                                          [_exact(v) for v in element.reference], sp)
+        for i, expr in zip(element.deformations, exprs, strict=True):
+            e[i] = expr
     return sp.Matrix(e)
 
 

@@ -9,7 +9,7 @@ from flexmbd.examples import slider_crank_dynamics, slider_crank_flex
 
 import flexmbd as fm
 from flexmbd.cli import main as cli
-from flexmbd.dat import dat_text, model_from_text
+from flexmbd.dat import dat_from_text, dat_text
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 DAT_FILES = sorted(EXAMPLES.glob("*.dat"))
@@ -55,7 +55,7 @@ INPUTE 5 1 0.0 0.01
 STARTDE 2 2 1e-4 0.0
 STARTDX 5 2 0.0 0.5
 TIMESTEP 0.5 50
-ITERSTEP 30 1e-11
+ITERSTEP 30 4 1e-11 1 3 4
 ERROR 1e-10 1e-7
 END
 END
@@ -64,8 +64,14 @@ anything here is ignored 1 2 3
 """
 
 
-def state(model: fm.Model) -> dict:
-    """Everything a model describes, in comparable form."""
+def everything() -> fm.Model:
+    """The model of :data:`EVERYTHING`."""
+    return dat_from_text(EVERYTHING, "everything.dat").model
+
+
+def state(model: fm.Model, settings: fm.RunSettings | None = None) -> dict:
+    """Everything a model (and its run settings) describes, in comparable form."""
+    settings = settings or fm.RunSettings()
     return {
         "nodes": {n: (v.kind, v.position, v.coordinates) for n, v in model.nodes.items()},
         "elements": {n: (e.type, e.nodes) for n, e in model.elements.items()},
@@ -76,57 +82,55 @@ def state(model: fm.Model) -> dict:
         "masses": dict(model.nodal_masses),
         "forces": dict(model.nodal_forces),
         "gravity": model.gravity,
-        "settings": (model.settings.t_end, model.settings.steps, dict(model.settings.initial),
-                     model.settings.atol, model.settings.rtol, model.settings.max_iterations,
-                     model.settings.tolerance),
+        "settings": settings,
     }
 
 
 def test_every_keyword_is_read():
-    model = model_from_text(EVERYTHING, "everything.dat")
+    model, s = dat_from_text(EVERYTHING, "everything.dat")
     assert model.name == "everything"
     assert [model.elements[n].type for n in range(1, 6)] == [
         fm.RigidBeam, fm.Beam, fm.Beam, fm.Hinge, fm.Truss]
     assert model.nodes[10].position == (0.5, -0.2)
     assert model.q_labels == ("x2.1", "x5.2", "e2.2", "e2.3", "e5.1")
     assert model.q_is_input.tolist() == [True, False, False, False, True]
-    released = model.deformation_index("e4.1")
-    assert model.deformation_class[released] == fm.DeformationClass.RELEASED
+    assert model.deformation_class[model.deformation_index("e4.1")] == \
+        fm.DeformationClass.RELEASED
     p = model.element_properties
-    assert (p[2].mass_per_length, p[2].mass_formulation) == (0.5, "consistent")
-    assert p[3].mass_formulation == "lumped" and p[1].mass_per_length == 0.1
-    assert (p[2].axial_stiffness, p[2].bending_stiffness, p[2].shear_stiffness) == (
-        1e6, 10.0, 2e5)
-    assert p[3].shear_stiffness is None and p[4].hinge_stiffness == 3.5
-    assert (p[2].bending_damping, p[4].hinge_damping) == (0.01, 0.2)
+    assert (p[2].mass_per_length, p[2].lumped) == (0.5, False)
+    assert p[3].lumped and p[1].mass_per_length == 0.1
+    assert dict(p[2].stiffness) == {"axial": 1e6, "bending": 10.0, "shear": 2e5}
+    assert "shear" not in p[3].stiffness and dict(p[4].stiffness) == {"hinge": 3.5}
+    assert dict(p[2].damping) == {"axial": 0.0, "bending": 0.01}
+    assert dict(p[4].damping) == {"hinge": 0.2}
     assert p[5].prestress == (12.5,)
     assert model.nodal_masses == {5: 0.02, 6: 1e-4}
     assert model.nodal_forces == {5: (1.0, -2.0), 6: (0.3,)}
     assert model.gravity == (0.0, -9.81)
     assert model.input_laws["x2.1"] == fm.Polynomial(0.0, 10.0, 5.0)
     assert model.input_laws["e5.1"] == fm.Polynomial(0.0, 0.01, 0.0)
-    s = model.settings
     assert dict(s.initial) == {"e2.2": (1e-4, 0.0), "x5.2": (0.0, 0.5)}
-    assert (s.t_end, s.steps, s.max_iterations, s.tolerance, s.atol, s.rtol) == (
-        0.5, 50, 30, 1e-11, 1e-10, 1e-7)
+    # ITERSTEP in SPACAR's order: iterations, load steps, tolerance, solver flags
+    assert (s.t_end, s.steps, s.max_iterations, s.load_steps, s.tolerance, s.atol, s.rtol) == (
+        0.5, 50, 30, 4, 1e-11, 1e-10, 1e-7)
     assert len(s.output_times()) == 51
 
 
 @pytest.mark.parametrize("text", [EVERYTHING, *(p.read_text() for p in DAT_FILES)],
                          ids=["everything", *(p.name for p in DAT_FILES)])
 def test_write_then_read_gives_an_equal_model(text, tmp_path):
-    model = model_from_text(text, "m.dat")
-    path = fm.write_dat(model, tmp_path / "m.dat")
-    again = fm.read_dat(path)
-    assert state(again) == state(model)
-    assert dat_text(again) == dat_text(model)
+    model, settings = dat_from_text(text, "m.dat")
+    path = fm.write_dat(model, tmp_path / "m.dat", settings)
+    again, settings_again = fm.read_dat(path)
+    assert state(again, settings_again) == state(model, settings)
+    assert dat_text(again, settings_again) == dat_text(model, settings)
 
 
 def test_python_models_round_trip(tmp_path):
     for model in (slider_crank_flex.build_model(3, eps1flex=True),
                   slider_crank_dynamics.build_model("lumped", gravity=True)):
-        again = fm.read_dat(fm.write_dat(model, tmp_path / "m.dat"))
-        assert state(again) == state(model)
+        again, settings = fm.read_dat(fm.write_dat(model, tmp_path / "m.dat"))
+        assert state(again) == state(model) and settings == fm.RunSettings()
 
 
 def test_models_the_format_cannot_hold_are_refused(tmp_path):
@@ -160,6 +164,11 @@ MALFORMED = {
                       "directions are 1 and 2"),
     "block-2 keyword in block 1": ("PLTRUSS 1 1 2\nEM 1 2.0\nEND\nEND\n", 2,
                                    "belongs in the dynamics block"),
+    "mass on a massless element": ("PLHINGE 1 1 2\nFIX 1\nINPUTX 2\nEND\n"
+                                   "HALT\nEM 1 2.0\nEND\nEND\n", 6, "which has no mass"),
+    "start of a coordinate that is not dynamic": (
+        "PLTRUSS 1 1 2\nX 1 0 0\nX 2 1 0\nFIX 1\nFIX 2\nRLSE 1\nEND\nHALT\n"
+        "STARTDX 2 1 0.1\nEND\nEND\n", 9, "x2.1 is not a dynamic degree of freedom"),
 }
 
 
@@ -190,7 +199,7 @@ def test_flexible_slider_crank_file_matches_the_python_model(tmp_path, capsys):
     assert "801 rows written" in capsys.readouterr().out
     header = out.read_text().splitlines()[0].split(",")
     data = np.loadtxt(out, delimiter=",", skiprows=1)
-    model = fm.read_dat(EXAMPLES / "slider_crank_flex.dat")
+    model, _ = fm.read_dat(EXAMPLES / "slider_crank_flex.dat")
     x = data[:, [header.index(label) for label in model.coordinate_labels]]
     v_file = slider_crank_flex.midpoint_deflection(model, x)
     python = slider_crank_flex.simulate(1, revolutions=2.0, method="RK45", rtol=1e-6)
@@ -252,7 +261,7 @@ def test_run_options_are_checked(tmp_path, capsys):
 
 
 def test_results_export_and_plot(tmp_path):
-    result = fm.kinematic_analysis(fm.read_dat(EXAMPLES / "sliding_bar.dat"),
+    result = fm.kinematic_analysis(fm.read_dat(EXAMPLES / "sliding_bar.dat").model,
                                    np.linspace(0, 0.5, 6))
     frame = result.to_pandas()
     assert list(frame.columns) == list(result.columns()) and len(frame) == 6

@@ -8,7 +8,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import flexmbd as fm
-from flexmbd.dat import dat_text, model_from_text
+from flexmbd.dat import dat_from_text, dat_text
 from flexmbd.dat.syntax import DYNAMICS, KINEMATICS, SPATIAL
 from tests.test_dat import DAT_FILES, EVERYTHING
 
@@ -60,12 +60,12 @@ def mutated(draw) -> str:
 @given(mutated())
 def test_mutated_files_raise_only_library_errors(text):
     try:
-        model = model_from_text(text, "fuzz.dat")
+        model, run = dat_from_text(text, "fuzz.dat")
     except fm.FlexmbdError:
         return
     # a file that reads is a valid model: it writes and reads back to the same text
-    written = dat_text(model)
-    assert dat_text(model_from_text(written, "fuzz.dat")) == written
+    written = dat_text(model, run)
+    assert dat_text(*dat_from_text(written, "fuzz.dat")) == written
 
 
 def test_the_fuzzer_reaches_both_outcomes():
@@ -76,7 +76,7 @@ def test_the_fuzzer_reaches_both_outcomes():
     @given(mutated())
     def probe(text):
         try:
-            model_from_text(text, "fuzz.dat")
+            dat_from_text(text, "fuzz.dat")
             outcomes.add("read")
         except fm.InputFileError:
             outcomes.add("refused")
@@ -87,4 +87,4 @@ def test_the_fuzzer_reaches_both_outcomes():
 
 @pytest.mark.parametrize("source", range(len(SOURCES)))
 def test_the_unmutated_sources_read(source):
-    assert model_from_text(SOURCES[source], "source.dat").n_dof >= 1
+    assert dat_from_text(SOURCES[source], "source.dat").model.n_dof >= 1

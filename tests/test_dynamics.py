@@ -7,8 +7,8 @@ import pytest
 import sympy as sp
 
 import flexmbd as fm
-from flexmbd import dynamics
-from flexmbd.inertia import mass_matrix
+
+from . import reference
 
 L1, L2 = 0.15, 0.30
 M1, M2, M5 = 0.05, 0.06676, 0.03338  # crank, rod (uniform), slider [kg]
@@ -55,23 +55,21 @@ def lagrange_torque():
 def test_driving_torque_matches_lagrange(lagrange_torque, formulation, omega, alpha):
     model = rigid_slider_crank(formulation)
     x = np.array(model.x0)
+    scale = M2 * L1 * L1 * max(omega**2, abs(alpha))
     for phi in np.linspace(0.0, 2 * math.pi, 25):
-        terms = dynamics.dynamic_terms(model, np.array([phi]), np.array([omega]), x_guess=x)
+        terms = reference.terms(model, np.array([phi]), np.array([omega]), x_guess=x)
         x = terms.x
-        tau = dynamics.driving_forces(model, terms, np.array([alpha]))[0]
+        tau = reference.driving_forces(terms, np.array([alpha]))[0]
         expected = lagrange_torque(phi, omega, alpha)
-        scale = M2 * L1 * L1 * max(omega**2, abs(alpha))
         assert tau == pytest.approx(expected, rel=1e-9, abs=1e-9 * scale)
 
 
 def test_lumped_and_consistent_reduced_mass_agree():
     consistent, lumped = rigid_slider_crank("consistent"), rigid_slider_crank("lumped")
     x = fm.solve_position(consistent, np.array([0.9]))
-    F_q = fm.first_order_transfer(consistent, x)
-    m_c = F_q.T @ mass_matrix(consistent, x) @ F_q
-    m_l = F_q.T @ mass_matrix(lumped, x) @ F_q
+    m_c, m_l = fm.reduced_mass_matrix(consistent, x), fm.reduced_mass_matrix(lumped, x)
     np.testing.assert_allclose(m_l, m_c, rtol=1e-13)
-    assert not np.allclose(mass_matrix(consistent, x), mass_matrix(lumped, x))
+    assert not np.allclose(fm.mass_matrix(consistent, x), fm.mass_matrix(lumped, x))
 
 
 @pytest.mark.parametrize("formulation", ["consistent", "lumped"])
@@ -80,9 +78,8 @@ def test_reactions_balance_linear_momentum(formulation):
     omega, alpha = 40.0, 500.0
     model = rigid_slider_crank(formulation)
     phi = 1.1
-    terms = dynamics.dynamic_terms(model, np.array([phi]), np.array([omega]))
-    qdd = np.array([alpha])
-    result = dynamics.reactions(model, terms, qdd)
+    run = fm.inverse_dynamics(model, [0.0], inputs={"x2.1": fm.Polynomial(phi, omega, alpha)})
+    nodal = run.reactions[0]
     # centres of mass accelerations: closed-form positions differentiated twice by
     # central differences with Richardson extrapolation (error of order h^4)
 
@@ -101,13 +98,18 @@ def test_reactions_balance_linear_momentum(formulation):
     masses = np.repeat([M1, M2, M5], 2)
     momentum_rate = (masses * acc).reshape(3, 2).sum(axis=0)
     weight = (M1 + M2 + M5) * np.array(GRAVITY)
-    support = result.nodal[[model.coordinate_index("x1.1"), model.coordinate_index("x1.2")]]
-    support = support + np.array([0.0, result.nodal[model.coordinate_index("x5.2")]])
+    support = nodal[[model.coordinate_index("x1.1"), model.coordinate_index("x1.2")]]
+    support = support + np.array([0.0, nodal[model.coordinate_index("x5.2")]])
     # 1e-6: the limit of the finite differences, whose own error here is about 6e-8
     np.testing.assert_allclose(support + weight, momentum_rate, rtol=1e-6)
-    # the drive's torque on the input coordinate is the inverse-dynamics torque
-    tau = dynamics.driving_forces(model, terms, qdd)[0]
-    assert result.nodal[model.coordinate_index("x2.1")] == pytest.approx(tau, rel=1e-10)
+    # the drive's torque on the input coordinate is the inverse-dynamics torque, and the
+    # stresses and loads are those of the dense nodal equilibrium (THEORY 8)
+    assert nodal[model.coordinate_index("x2.1")] == pytest.approx(run.driving[0, 0],
+                                                                   rel=1e-10)
+    terms = reference.terms(model, np.array([phi]), np.array([omega]))
+    sigma, loads = reference.reactions(model, terms, np.array([alpha]))
+    np.testing.assert_allclose(run.sigma[0], sigma, rtol=1e-10, atol=1e-10 * np.abs(sigma).max())
+    np.testing.assert_allclose(nodal, loads, rtol=1e-10, atol=1e-10 * np.abs(loads).max())
 
 
 @pytest.mark.parametrize("formulation", ["consistent", "lumped"])

@@ -1,4 +1,8 @@
-"""The generalized-alpha solver against the closed-form harmonic oscillator."""
+"""The generalized-alpha integrator (in the compiled core) against closed forms.
+
+flexmbd.integrate drives the same integrator that simulations use with a Python
+``y' = fun(t, y)`` called back, its Newton matrix by finite differences.
+"""
 
 import itertools
 import math
@@ -7,8 +11,7 @@ import numpy as np
 import pytest
 
 from flexmbd.errors import ConvergenceError
-from flexmbd.generalized_alpha import GeneralizedAlpha
-from flexmbd.integrate import integrate
+from flexmbd.integrate import AlphaOptions, integrate
 
 OMEGA = 2 * math.pi
 
@@ -103,32 +106,38 @@ def test_linearly_implicit_steps_stay_second_order(renew_every):
 
 def test_bad_options():
     with pytest.raises(ValueError, match="even length"):
-        GeneralizedAlpha(lambda t, y: y, 0.0, np.zeros(3), 1.0)
+        integrate(lambda t, y: y, np.zeros(3), [0.0, 1.0], method="GeneralizedAlpha")
     with pytest.raises(ValueError, match="rho_inf"):
-        GeneralizedAlpha(oscillator(), 0.0, np.zeros(2), 1.0, rho_inf=1.5)
+        AlphaOptions(0.1, rho_inf=1.5)
     with pytest.raises(ValueError, match="step must be positive"):
-        GeneralizedAlpha(oscillator(), 0.0, np.zeros(2), 1.0, step=0.0)
+        AlphaOptions(0.0)
     with pytest.raises(ValueError, match="iterations"):
-        GeneralizedAlpha(oscillator(), 0.0, np.zeros(2), 1.0, iterations=0)
+        AlphaOptions(0.1, iterations=0)
     with pytest.raises(ValueError, match="renew_every"):
-        GeneralizedAlpha(oscillator(), 0.0, np.zeros(2), 1.0, iterations=1, renew_every=0)
+        AlphaOptions(0.1, iterations=1, renew_every=0)
+    with pytest.raises(ValueError, match="strictly increasing"):
+        integrate(oscillator(), np.zeros(2), [0.0, 0.0], method="GeneralizedAlpha")
 
 
-def test_an_output_at_a_step_end_is_reached_by_that_step():
-    """Fixed steps accumulate round-off in ``t``; an output within round-off of a step's
-    end is still that step's (its ``on_output`` comes before the next evaluation), so a
-    warm start kept for it is from its own time, not one step later."""
+def test_counters_of_the_linearly_implicit_method():
+    """One evaluation per step (plus the initial accelerations), a Newton matrix every
+    ``renew_every`` steps, each from 2 m differenced evaluations; outputs within round-off
+    of a step's end (fixed steps accumulate round-off in t) are that step's."""
     dt = 0.1  # not a binary fraction: t = k dt drifts from the output times
-    times = dt * np.arange(301)
-    evaluated = []
+    times = dt * np.arange(31)
+    result = integrate(oscillator(), np.array([1.0, 0.0]), times, method="GeneralizedAlpha",
+                       step=dt, iterations=1, renew_every=4)
+    assert result.success and len(result.t) == 31
+    stats = result.stats
+    assert stats["nsteps"] == 30 and stats["njev"] == 8  # steps 1, 5, 9, ..., 29
+    assert stats["nfev"] == 1 + 30 + 2 * stats["njev"]
 
+
+def test_a_python_error_is_not_swallowed():
     def fun(t, y):
-        evaluated.append(t)
+        if t > 0.3:
+            raise KeyError("a bug in the user's code")
         return oscillator()(t, y)
 
-    lag = []
-    integrate(fun, np.array([1.0, 0.0]), times, method="GeneralizedAlpha", step=dt,
-              iterations=1, renew_every=10**6,
-              on_output=lambda k: lag.append(evaluated[-1] - times[k]))
-    assert len(lag) == len(times)
-    assert np.max(np.abs(lag)) < 1e-9 * dt
+    with pytest.raises(KeyError, match="a bug"):
+        run(fun, 0.01, 1.0)

@@ -51,9 +51,10 @@ def test_model_is_immutable():
 
 def test_reference_length_and_angle():
     model = slider_crank()
-    (group,) = model.groups
-    np.testing.assert_allclose(group.reference.length, [1.0, math.sqrt(3)])
-    np.testing.assert_allclose(group.reference.angle, [0.0, 0.0])
+    np.testing.assert_allclose([model.elements[n].reference for n in (1, 2)],
+                               [[1.0, 0.0], [math.sqrt(3), 0.0]])
+    tilted = sliding_truss().fix(1, "y").fix(2, "x").input_coordinate(1, "x").build()
+    np.testing.assert_allclose(tilted.elements[1].reference, [2.0])  # a truss uses l0 only
 
 
 def test_all_structural_problems_are_reported_at_once():
@@ -146,6 +147,26 @@ def test_model_error_message_lists_every_problem():
     error = fm.ModelError(["first", "second"])
     assert "2 problems" in str(error) and "- first" in str(error) and "- second" in str(error)
     assert str(fm.ModelError("only")) == "invalid model: only"
+
+
+def test_index_sets_are_part_of_the_immutable_model():
+    model = slider_crank()
+    with pytest.raises(ValueError):
+        model.dependent[0] = 0
+    with pytest.raises(AttributeError):
+        model.fixed = np.array([0])  # type: ignore[misc]
+    assert not hasattr(model, "assembly") and not hasattr(model, "settings")
+
+
+def test_properties_are_checked_against_the_element_type():
+    b = sliding_truss().fix(1, "y").fix(2, "x").input_coordinate(1, "x")
+    b.set_stiffness(1, bending=3.0).set_damping(1, hinge=0.1).set_stiffness(1, axial=-1.0)
+    b.set_mass(1, 2.0, "heavy")
+    text = "\n".join(problems_of(b))
+    assert "a truss has no bending stiffness; it takes axial (EA [N])" in text
+    assert "a truss has no hinge damping; it takes axial (c_A [N s])" in text
+    assert "axial -1.0 is negative" in text
+    assert "formulation 'heavy' is not 'consistent' or 'lumped'" in text
 
 
 def test_summary_mentions_inputs():

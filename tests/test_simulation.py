@@ -6,8 +6,10 @@ import numpy as np
 import pytest
 
 import flexmbd as fm
-from flexmbd import dynamics
-from flexmbd.inertia import mass_matrix
+from flexmbd import engine
+from flexmbd.engine import Engine, resolve_laws
+
+from . import reference
 
 GRAVITY = np.array([0.0, -9.81])
 LENGTH, MASS, TIP, EI = 1.0, 1.0, 0.5, 5.0
@@ -30,7 +32,7 @@ def total_energy(model, result):
     energies = []
     stiffness = EI / LENGTH**3 * np.array([[4.0, -2.0], [-2.0, 4.0]])
     for x, xd, e in zip(result.x, result.xd, result.e, strict=True):
-        kinetic = 0.5 * xd @ mass_matrix(model, x) @ xd
+        kinetic = 0.5 * xd @ fm.mass_matrix(model, x) @ xd
         rp, rq = x[0:2], x[3:5]
         e_p = np.array([math.cos(x[2]), math.sin(x[2])])
         e_q = np.array([math.cos(x[5]), math.sin(x[5])])
@@ -63,29 +65,32 @@ def test_elastic_stress_follows_the_bending_law():
     np.testing.assert_allclose(result["sig1.2"], EI / LENGTH**3 * (4 * e[:, 1] - 2 * e[:, 2]))
 
 
-def test_outputs_match_the_reduced_equations_of_the_dynamics_module():
+def test_outputs_match_the_dense_reduced_equations():
     """The run's accelerations and constraint stresses (saddle-point system, THEORY 8)
-    against F_q, Mbar and D_c^T sigma of :mod:`flexmbd.dynamics` at the same states."""
+    against F_q, Mbar and D_c^T sigma in dense form (tests/reference.py) at the same
+    states, for RK45 and generalized-alpha."""
     model = flexible_pendulum()
-    result = fm.simulate(model, np.linspace(0, 0.4, 9), initial={"e1.2": (0.01, 0.3)},
-                         with_reactions=True)
-    for k in range(len(result.t)):
-        terms = dynamics.dynamic_terms(model, result.q[k], result.qd[k], result.t[k],
-                                       x_guess=result.x[k])
-        qdd = dynamics.generalized_accelerations(model, terms, np.zeros(0))
-        np.testing.assert_allclose(result.qdd[k], qdd, rtol=1e-9, atol=1e-9)
-        found = dynamics.reactions(model, terms, qdd)
-        np.testing.assert_allclose(result.sigma[k], found.sigma, rtol=1e-8, atol=1e-8)
-        np.testing.assert_allclose(result.reactions[k], found.nodal, rtol=1e-8, atol=1e-8)
+    for method in ("RK45", "GeneralizedAlpha"):
+        result = fm.simulate(model, np.linspace(0, 0.4, 9), initial={"e1.2": (0.01, 0.3)},
+                             with_reactions=True, method=method)
+        for k in range(len(result.t)):
+            terms = reference.terms(model, result.q[k], result.qd[k], x_guess=result.x[k])
+            qdd = reference.accelerations(model, terms, np.zeros(0))
+            np.testing.assert_allclose(result.qdd[k], qdd, rtol=1e-9, atol=1e-9)
+            sigma, loads = reference.reactions(model, terms, qdd)
+            np.testing.assert_allclose(result.sigma[k], sigma, rtol=1e-8, atol=1e-8)
+            np.testing.assert_allclose(result.reactions[k], loads, rtol=1e-8, atol=1e-8)
     assert np.abs(result["sig1.1"]).max() > 1.0  # the rigid elongation pulls the body round
 
 
-def flexible_slider_crank_one_beam():
+def flexible_slider_crank_one_beam(damped: bool = False):
     b = fm.ModelBuilder("flexible slider-crank")
     b.add_node(1, 0, 0).add_node(3, 0.15, 0).add_node(5, 0.45, 0)
     b.add_rigid_beam(1, 1, 2, 3).add_beam(2, 3, 4, 5, 6)
-    b.fix(1).fix(5, "y").dynamic_deformation(2, 2, 3)
+    b.fix(1).fix(5, "y").dynamic_deformation(2, *((1, 2, 3) if damped else (2, 3)))
     b.set_mass(2, 0.06676 / 0.30).set_stiffness(2, bending=12.72)
+    if damped:
+        b.set_stiffness(2, axial=5e6).set_damping(2, axial=40.0, bending=0.02)
     b.add_point_mass(5, 0.06676 / 2)
     b.input_coordinate(2, law=fm.Polynomial(0.0, 150.0))
     return b.build()
@@ -123,63 +128,67 @@ def test_errors_before_any_work():
         fm.simulate(flexible_pendulum(), [0.0, 0.1], method="Euler")
 
 
-def test_sparse_backend_reproduces_the_dense_one(monkeypatch):
-    """Long chains switch to sparse assembly and SuperLU (flexmbd.factor); forced onto a
-    small model, that path gives the dense path's run to round-off."""
+def test_band_orderings_change_nothing_but_the_cost(monkeypatch):
+    """The square systems are factorised in bands chosen by reverse Cuthill-McKee; with the
+    identity ordering the band of a mechanism's D_c and saddle-point matrix is (nearly)
+    full, a dense LU. Both give the same run to round-off."""
     from flexmbd.examples import slider_crank_flex as example
-
-    from flexmbd import assembly
 
     def run():
         model = example.build_model(4, eps1flex=True)
-        return model, fm.simulate(
+        return Engine(model).core.bands(), fm.simulate(
             model, example.output_times(0.05), method="GeneralizedAlpha",
             step=example.turn_time(1.0) / 800, iterations=1, with_reactions=True)
 
-    dense_model, dense = run()
-    monkeypatch.setattr(assembly, "SPARSE_SIZE", 0)
-    sparse_model, sparse = run()
-    assert not dense_model.assembly.sparse and sparse_model.assembly.sparse
+    banded_bands, banded = run()
+    monkeypatch.setattr(engine, "reverse_cuthill_mckee", lambda graph: list(range(len(graph))))
+    dense_bands, dense = run()
+    assert banded_bands["saddle_kl"] < dense_bands["saddle_kl"]
     for name in ("x", "xd", "xdd", "e", "sigma", "reactions", "driving"):
         scale = max(np.abs(getattr(dense, name)).max(), 1.0)
-        np.testing.assert_allclose(getattr(sparse, name), getattr(dense, name),
+        np.testing.assert_allclose(getattr(banded, name), getattr(dense, name),
                                    rtol=0, atol=1e-9 * scale, err_msg=name)
 
 
-def test_newton_operator_is_the_reduced_newton_matrix(monkeypatch):
-    """Generalized-alpha's Newton correction ``-S^-1 R`` with ``S = Mbar + c_q K + c_v C``:
-    the small-model form (q-space, from D_c's inverse) and the sparse saddle-point form
-    against ``Mbar = F_q^T M F_q`` and ``K = E_q^T S E_q`` of :mod:`flexmbd.dynamics`."""
-    from flexmbd import assembly
-    from flexmbd.equations import EquationsOfMotion
-    from flexmbd.inputs import resolve_laws
+def test_a_chain_of_beams_keeps_narrow_bands():
+    """The cost per step grows linearly along a chain: the bands of D_c and of the
+    saddle-point matrix do not grow with the number of beams."""
+    from flexmbd.examples import slider_crank_flex as example
 
+    bands = [Engine(example.build_model(n, eps1flex=True)).core.bands() for n in (10, 40, 160)]
+    for name in ("dc_kl", "dc_ku", "saddle_kl"):
+        assert bands[0][name] == bands[1][name] == bands[2][name] <= 12, (name, bands)
+    assert bands[2]["saddle_n"] > 15 * bands[0]["saddle_kl"]
+
+
+def test_newton_operator_is_the_reduced_newton_matrix():
+    """Generalized-alpha's Newton correction ``-S^-1 R`` with ``S = Mbar + c_q K + c_v C``
+    (the saddle-point system of the core) against ``Mbar = F_q^T M F_q`` and ``K = E_q^T S
+    E_q``, ``C = E_q^T C E_q`` in dense form, with flexible elongations and damping."""
+    model = flexible_slider_crank_one_beam(damped=True)
     c_q, c_v = 2e-6, 3e-3
-    residual = np.array([[0.3, -1.2]])
-
-    def operator_and_reference():
-        model = flexible_slider_crank_one_beam()
-        equations = EquationsOfMotion(model, resolve_laws(model, None))
-        q, qd = np.array([0.4, 2e-3, -1e-3]), np.array([150.0, 0.5, -0.2])
-        t = np.array([0.01])
-        state = equations.kinematics(t, q[None], qd[None], np.zeros((1, 3)), model.x0[None])
-        terms = dynamics.dynamic_terms(model, q, qd, 0.01, x_guess=state.x[0])
-        d = ~model.q_is_input
-        asm = model.assembly
-        stiffness = terms.E_q.T @ asm.stiffness @ terms.E_q if asm.stiffness is not None \
-            else None
-        return model, equations.iteration_operator(state, c_q, c_v)(residual), terms, d, \
-            stiffness
-
-    dense_model, dense, terms, d, K = operator_and_reference()
-    assert not dense_model.assembly.sparse
-    S = terms.reduced_mass + c_q * K
-    expected = -np.linalg.solve(S[np.ix_(d, d)], residual[0])
-    np.testing.assert_allclose(dense, expected, rtol=1e-10)
-    monkeypatch.setattr(assembly, "SPARSE_SIZE", 0)
-    sparse_model, sparse, _, _, _ = operator_and_reference()
-    assert sparse_model.assembly.sparse
-    np.testing.assert_allclose(sparse, expected, rtol=1e-10)
+    rng = np.random.default_rng(2)
+    d = int(np.count_nonzero(~model.q_is_input))
+    y = np.concatenate([rng.normal(scale=1e-3, size=d), rng.normal(scale=0.1, size=d)])
+    a, r = rng.normal(size=d), np.array([0.3, -1.2, 0.7])
+    run = Engine(model)
+    run.prepare(resolve_laws(model), 1, integrated=True, dynamics=True)
+    run.core.reset()
+    t = 0.002  # the crank at 0.3 rad: Newton from the reference pose finds the same branch
+    run.core.residual(t, y, a, np.empty(d))
+    correction = np.empty(d)
+    run.core.correction(c_q, c_v, r, correction)
+    terms = reference.terms(model, np.concatenate([[150.0 * t], y[:d]]),
+                            np.concatenate([[150.0], y[d:]]))
+    x = np.empty(model.n_coordinates)
+    run.core.failed_x(x)  # the configuration of the last evaluation
+    np.testing.assert_allclose(x, terms.x, atol=1e-12)
+    stiffness, damping, _ = reference.elastic_law(model)
+    S = (terms.reduced_mass + c_q * terms.E_q.T @ stiffness @ terms.E_q
+         + c_v * terms.E_q.T @ damping @ terms.E_q)
+    dyn = ~model.q_is_input
+    expected = -np.linalg.solve(S[np.ix_(dyn, dyn)], r)
+    np.testing.assert_allclose(correction, expected, rtol=1e-9)
 
 
 def test_rho_inf_reaches_generalized_alpha_only():
@@ -192,34 +201,3 @@ def test_rho_inf_reaches_generalized_alpha_only():
                         initial={"e1.2": (0.01, 0.0)}, rho_inf=rho) for rho in (0.0, 1.0)]
     # the bending vibration, unresolved by these steps, decays only with rho_inf < 1
     assert np.ptp(runs[0]["e1.2"][5:]) < 0.5 * np.ptp(runs[1]["e1.2"][5:])
-
-
-def test_reduced_and_saddle_point_accelerations_agree():
-    """The output pass's two ways to the accelerations and constraint stresses (the
-    reduced equations for models with many constraints, the saddle-point system
-    otherwise) give the same outputs, on the rigid-elongation slider-crank (the reduced
-    way is its own) and on the model with every element type, input and load."""
-    from flexmbd.examples import slider_crank_flex as example
-
-    from flexmbd.dat.reader import model_from_text
-    from flexmbd.equations import EquationsOfMotion
-    from flexmbd.inputs import resolve_laws
-    from tests.test_dat import EVERYTHING
-
-    rigid = example.build_model(4, eps1flex=False)
-    everything = model_from_text(EVERYTHING, "everything.dat")
-    for model, times in ((rigid, example.output_times(0.05)),
-                         (everything, np.linspace(0.0, 0.02, 5))):
-        result = fm.simulate(model, times, method="GeneralizedAlpha", iterations=1)
-        equations = EquationsOfMotion(model, resolve_laws(model, None))
-        d = ~model.q_is_input
-        found = []
-        for reduced in (True, False):
-            equations.reduced_accelerations = reduced
-            found.append(equations.outputs(result.t, result.q[:, d], result.qd[:, d],
-                                           result.x))
-        assert rigid.assembly.n_saddle >= 2 * rigid.n_dof  # the reduced way is chosen
-        for name in ("qdd", "xdd", "sigma", "reactions", "driving"):
-            scale = max(np.abs(found[1][name]).max(), 1.0)
-            np.testing.assert_allclose(found[0][name], found[1][name], rtol=0,
-                                       atol=1e-9 * scale, err_msg=name)

@@ -1,13 +1,17 @@
-"""Reading a planar SPACAR input file into a :class:`~flexmbd.model.Model`.
+"""Reading a planar SPACAR input file into a model and its run settings.
 
 Readings chosen where the format leaves room (documented in the README):
 
+* element lines name their nodes in the order of the element type's roles; the
+  types come from :data:`flexmbd.elements.ELEMENT_TYPES` (SPACAR's ``PLBEAM``,
+  ``PLTRUSS``, ``PLHINGE`` and flexmbd's own ``PLRBEAM``, ``PLSPRING``);
 * ``EM e rhoA`` gives the consistent mass of THEORY 5; ``EMLUMP e rhoA``
   (flexmbd's own keyword) the lumped one. A non-zero ``rhoI`` is refused:
   planar flexmbd beams carry no rotary inertia of the cross-section.
-* ``ESTIFF`` and ``EDAMP`` values follow the element's deformations: a truss
-  or rigid beam takes ``EA`` (``c_A``); a beam ``EA EI [GA_s]`` (``c_A c_I``);
-  a hinge its rotational stiffness (damping).
+* ``ESTIFF`` and ``EDAMP`` take the values the element type declares, in its
+  order (:attr:`~flexmbd.elements.base.ElementType.stiffness_values`): a truss or
+  rigid beam ``EA`` (``c_A``); a beam ``EA EI [GA_s]`` (``c_A c_I``); a hinge its
+  rotational stiffness (damping); a spring-damper ``k`` (``c``).
 * ``XF n Fx Fy`` loads a translational node, ``XF n M`` a rotational one;
   ``XM`` is a mass on a translational node and a rotary inertia on a
   rotational one.
@@ -16,33 +20,41 @@ Readings chosen where the format leaves room (documented in the README):
   ``STARTDE e k e0 [edot0]`` and ``STARTDX`` set initial values of dynamic
   degrees of freedom.
 * ``TIMESTEP t_end n`` asks for ``n + 1`` output times; ``ERROR atol rtol``
-  sets the integrator tolerances; ``ITERSTEP nmax [tol]`` the iteration limit
-  and tolerance [m, rad] of the Newton position solve.
+  sets the integrator tolerances; ``ITERSTEP nit [nsteps [tol [flags ...]]]``, in
+  SPACAR's order, the iteration limit, the load steps of a static analysis and
+  the tolerance [m, rad] of the Newton position solve (the flags are SPACAR
+  solver options and are not used).
 """
 
 from __future__ import annotations
 
 from pathlib import Path
+from types import MappingProxyType
+from typing import NamedTuple
 
 from ..builder import ModelBuilder
 from ..elements import ELEMENT_TYPES, ROTATIONAL, TRANSLATIONAL
 from ..errors import InputFileError, ModelError
-from ..model import Model
+from ..model import CoordinateClass, DeformationClass, Model
 from ..motion import Polynomial
+from ..settings import RunSettings
 from .syntax import DatText, Statement, parse_text
 
-#: which values ESTIFF / EDAMP take, per element keyword
-_STIFFNESS = {"PLTRUSS": ("axial",), "PLRBEAM": ("axial",),
-              "PLBEAM": ("axial", "bending", "shear"), "PLHINGE": ("hinge",)}
-_DAMPING = {"PLTRUSS": ("axial",), "PLRBEAM": ("axial",), "PLBEAM": ("axial", "bending"),
-            "PLHINGE": ("hinge",)}
+
+class DatFile(NamedTuple):
+    """What a SPACAR input file describes: the mechanism and how it is meant to be run.
+    Unpacks as ``model, settings = read_dat(path)``."""
+
+    model: Model
+    settings: RunSettings
 
 
-def read_dat(path: str | Path) -> Model:
-    """Read a planar SPACAR input file (``.dat``) into a model.
+def read_dat(path: str | Path) -> DatFile:
+    """Read a planar SPACAR input file (``.dat``).
 
-    The run settings of the file (``TIMESTEP``, ``STARTDE``, ``ERROR``,
-    ``ITERSTEP``) are in ``model.settings``.
+    Returns:
+        :class:`DatFile` ``(model, settings)``: the model, and the file's run settings
+        (``TIMESTEP``, ``STARTDE``, ``STARTDX``, ``ERROR``, ``ITERSTEP``).
 
     Raises:
         InputFileError: naming the file, the line and the reason.
@@ -53,12 +65,12 @@ def read_dat(path: str | Path) -> Model:
     except OSError as error:
         raise InputFileError(f"cannot read the file: {error.strerror or error}",
                              str(path)) from None
-    return model_from_text(text, path)
+    return dat_from_text(text, path)
 
 
-def model_from_text(text: str, path: str | Path | None = None) -> Model:
+def dat_from_text(text: str, path: str | Path | None = None) -> DatFile:
     """:func:`read_dat` for the text of a file (``path`` is used in messages and the name)."""
-    return _Reader(parse_text(text, path)).model()
+    return _Reader(parse_text(text, path)).read()
 
 
 class _Reader:
@@ -72,20 +84,38 @@ class _Reader:
         self.kinds: dict[int, str] = {}
         self.positions: dict[int, int] = {}  # node -> line of X
         self.inputs: set[tuple[str, int, int]] = set()  # ("x"|"e", number, k) of block 1
+        self.settings: dict[str, object] = {}
+        self.initial: dict[str, tuple[tuple[float, float], Statement]] = {}
 
     def fail(self, statement: Statement, message: str):
         raise InputFileError(f"{statement.keyword}: {message}", self.path, statement.line)
 
-    def model(self) -> Model:
+    def read(self) -> DatFile:
         for statement in self.text.kinematics:
             self.kinematic(statement)
         self.check_positions()
         for statement in self.text.dynamics:
             self.dynamic(statement)
         try:
-            return self.builder.build()
+            model = self.builder.build()
         except ModelError as error:
             raise InputFileError(f"the model is not valid: {error}", self.path) from None
+        return DatFile(model, self.run_settings(model))
+
+    def run_settings(self, model: Model) -> RunSettings:
+        """The settings, with initial values checked to name dynamic degrees of freedom."""
+        dynamic = {label for label, c in zip(model.coordinate_labels, model.coordinate_class,
+                                             strict=True) if c == CoordinateClass.DYNAMIC}
+        dynamic |= {label for label, c in zip(model.deformation_labels,
+                                              model.deformation_class, strict=True)
+                    if c == DeformationClass.DYNAMIC}
+        for label, (_, statement) in self.initial.items():
+            if label not in dynamic:
+                self.fail(statement, f"{label} is not a dynamic degree of freedom (those are: "
+                                     f"{', '.join(sorted(dynamic)) or 'none'}); classify it "
+                                     f"with DYNX or DYNE in the kinematics block")
+        initial = {label: pair for label, (pair, _) in self.initial.items()}
+        return RunSettings(initial=MappingProxyType(initial), **self.settings)
 
     # --- block 1 -------------------------------------------------------------------------
     def kinematic(self, s: Statement) -> None:
@@ -98,9 +128,10 @@ class _Reader:
             if number < 1 or min(nodes) < 1:
                 self.fail(s, "element and node numbers must be positive")
             etype = ELEMENT_TYPES[s.keyword]
-            for node, kind in zip(nodes, etype.node_kinds, strict=True):
-                if self.kinds.setdefault(node, kind) != kind:
-                    self.fail(s, f"node {node} is {self.kinds[node]} elsewhere but {kind} here")
+            for node, role in zip(nodes, etype.roles, strict=True):
+                if self.kinds.setdefault(node, role.kind) != role.kind:
+                    self.fail(s, f"node {node} is {self.kinds[node]} elsewhere but {role.kind} "
+                                 f"here")
             self.elements[number] = (s.keyword, nodes, s.line)
             b.add_element(number, etype, nodes)
         elif s.keyword == "X":
@@ -125,7 +156,7 @@ class _Reader:
             self.check_deformations(s, element, ks)
             if s.keyword == "INPUTE":
                 self.inputs |= {("e", element, k) for k in ks or
-                                range(1, self.n_deformations(element) + 1)}
+                                range(1, self.etype(s, element).n_deformations() + 1)}
             {"INPUTE": b.input_deformation, "DYNE": b.dynamic_deformation,
              "RLSE": b.release}[s.keyword](element, *ks)
 
@@ -145,20 +176,18 @@ class _Reader:
                 self.fail(s, f"node {node} is {self.kind(s, node)}: directions are 1"
                              f"{' and 2' if top == 2 else ''}, got {k}")
 
-    def n_deformations(self, element: int) -> int:
-        return ELEMENT_TYPES[self.elements[element][0]].n_deformations()
-
-    def check_element(self, s: Statement, element: int) -> str:
+    def etype(self, s: Statement, element: int):
+        """The type of a defined element."""
         if element not in self.elements:
             self.fail(s, f"element {element} is not defined")
-        return self.elements[element][0]
+        return ELEMENT_TYPES[self.elements[element][0]]
 
     def check_deformations(self, s: Statement, element: int, ks) -> None:
-        keyword = self.check_element(s, element)
-        nd = self.n_deformations(element)
+        etype = self.etype(s, element)
+        nd = etype.n_deformations()
         for k in ks:
             if not 1 <= k <= nd:
-                self.fail(s, f"a {keyword} has deformations 1 to {nd}, got {k}")
+                self.fail(s, f"a {etype.keyword} has deformations 1 to {nd}, got {k}")
 
     def check_positions(self) -> None:
         for number, (keyword, nodes, line) in sorted(self.elements.items()):
@@ -170,32 +199,39 @@ class _Reader:
 
     # --- block 2 -------------------------------------------------------------------------
     def dynamic(self, s: Statement) -> None:
-        b, v = self.builder, s.values
-        handler = getattr(self, f"_{s.keyword.lower()}", None)
-        if handler is not None:
-            handler(s)
-        elif s.keyword == "GRAVITY":
-            b.set_gravity(*v)
-        elif s.keyword == "ERROR":
-            self.positive(s, v)
-            b.set_tolerances(atol=v[0], rtol=v[1])
-        elif s.keyword == "ITERSTEP":
-            self.positive(s, v)
-            b.set_tolerances(max_iterations=v[0], tolerance=v[1] if len(v) > 1 else None)
-        elif s.keyword == "TIMESTEP":
-            self.positive(s, v)
-            b.set_time_grid(v[0], v[1])
+        getattr(self, f"_{s.keyword.lower()}")(s)
 
     def positive(self, s: Statement, values) -> None:
         for value in values:
             if not value > 0:
                 self.fail(s, f"values must be positive, got {value:g}")
 
+    def _gravity(self, s: Statement) -> None:
+        self.builder.set_gravity(*s.values)
+
+    def _error(self, s: Statement) -> None:
+        self.positive(s, s.values)
+        self.settings.update(atol=s.values[0], rtol=s.values[1])
+
+    def _iterstep(self, s: Statement) -> None:
+        limit, *rest = s.values
+        self.positive(s, s.values[:3])
+        self.settings["max_iterations"] = limit
+        if rest:
+            self.settings["load_steps"] = int(rest[0])
+        if len(rest) > 1:
+            self.settings["tolerance"] = rest[1]
+
+    def _timestep(self, s: Statement) -> None:
+        self.positive(s, s.values)
+        self.settings.update(t_end=s.values[0], steps=s.values[1])
+
     def _em(self, s: Statement, formulation: str = "consistent") -> None:
         element, rho_a = s.values[0], s.values[1]
-        if self.check_element(s, element) == "PLHINGE":
-            self.fail(s, f"element {element} is a hinge, which has no mass; use XM on its "
-                         f"rotational nodes")
+        etype = self.etype(s, element)
+        if not etype.has_mass:
+            self.fail(s, f"element {element} is a {etype.name}, which has no mass; use XM on "
+                         f"its nodes")
         if len(s.values) > 2 and s.values[2] != 0:
             self.fail(s, "a rotary inertia per length (rhoI) is not supported for planar "
                          "elements; set it to 0 or put rotary inertia on nodes with XM")
@@ -206,19 +242,21 @@ class _Reader:
     def _emlump(self, s: Statement) -> None:
         self._em(s, "lumped")
 
-    def _estiff(self, s: Statement, table=_STIFFNESS, apply=None) -> None:
+    def _estiff(self, s: Statement, what: str = "stiffness") -> None:
         element, values = s.values[0], s.values[1:]
-        keyword = self.check_element(s, element)
-        names = table[keyword]
-        if len(values) > len(names):
-            self.fail(s, f"a {keyword} takes {len(names)} value(s) ({', '.join(names)}), got "
+        etype = self.etype(s, element)
+        declared = etype.stiffness_values if what == "stiffness" else etype.damping_values
+        if len(values) > len(declared):
+            names = ", ".join(v.symbol for v in declared) or "none"
+            self.fail(s, f"a {etype.keyword} takes {len(declared)} value(s) ({names}), got "
                          f"{len(values)}")
         if any(x < 0 for x in values):
             self.fail(s, "values must not be negative")
-        (apply or self.builder.set_stiffness)(element, **dict(zip(names, values, strict=False)))
+        setter = self.builder.set_stiffness if what == "stiffness" else self.builder.set_damping
+        setter(element, **{v.name: x for v, x in zip(declared, values, strict=False)})
 
     def _edamp(self, s: Statement) -> None:
-        self._estiff(s, _DAMPING, self.builder.set_damping)
+        self._estiff(s, "damping")
 
     def _esig(self, s: Statement) -> None:
         element, k, sigma0 = s.values
@@ -259,9 +297,9 @@ class _Reader:
     def _startde(self, s: Statement) -> None:
         element, k, *start = s.values
         self.check_deformations(s, element, [k])
-        self.builder.set_initial(f"e{element}.{k}", *start)
+        self.initial[f"e{element}.{k}"] = ((start[0], start[1] if len(start) > 1 else 0.0), s)
 
     def _startdx(self, s: Statement) -> None:
         node, k, *start = s.values
         self.check_directions(s, node, [k])
-        self.builder.set_initial(f"x{node}.{k}", *start)
+        self.initial[f"x{node}.{k}"] = ((start[0], start[1] if len(start) > 1 else 0.0), s)

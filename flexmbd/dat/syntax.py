@@ -17,6 +17,7 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
+from ..elements import ELEMENT_TYPES
 from ..errors import InputFileError
 
 _COMMENT = re.compile(r"[#%*]")
@@ -61,12 +62,11 @@ def _syntax(required: str, optional: str = "", rest: str = "", min_rest: int = 0
     return Syntax(_args(required), _args(optional), _args(rest)[0] if rest else None, min_rest)
 
 
-#: block 1: elements, positions and the classification of coordinates and deformations
+#: block 1: elements (their nodes as the element types name them), positions and the
+#: classification of coordinates and deformations
 KINEMATICS = {
-    "PLBEAM": _syntax("element:int p:int phi_p:int q:int phi_q:int"),
-    "PLTRUSS": _syntax("element:int p:int q:int"),
-    "PLHINGE": _syntax("element:int phi_p:int phi_q:int"),
-    "PLRBEAM": _syntax("element:int p:int phi_p:int q:int"),  # flexmbd's rigid beam
+    **{keyword: _syntax(" ".join(["element:int", *(f"{r.name}:int" for r in etype.roles)]))
+       for keyword, etype in ELEMENT_TYPES.items()},
     "X": _syntax("node:int x:float y:float"),
     "FIX": _syntax("node:int", rest="direction:int"),
     "INPUTX": _syntax("node:int", rest="direction:int"),
@@ -91,13 +91,14 @@ DYNAMICS = {
     "STARTDE": _syntax("element:int deformation:int e0:float", "edot0:float"),
     "STARTDX": _syntax("node:int direction:int x0:float", "xdot0:float"),
     "TIMESTEP": _syntax("t_end:float steps:int"),
-    "ITERSTEP": _syntax("max_iterations:int", "tolerance:float"),
+    # SPACAR's order: iteration limit, load steps, tolerance, then solver flags
+    "ITERSTEP": _syntax("max_iterations:int", "load_steps:int tolerance:float", rest="flag:float"),
     "ERROR": _syntax("atol:float rtol:float"),
 }
 
 #: spatial (3D) keywords of SPACAR that flexmbd does not read
 SPATIAL = {"BEAM", "TRUSS", "HINGE", "PINBAR", "CYLINDER", "PLATE", "RBEAM", "SBEAM",
-           "CONTACT", "WHEEL", "BELT", "SPRING", "RNODE", "XSTIFF", "XDAMP"}
+           "CONTACT", "WHEEL", "BELT", "SPRING", "RNODE", "XSTIFF", "XDAMP"} - set(ELEMENT_TYPES)
 
 
 @dataclass(frozen=True)

@@ -15,7 +15,7 @@ from ..elements import ROTATIONAL
 from ..errors import OutputError
 from ..model import CoordinateClass, DeformationClass, Model
 from ..motion import Polynomial
-from .reader import _DAMPING, _STIFFNESS
+from ..settings import RunSettings
 
 
 def _number(value: float) -> str:
@@ -28,8 +28,8 @@ def _line(keyword: str, *values) -> str:
     return " ".join([f"{keyword:<8}", *words]).rstrip()
 
 
-def dat_text(model: Model) -> str:
-    """The input-file text of ``model``."""
+def dat_text(model: Model, settings: RunSettings | None = None) -> str:
+    """The input-file text of ``model`` and, when given, its run ``settings``."""
     lines = [f"# {model.name}: written by flexmbd", "", "# elements"]
     for number, element in sorted(model.elements.items()):
         lines.append(_line(element.type.keyword, number, *element.nodes))
@@ -41,20 +41,21 @@ def dat_text(model: Model) -> str:
     lines += _classification(model)
     lines += ["END", "HALT", "", "# properties and loads"]
     lines += _properties(model)
-    lines += _laws_and_settings(model)
+    lines += _laws(model)
+    lines += _settings(settings or RunSettings())
     lines += ["END", "END", ""]
     return "\n".join(lines)
 
 
-def write_dat(model: Model, path: str | Path) -> Path:
-    """Write ``model`` as a SPACAR input file; returns the path.
+def write_dat(model: Model, path: str | Path, settings: RunSettings | None = None) -> Path:
+    """Write ``model`` (and its run ``settings``) as a SPACAR input file; returns the path.
 
     Raises:
         OutputError: the model has a non-polynomial input law, or the file
             cannot be written.
     """
     path = Path(path)
-    text = dat_text(model)
+    text = dat_text(model, settings)
     try:
         path.write_text(text, encoding="utf-8")
     except OSError as error:
@@ -86,17 +87,16 @@ def _classification(model: Model) -> list[str]:
 def _properties(model: Model) -> list[str]:
     lines = []
     for number, props in sorted(model.element_properties.items()):
-        keyword = model.elements[number].type.keyword
+        etype = model.elements[number].type
         if props.mass_per_length:
-            lines.append(_line("EMLUMP" if props.mass_formulation == "lumped" else "EM", number,
-                               props.mass_per_length))
-        for table, name, suffix in ((_STIFFNESS, "ESTIFF", "stiffness"),
-                                    (_DAMPING, "EDAMP", "damping")):
-            values = [getattr(props, f"{field}_{suffix}") for field in table[keyword]]
+            lines.append(_line("EMLUMP" if props.lumped else "EM", number, props.mass_per_length))
+        for keyword, given, declared in (("ESTIFF", props.stiffness, etype.stiffness_values),
+                                         ("EDAMP", props.damping, etype.damping_values)):
+            values = [given.get(v.name, 0.0) for v in declared]
             while values and not values[-1]:  # trailing zeros and an absent shear term
                 values.pop()
             if values:
-                lines.append(_line(name, number, *(v or 0.0 for v in values)))
+                lines.append(_line(keyword, number, *values))
         for k, sigma0 in enumerate(props.prestress or (), 1):
             if sigma0:
                 lines.append(_line("ESIG", number, k, sigma0))
@@ -109,7 +109,7 @@ def _properties(model: Model) -> list[str]:
     return lines
 
 
-def _laws_and_settings(model: Model) -> list[str]:
+def _laws(model: Model) -> list[str]:
     lines = []
     for label, law in sorted(model.input_laws.items()):
         if not isinstance(law, Polynomial):
@@ -119,7 +119,11 @@ def _laws_and_settings(model: Model) -> list[str]:
         number, k = (int(part) for part in label[1:].split("."))
         keyword = "INPUTX" if label.startswith("x") else "INPUTE"
         lines.append(_line(keyword, number, k, law.x0, law.v0, law.a0))
-    settings = model.settings
+    return lines
+
+
+def _settings(settings: RunSettings) -> list[str]:
+    lines = []
     for label, (value, rate) in sorted(settings.initial.items()):
         number, k = (int(part) for part in label[1:].split("."))
         lines.append(_line("STARTDE" if label.startswith("e") else "STARTDX", number, k,
@@ -128,7 +132,10 @@ def _laws_and_settings(model: Model) -> list[str]:
         lines.append(_line("TIMESTEP", settings.t_end, settings.steps))
     if settings.atol is not None or settings.rtol is not None:
         lines.append(_line("ERROR", settings.atol or 1e-9, settings.rtol or 1e-6))
-    if settings.max_iterations is not None or settings.tolerance is not None:
-        extra = () if settings.tolerance is None else (settings.tolerance,)
-        lines.append(_line("ITERSTEP", settings.max_iterations or 25, *extra))
+    if (settings.max_iterations is not None or settings.load_steps is not None
+            or settings.tolerance is not None):
+        values = [settings.max_iterations or 25, settings.load_steps or 1]
+        if settings.tolerance is not None:
+            values.append(settings.tolerance)
+        lines.append(_line("ITERSTEP", *values))
     return lines

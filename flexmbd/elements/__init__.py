@@ -1,12 +1,17 @@
-"""Planar element types; each is a small class with vectorised kernels."""
+"""Planar element types: one file each (see :mod:`flexmbd.elements.base`).
 
-from .base import ROTATIONAL, TRANSLATIONAL, ElementType, Reference
+A new type is a file defining an :class:`ElementType` and one entry in
+:data:`ELEMENT_TYPES`; run ``python -m flexmbd.codegen`` to generate its compiled
+kernels.
+"""
+
+from .base import ROTATIONAL, TRANSLATIONAL, ElementType
 from .beam import Beam
 from .hinge import Hinge
 from .rigid_beam import RigidBeam
 from .truss import Truss
 
-#: element types by SPACAR keyword
+#: the element types by SPACAR keyword; the order is the compiled core's type numbers
 ELEMENT_TYPES: dict[str, type[ElementType]] = {
     cls.keyword: cls for cls in (Truss, Beam, RigidBeam, Hinge)
 }
@@ -18,7 +23,6 @@ __all__ = [
     "Beam",
     "ElementType",
     "Hinge",
-    "Reference",
     "RigidBeam",
     "Truss",
 ]

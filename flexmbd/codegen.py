@@ -1,0 +1,168 @@
+"""Generate the compiled element kernels from the element definitions (needs SymPy).
+
+For every type in :data:`flexmbd.elements.ELEMENT_TYPES` the one definition of its
+deformation functions, :meth:`~flexmbd.elements.base.ElementType.deformations`,
+and of its material point, :meth:`~flexmbd.elements.base.ElementType.material_point`,
+are differentiated here and written as C with common subexpressions eliminated:
+
+* ``e = D(x)`` alone, and with the Jacobian ``D_x`` (row-major ``nd x nc``);
+* the quadratic velocity terms ``(D_xx xdot) xdot`` (THEORY 2);
+* the Hessians ``D_xx`` (``nd x nc x nc``);
+* per unit element mass (THEORY 5): the consistent mass matrix ``int N^T N dxi``,
+  the velocity-dependent inertia ``int N^T (Ndot xdot) dxi`` and the gravity load
+  ``int N^T g dxi``, with ``N`` the derivative of the material point.
+
+The output, ``flexmbd/csrc/kernels.c``, is committed and compiled by ``pip install``;
+it records a hash of the definitions it was made from, which the tests compare with
+the definitions as they are now. After changing or adding an element type run::
+
+    python -m flexmbd.codegen
+"""
+
+from __future__ import annotations
+
+import hashlib
+import inspect
+from pathlib import Path
+
+from .elements import ELEMENT_TYPES
+from .elements.base import ElementType
+
+#: where the generated kernels go
+KERNELS = Path(__file__).resolve().parent / "csrc" / "kernels.c"
+
+
+def definitions_hash() -> str:
+    """SHA-256 of the sources the kernels are generated from: the element modules and
+    this generator."""
+    sources = [inspect.getsource(inspect.getmodule(cls)) for cls in ELEMENT_TYPES.values()]
+    sources += [inspect.getsource(inspect.getmodule(ElementType)),
+                inspect.getsource(inspect.getmodule(definitions_hash))]
+    return hashlib.sha256("\n".join(sources).encode()).hexdigest()
+
+
+def _integrate(expr, xi, sp):
+    """``int_0^1 expr dxi`` of a polynomial in ``xi``, trigonometry simplified."""
+    return sp.trigsimp(sp.integrate(sp.expand(expr), (xi, 0, 1)))
+
+
+def derive(cls: type[ElementType], sp) -> dict[str, tuple[list, list]]:
+    """The kernels of one type as ``{name: (arguments, expressions)}``."""
+    nc, nd = cls.n_coordinates(), cls.n_deformations()
+    c = list(sp.symbols(f"c0:{nc}", real=True))
+    v = list(sp.symbols(f"v0:{nc}", real=True))
+    p = list(sp.symbols(f"p0:{cls.reference}", real=True)) if cls.reference else []
+    e = sp.Matrix(cls.deformations(c, p, sp))
+    jac = e.jacobian(c)
+    rates = jac * sp.Matrix(v)
+    quadratic = (rates.jacobian(c) * sp.Matrix(v))
+    hessians = [sp.hessian(e[i], c) for i in range(nd)]
+    kernels = {
+        "deform": (["c", "p"], list(e)),
+        "deform_jac": (["c", "p"], list(e) + list(jac)),
+        "quadratic": (["c", "v", "p"], list(quadratic)),
+        "hessian": (["c", "p"], [h[a, b] for h in hessians for a in range(nc)
+                                  for b in range(nc)]),
+    }
+    if cls.has_mass:
+        xi = sp.Symbol("xi", real=True)
+        g = list(sp.symbols("g0:2", real=True))
+        point = sp.Matrix(cls.material_point(c, p, xi, sp))
+        N = point.jacobian(c)
+        Ndot = sum((N.diff(ck) * vk for ck, vk in zip(c, v, strict=True)), sp.zeros(2, nc))
+        mass = (N.T * N).applyfunc(lambda z: _integrate(z, xi, sp))
+        inertia = (N.T * Ndot * sp.Matrix(v)).applyfunc(lambda z: _integrate(z, xi, sp))
+        gravity = (N.T * sp.Matrix(g)).applyfunc(lambda z: _integrate(z, xi, sp))
+        kernels["mass"] = (["c", "p"], list(mass))
+        kernels["inertia"] = (["c", "v", "p"], list(inertia))
+        kernels["gravity"] = (["c", "p", "g"], list(gravity))
+    return kernels
+
+
+_SIGNATURES = {"c": "const double *c", "v": "const double *v", "p": "const double *p",
+               "g": "const double *g"}
+
+
+def _printer(sp):
+    """C99 printing with small powers as products and half-integer ones with sqrt: the
+    kernels' differences stay as written (expanding them would cancel digits)."""
+    from sympy.printing.c import C99CodePrinter
+
+    half = sp.Rational(1, 2)
+
+    class Printer(C99CodePrinter):
+        def _print_Pow(self, expr):
+            base, exponent = expr.as_base_exp()
+            b = self.parenthesize(base, 1000)
+            if exponent in (2, 3):
+                return "*".join([b] * int(exponent))
+            if exponent == -1:
+                return f"1.0/{b}"
+            if exponent == half:
+                return f"sqrt({self._print(base)})"
+            if exponent == -half:
+                return f"1.0/sqrt({self._print(base)})"
+            if exponent == 3 * half:
+                return f"({b}*sqrt({self._print(base)}))"
+            if exponent == -3 * half:
+                return f"1.0/({b}*sqrt({self._print(base)}))"
+            return super()._print_Pow(expr)
+
+    return Printer()
+
+
+def _function(name: str, arguments: list[str], expressions: list, sp) -> str:
+    """One C function ``void name(args, double *out)`` with common subexpressions."""
+    replacements = {}
+    for letter in arguments:
+        for s in set().union(*(x.free_symbols for x in expressions)):
+            if s.name.startswith(letter) and s.name[len(letter):].isdigit():
+                replacements[s] = sp.Symbol(f"{letter}[{s.name[len(letter):]}]")
+    expressions = [sp.sympify(x).xreplace(replacements) for x in expressions]
+    shared, reduced = sp.cse(expressions, symbols=sp.numbered_symbols("t"))
+    printer = _printer(sp)
+    lines = [f"static void {name}({', '.join(_SIGNATURES[a] for a in arguments)}, double *out)",
+             "{"]
+    lines += [f"    const double {s} = {printer.doprint(x)};" for s, x in shared]
+    lines += [f"    out[{i}] = {printer.doprint(x)};" for i, x in enumerate(reduced)]
+    unused = [a for a in arguments if not any(
+        str(s).startswith(f"{a}[") for x in expressions for s in x.free_symbols)]
+    lines[2:2] = [f"    (void){a};" for a in unused]
+    return "\n".join([*lines, "}"])
+
+
+def generate() -> str:
+    """The text of ``kernels.c`` for the current element definitions."""
+    import sympy as sp
+
+    parts = [f"/* Generated by flexmbd.codegen from the element definitions: do not edit.\n"
+             f"   Regenerate with `python -m flexmbd.codegen`.\n"
+             f"   definitions: {definitions_hash()} */",
+             "#include <math.h>", "#include <stddef.h>", '#include "core.h"', ""]
+    table = []
+    for cls in ELEMENT_TYPES.values():
+        prefix = cls.keyword.lower()
+        kernels = derive(cls, sp)
+        for name, (arguments, expressions) in kernels.items():
+            parts += [_function(f"{prefix}_{name}", arguments, expressions, sp), ""]
+        constant = cls.has_mass and not any(
+            s.name.startswith("c") for x in kernels["mass"][1] for s in sp.sympify(x).free_symbols)
+        pointers = ", ".join(f"{prefix}_{k}" if k in kernels else "NULL" for k in
+                             ("deform", "deform_jac", "quadratic", "hessian", "mass",
+                              "inertia", "gravity"))
+        table.append(f'    {{"{cls.keyword}", {cls.n_coordinates()}, {cls.n_deformations()}, '
+                     f"{cls.reference}, {pointers}, {int(constant)}}},")
+    parts += ["const FmKernels FM_KERNELS[] = {", *table, "};",
+              f"const int FM_N_TYPES = {len(ELEMENT_TYPES)};",
+              f'const char FM_DEFINITIONS_HASH[] = "{definitions_hash()}";', ""]
+    return "\n".join(parts)
+
+
+def main() -> None:
+    """Write :data:`KERNELS`."""
+    KERNELS.write_text(generate())
+    print(f"wrote {KERNELS} ({len(ELEMENT_TYPES)} element types)")
+
+
+if __name__ == "__main__":
+    main()

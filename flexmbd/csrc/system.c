@@ -1,0 +1,625 @@
+/* One state of a model: positions, rates, inertia, forces, equations of motion.
+ *
+ * THEORY sections 3-8, for one state at a time; every analysis of flexmbd calls these.
+ * Element values live in per-element blocks (deformations, Jacobian rows, element
+ * matrices); the square systems are D_c, factorised in its band after scaling rows
+ * and angle columns, and the saddle-point matrix [[A, C^T], [C, 0]] over the free
+ * coordinates (dependent and dynamic) and the multipliers (rigid and input
+ * deformations), with A the mass matrix or the Newton matrix of an integrator.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core.h"
+
+#define SINGULAR_RCOND 1e-13   /* scaled D_c: 1 / ||inverse||_1 below this is singular */
+#define ROUND_OFF 1e-6         /* residuals below this share of the tolerance are round-off */
+#define SLOW_CHORD 0.1         /* a chord step that reduces less than this gets a new D_c */
+#define MAX_NC 16              /* largest element: coordinates */
+
+static double *alloc(int n) { return calloc(n > 0 ? n : 1, sizeof(double)); }
+
+int fm_state_init(FmState *s, const FmModel *m)
+{
+    memset(s, 0, sizeof(*s));
+    s->q = alloc(m->nq); s->qd = alloc(m->nq); s->qdd = alloc(m->nq);
+    s->x = alloc(m->nx); s->xd = alloc(m->nx); s->xdd = alloc(m->nx);
+    s->e = alloc(m->ne); s->ed = alloc(m->ne); s->edd = alloc(m->ne); s->qv = alloc(m->ne);
+    s->J = alloc(m->total_j); s->blocks = alloc(m->total_b); s->ablocks = alloc(m->total_b);
+    s->hvec = alloc(m->c_off[m->nel]); s->gvec = alloc(m->c_off[m->nel]);
+    s->sigma = alloc(m->ne); s->y = alloc(m->nx);
+    int n = m->nx > m->ne ? m->nx : m->ne;
+    n = (n > m->ns ? n : m->ns) + 1;
+    s->w1 = alloc(n); s->w2 = alloc(n); s->w3 = alloc(n);
+    s->w4 = alloc(n); s->w5 = alloc(n); s->w6 = alloc(n);
+    if (band_init(&s->dc, m->nr, m->dc_kl, m->dc_ku))
+        return FM_NO_MEMORY;
+    double *all[] = {s->q, s->qd, s->qdd, s->x, s->xd, s->xdd, s->e, s->ed, s->edd, s->qv,
+                     s->J, s->blocks, s->ablocks, s->hvec, s->gvec, s->sigma, s->y,
+                     s->w1, s->w2, s->w3, s->w4, s->w5, s->w6};
+    for (size_t k = 0; k < sizeof(all) / sizeof(all[0]); k++)
+        if (!all[k])
+            return FM_NO_MEMORY;
+    return FM_OK;
+}
+
+void fm_state_free(FmState *s)
+{
+    double *all[] = {s->q, s->qd, s->qdd, s->x, s->xd, s->xdd, s->e, s->ed, s->edd, s->qv,
+                     s->J, s->blocks, s->ablocks, s->hvec, s->gvec, s->sigma, s->y,
+                     s->w1, s->w2, s->w3, s->w4, s->w5, s->w6};
+    for (size_t k = 0; k < sizeof(all) / sizeof(all[0]); k++)
+        free(all[k]);
+    band_free(&s->dc);
+}
+
+void fm_state_copy(FmState *to, const FmState *from, const FmModel *m)
+{
+    to->t = from->t;
+    memcpy(to->q, from->q, sizeof(double) * m->nq);
+    memcpy(to->qd, from->qd, sizeof(double) * m->nq);
+    memcpy(to->qdd, from->qdd, sizeof(double) * m->nq);
+    memcpy(to->x, from->x, sizeof(double) * m->nx);
+    memcpy(to->xd, from->xd, sizeof(double) * m->nx);
+    memcpy(to->xdd, from->xdd, sizeof(double) * m->nx);
+    memcpy(to->e, from->e, sizeof(double) * m->ne);
+    memcpy(to->J, from->J, sizeof(double) * m->total_j);
+    band_copy(&to->dc, &from->dc);
+    to->conditioning = from->conditioning;
+    to->has_factor = from->has_factor;
+}
+
+/* --- element passes ------------------------------------------------------------------ */
+static void gather(const FmModel *m, int k, const double *x, double *c)
+{
+    for (int a = m->c_off[k]; a < m->c_off[k + 1]; a++)
+        c[a - m->c_off[k]] = x[m->c_idx[a]];
+}
+
+/* e at s->x, and D_x with it when `jacobian`. */
+static void element_pass(const FmModel *m, FmState *s, int jacobian)
+{
+    double c[MAX_NC], out[MAX_NC * (MAX_NC + 1)];
+    for (int k = 0; k < m->nel; k++) {
+        const FmKernels *kern = &FM_KERNELS[m->etype[k]];
+        const int nd = kern->nd, d0 = m->d_off[k];
+        gather(m, k, s->x, c);
+        const double *p = m->param + m->p_off[k];
+        if (jacobian) {
+            kern->deform_jac(c, p, out);
+            memcpy(s->J + m->j_off[k], out + nd, sizeof(double) * nd * kern->nc);
+        } else {
+            kern->deform(c, p, out);
+        }
+        for (int i = 0; i < nd; i++)
+            s->e[m->d_idx[d0 + i]] = out[i];
+    }
+}
+
+void fm_jacobian_times(const FmModel *m, const double *Jall, const double *v, double *out)
+{
+    for (int k = 0; k < m->nel; k++) {
+        const int nc = m->c_off[k + 1] - m->c_off[k], nd = m->d_off[k + 1] - m->d_off[k];
+        const double *J = Jall + m->j_off[k];
+        const int *ci = m->c_idx + m->c_off[k];
+        for (int i = 0; i < nd; i++) {
+            double sum = 0.0;
+            for (int a = 0; a < nc; a++)
+                sum += J[i * nc + a] * v[ci[a]];
+            out[m->d_idx[m->d_off[k] + i]] = sum;
+        }
+    }
+}
+
+void fm_jacobian_t_times(const FmModel *m, const double *Jall, const double *w, double *out)
+{
+    memset(out, 0, sizeof(double) * m->nx);
+    for (int k = 0; k < m->nel; k++) {
+        const int nc = m->c_off[k + 1] - m->c_off[k], nd = m->d_off[k + 1] - m->d_off[k];
+        const double *J = Jall + m->j_off[k];
+        const int *ci = m->c_idx + m->c_off[k];
+        for (int i = 0; i < nd; i++) {
+            const double wi = w[m->d_idx[m->d_off[k] + i]];
+            if (wi == 0.0)
+                continue;
+            for (int a = 0; a < nc; a++)
+                out[ci[a]] += J[i * nc + a] * wi;
+        }
+    }
+}
+
+/* --- D_c --------------------------------------------------------------------------------- */
+/* Assemble the scaled D_c into its band and factorise; the conditioning estimate (an
+ * extra few solves) only when `estimate`. Returns FM_SINGULAR for a zero pivot. */
+static int factor_dc(const FmModel *m, FmState *s, int estimate)
+{
+    Band *b = &s->dc;
+    s->has_factor = 0;
+    if (!m->nr) {
+        s->conditioning = 1.0;
+        s->has_factor = 1;
+        return FM_OK;
+    }
+    memset(b->ab, 0, sizeof(double) * (size_t)b->ldab * b->n);
+    for (int k = 0; k < m->ndc_map; k++)
+        b->ab[m->dc_dst[k]] = s->J[m->dc_src[k]] * m->dc_w[k];
+    if (band_factor(b) || !(band_min_pivot(b) > 0.0) || !isfinite(band_min_pivot(b))) {
+        s->conditioning = 0.0;
+        return FM_SINGULAR;
+    }
+    s->has_factor = 1;
+    s->conditioning = estimate ? 1.0 / band_inverse_norm(b) : NAN;
+    if (estimate && !(s->conditioning > SINGULAR_RCOND))
+        return FM_SINGULAR;
+    return FM_OK;
+}
+
+double fm_conditioning(const FmModel *m, FmState *s)
+{
+    if (!m->nr)
+        return 1.0;
+    if (isnan(s->conditioning))
+        s->conditioning = 1.0 / band_inverse_norm(&s->dc);
+    return s->conditioning;
+}
+
+/* x = D_c^-1 r for r over the rows of D_c (in place: r becomes x over the columns). */
+static void solve_dc(const FmModel *m, const FmState *s, double *r, double *work)
+{
+    for (int i = 0; i < m->nr; i++)
+        work[m->dc_rowband[i]] = m->dc_rowscale[i] * r[i];
+    band_solve(&s->dc, work);
+    for (int j = 0; j < m->nr; j++)
+        r[j] = m->dc_colscale[j] * work[m->dc_colband[j]];
+}
+
+/* w = D_c^-T y for y over the columns (in place: y becomes w over the rows). */
+static void solve_dc_t(const FmModel *m, const FmState *s, double *y, double *work)
+{
+    for (int j = 0; j < m->nr; j++)
+        work[m->dc_colband[j]] = m->dc_colscale[j] * y[j];
+    band_solve_t(&s->dc, work);
+    for (int i = 0; i < m->nr; i++)
+        y[i] = m->dc_rowscale[i] * work[m->dc_rowband[i]];
+}
+
+/* --- positions (THEORY 3) -----------------------------------------------------------------
+ * Newton-Raphson for x(c) from a guess, in one of two modes:
+ * - the integrator's (refresh = 0): D_c from the guess (or from nearby, `use_factor`) serves
+ *   chord steps while they converge fast; once the residual is below `near` (at least the
+ *   tolerance) D_x is taken there and one more step makes x accurate to second order.
+ *   D_x and the rates are then as accurate as `near` relative to the model size, which an
+ *   integrator with good guesses uses to solve with one Jacobian per evaluation;
+ * - exact (refresh = 1): a fresh D_c at every iterate (full Newton, robust from a poor
+ *   guess) and at the solution after the last step, for kinematic and inverse runs and
+ *   single configurations. */
+static double residual_norm(const FmModel *m, const FmState *s, double *r, int *worst)
+{
+    double norm = 0.0;
+    *worst = -1;
+    for (int i = 0; i < m->nr; i++) {
+        const int d = m->rows[i];
+        const double target = i < m->nrigid ? 0.0 : s->q[m->nxm + i - m->nrigid];
+        r[i] = s->e[d] - target;
+        if (!isfinite(r[i])) {
+            *worst = -1;
+            return INFINITY;
+        }
+        if (fabs(r[i]) > norm || *worst < 0) {
+            norm = fabs(r[i]) > norm ? fabs(r[i]) : norm;
+            *worst = d;
+        }
+    }
+    return norm;
+}
+
+static int fail(FmError *err, int code, double t, int iterations, double residual, int worst)
+{
+    if (err) {
+        err->code = code;
+        err->time = t;
+        err->iterations = iterations;
+        err->residual = residual;
+        err->worst = worst;
+    }
+    return code;
+}
+
+int fm_positions(const FmModel *m, FmState *s, double t, const double *guess, double near,
+                 int use_factor, int refresh, FmError *err)
+{
+    const int nr = m->nr;
+    double *r = s->w1, *work = s->w2;
+    int code = FM_OK, worst = -1, fresh, iteration;
+    double norm = 0.0, previous = -1.0;
+    s->t = t;
+    memcpy(s->x, guess, sizeof(double) * m->nx);
+    for (int k = 0; k < m->nfixed; k++)
+        s->x[m->fixed[k]] = m->x_fixed[k];
+    for (int k = 0; k < m->nxm; k++)
+        s->x[m->q_coord[k]] = s->q[k];
+    if (near < m->tolerance)
+        near = m->tolerance;
+    if (!use_factor || !s->has_factor || !nr) {
+        element_pass(m, s, 1);
+        fresh = 1;
+        if ((code = factor_dc(m, s, 0)))
+            goto done;
+        if (!nr)
+            goto done;
+    } else {
+        element_pass(m, s, 0);
+        fresh = 0;
+    }
+    for (iteration = 0; iteration <= m->max_iterations; iteration++) {
+        norm = residual_norm(m, s, r, &worst);
+        if (norm <= near)
+            break;
+        if (!isfinite(norm) || iteration == m->max_iterations) {
+            code = fail(err, FM_NOT_CONVERGED, t, iteration, norm, worst);
+            goto done;
+        }
+        solve_dc(m, s, r, work);
+        for (int j = 0; j < nr; j++)
+            s->x[m->dep[j]] -= r[j];
+        const int slow = refresh || (previous >= 0.0 && norm > SLOW_CHORD * previous);
+        fresh = slow;
+        previous = slow ? -1.0 : norm;
+        element_pass(m, s, slow);
+        if (slow && factor_dc(m, s, 0)) {    /* lost on the way: Newton failed, not the pose */
+            worst = -1;
+            norm = residual_norm(m, s, r, &worst);
+            code = fail(err, FM_NOT_CONVERGED, t, iteration + 1, norm, worst);
+            goto done;
+        }
+    }
+    if (!fresh) {                            /* the Jacobian at the last point */
+        element_pass(m, s, 1);
+        norm = residual_norm(m, s, r, &worst);
+        if ((code = factor_dc(m, s, 0)))
+            goto done;
+    }
+    if (fm_conditioning(m, s) < m->regularity_limit) {
+        code = FM_SINGULAR_TOLERANCE;
+        if (err) {
+            err->conditioning = s->conditioning;
+            err->limit = m->regularity_limit;
+        }
+        goto done;
+    }
+    if (norm > ROUND_OFF * m->tolerance) {   /* one more step: x to second order */
+        double *change = s->w3, *de = s->w4;
+        memset(change, 0, sizeof(double) * m->nx);
+        solve_dc(m, s, r, work);
+        for (int j = 0; j < nr; j++) {
+            s->x[m->dep[j]] -= r[j];
+            change[m->dep[j]] = -r[j];
+        }
+        if (refresh) {                       /* D_x and D_c at the solution itself */
+            element_pass(m, s, 1);
+            if ((code = factor_dc(m, s, 0)))
+                goto done;
+        } else {                             /* e there, to first order */
+            fm_jacobian_times(m, s->J, change, de);
+            for (int i = 0; i < m->ne; i++)
+                s->e[i] += de[i];
+        }
+    }
+done:
+    if (code == FM_SINGULAR && err)
+        fail(err, FM_SINGULAR, t, 0, norm, -1);
+    else if (code == FM_SINGULAR_TOLERANCE && err)
+        err->code = code, err->time = t;
+    return code;
+}
+
+/* --- rates (THEORY 4) ------------------------------------------------------------------------ */
+void fm_dependent_rates(const FmModel *m, FmState *s, double *rates, const double *targets,
+                        const double *extra)
+{
+    if (!m->nr)
+        return;
+    double *rhs = s->w1, *work = s->w2, *dv = s->w3;
+    for (int j = 0; j < m->nr; j++)
+        rates[m->dep[j]] = 0.0;
+    fm_jacobian_times(m, s->J, rates, dv);
+    for (int i = 0; i < m->nr; i++) {
+        const int d = m->rows[i];
+        rhs[i] = -dv[d] - (extra ? extra[d] : 0.0);
+        if (i >= m->nrigid)
+            rhs[i] += targets[i - m->nrigid];
+    }
+    solve_dc(m, s, rhs, work);
+    for (int j = 0; j < m->nr; j++)
+        rates[m->dep[j]] = rhs[j];
+}
+
+static void quadratic_pass(const FmModel *m, FmState *s)
+{
+    double c[MAX_NC], v[MAX_NC], out[MAX_NC];
+    for (int k = 0; k < m->nel; k++) {
+        const FmKernels *kern = &FM_KERNELS[m->etype[k]];
+        gather(m, k, s->x, c);
+        gather(m, k, s->xd, v);
+        kern->quadratic(c, v, m->param + m->p_off[k], out);
+        for (int i = 0; i < kern->nd; i++)
+            s->qv[m->d_idx[m->d_off[k] + i]] = out[i];
+    }
+}
+
+int fm_kinematics(const FmModel *m, FmState *s, double t, const double *guess, double near,
+                  int use_factor, int refresh, FmError *err)
+{
+    int code = fm_positions(m, s, t, guess, near, use_factor, refresh, err);
+    if (code)
+        return code;
+    memset(s->xd, 0, sizeof(double) * m->nx);
+    memset(s->xdd, 0, sizeof(double) * m->nx);
+    for (int k = 0; k < m->nxm; k++) {
+        s->xd[m->q_coord[k]] = s->qd[k];
+        s->xdd[m->q_coord[k]] = s->qdd[k];
+    }
+    fm_dependent_rates(m, s, s->xd, s->qd + m->nxm, NULL);
+    quadratic_pass(m, s);
+    fm_dependent_rates(m, s, s->xdd, s->qdd + m->nxm, s->qv);
+    fm_jacobian_times(m, s->J, s->xd, s->ed);
+    fm_jacobian_times(m, s->J, s->xdd, s->edd);
+    for (int i = 0; i < m->ne; i++)
+        s->edd[i] += s->qv[i];
+    return FM_OK;
+}
+
+/* --- forces (THEORY 5, 6) ------------------------------------------------------------------- */
+void fm_stresses(const FmModel *m, FmState *s)
+{
+    memset(s->sigma, 0, sizeof(double) * m->ne);
+    for (int k = 0; k < m->nel; k++) {
+        if (!m->elastic[k])
+            continue;
+        const int nd = m->d_off[k + 1] - m->d_off[k];
+        const int *di = m->d_idx + m->d_off[k];
+        const double *S = m->S + m->law_off[k], *C = m->C + m->law_off[k];
+        for (int i = 0; i < nd; i++) {
+            double sum = m->sigma0[di[i]];
+            for (int j = 0; j < nd; j++)
+                sum += S[i * nd + j] * s->e[di[j]] + C[i * nd + j] * s->ed[di[j]];
+            s->sigma[di[i]] = m->elastic_def[di[i]] ? sum : 0.0;
+        }
+    }
+}
+
+void fm_inertia(const FmModel *m, FmState *s)
+{
+    double c[MAX_NC], v[MAX_NC];
+    for (int k = 0; k < m->nel; k++) {
+        const int nc = m->c_off[k + 1] - m->c_off[k];
+        double *M = s->blocks + m->b_off[k], *h = s->hvec + m->c_off[k],
+               *g = s->gvec + m->c_off[k];
+        memcpy(M, m->mconst + m->b_off[k], sizeof(double) * nc * nc);
+        memset(h, 0, sizeof(double) * nc);
+        memset(g, 0, sizeof(double) * nc);
+        if (!m->varying[k])
+            continue;
+        const FmKernels *kern = &FM_KERNELS[m->etype[k]];
+        const double *p = m->param + m->p_off[k], mass = m->emass[k];
+        double out[MAX_NC * MAX_NC];
+        gather(m, k, s->x, c);
+        gather(m, k, s->xd, v);
+        kern->mass(c, p, out);
+        for (int a = 0; a < nc * nc; a++)
+            M[a] += mass * out[a];
+        kern->inertia(c, v, p, out);
+        for (int a = 0; a < nc; a++)
+            h[a] = mass * out[a];
+        if (m->gravity_on) {
+            kern->gravity(c, p, m->gravity, out);
+            for (int a = 0; a < nc; a++)
+                g[a] = mass * out[a];
+        }
+    }
+}
+
+/* y = M xdd + h - f + D_x^T sigma with the element matrices of fm_inertia and the
+ * stresses in s->sigma; `user` are applied loads (nx) or NULL. */
+void fm_nodal_force(const FmModel *m, FmState *s, const double *user)
+{
+    fm_jacobian_t_times(m, s->J, s->sigma, s->y);
+    for (int i = 0; i < m->nx; i++)
+        s->y[i] += m->nodal_mass[i] * s->xdd[i] - m->f_const[i] - (user ? user[i] : 0.0);
+    for (int k = 0; k < m->nel; k++) {
+        const int nc = m->c_off[k + 1] - m->c_off[k];
+        const int *ci = m->c_idx + m->c_off[k];
+        const double *M = s->blocks + m->b_off[k], *h = s->hvec + m->c_off[k],
+                     *g = s->gvec + m->c_off[k];
+        for (int a = 0; a < nc; a++) {
+            double sum = h[a] - g[a];
+            for (int b = 0; b < nc; b++)
+                sum += M[a * nc + b] * s->xdd[ci[b]];
+            s->y[ci[a]] += sum;
+        }
+    }
+}
+
+/* --- the saddle-point system (THEORY 7, 8) ---------------------------------------------------- */
+/* [[A, C^T], [C, 0]] with A = M + c_q (D^T S D + sum sigma_i D_xx,i) + c_v D^T C D over the
+ * free coordinates (the stiffness only when c_q or c_v is non-zero; the geometric part for
+ * pre-stressed elements only: elsewhere it is of the order of the strains). */
+int fm_saddle(const FmModel *m, FmState *s, Band *sd, double c_q, double c_v, FmError *err)
+{
+    double H[MAX_NC * MAX_NC * MAX_NC], c[MAX_NC];
+    const int stiff = c_q != 0.0 || c_v != 0.0;
+    const double *blocks = s->blocks;
+    if (stiff) {
+        memcpy(s->ablocks, s->blocks, sizeof(double) * m->total_b);
+        blocks = s->ablocks;
+        for (int k = 0; k < m->nel; k++) {
+            if (!m->elastic[k])
+                continue;
+            const int nc = m->c_off[k + 1] - m->c_off[k], nd = m->d_off[k + 1] - m->d_off[k];
+            double *A = s->ablocks + m->b_off[k];
+            const double *J = s->J + m->j_off[k];
+            const double *S = m->S + m->law_off[k], *C = m->C + m->law_off[k];
+            double law[MAX_NC * MAX_NC], LJ[MAX_NC * MAX_NC];
+            for (int i = 0; i < nd * nd; i++)
+                law[i] = c_q * S[i] + c_v * C[i];
+            for (int i = 0; i < nd; i++)          /* (c_q S + c_v C) D */
+                for (int b = 0; b < nc; b++) {
+                    double sum = 0.0;
+                    for (int j = 0; j < nd; j++)
+                        sum += law[i * nd + j] * J[j * nc + b];
+                    LJ[i * nc + b] = sum;
+                }
+            for (int a = 0; a < nc; a++)          /* D^T (c_q S + c_v C) D */
+                for (int b = 0; b < nc; b++) {
+                    double sum = 0.0;
+                    for (int i = 0; i < nd; i++)
+                        sum += J[i * nc + a] * LJ[i * nc + b];
+                    A[a * nc + b] += sum;
+                }
+            if (m->prestressed[k] && c_q != 0.0) {
+                gather(m, k, s->x, c);
+                FM_KERNELS[m->etype[k]].hessian(c, m->param + m->p_off[k], H);
+                for (int i = 0; i < nd; i++) {
+                    const double w = c_q * s->sigma[m->d_idx[m->d_off[k] + i]];
+                    for (int a = 0; a < nc * nc; a++)
+                        A[a] += w * H[i * nc * nc + a];
+                }
+            }
+        }
+    }
+    memset(sd->ab, 0, sizeof(double) * (size_t)sd->ldab * sd->n);
+    for (int e = 0; e < m->nsd_a; e++)
+        sd->ab[m->sd_a_dst[e]] += blocks[m->sd_a_src[e]];
+    for (int e = 0; e < m->nsd_m; e++)
+        sd->ab[m->sd_m_dst[e]] += m->nodal_mass[m->sd_m_coord[e]];
+    double biggest = 0.0;
+    for (int e = 0; e < m->nsd_c; e++) {
+        const double v = s->J[m->sd_c_src[e]];
+        sd->ab[m->sd_c_dst[e]] = v;
+        sd->ab[m->sd_c_dstt[e]] = v;
+    }
+    for (size_t a = 0; a < (size_t)sd->ldab * sd->n; a++)
+        if (fabs(sd->ab[a]) > biggest)
+            biggest = fabs(sd->ab[a]);
+    if (band_factor(sd) || !(band_min_pivot(sd) > 1e-14 * biggest))
+        return fail(err, FM_MASSLESS, s->t, 0, 0.0, -1);
+    return FM_OK;
+}
+
+/* dq = -Q z with [[A, C^T], [C, 0]] [z; lambda] = [Q^T rhs; 0]: the change of the dynamic
+ * entries of q for a residual `rhs` over them (Q: dynamic coordinates directly, dynamic
+ * deformations through their rows of D_x). `J` are the element Jacobians the saddle-point
+ * matrix was assembled with: a kept operator is applied as a whole, from its own state. */
+void fm_saddle_apply(const FmModel *m, FmState *s, const Band *sd, const double *J,
+                     const double *rhs, double *dq)
+{
+    double *u = s->w1, *z = s->w3, *rates = s->w4, *pulled = s->w5, *w = s->w6;
+    memset(u, 0, sizeof(double) * sd->n);
+    memset(w, 0, sizeof(double) * m->ne);
+    for (int k = 0; k < m->ndc; k++)
+        u[m->sd_band[m->free_of[m->dyn_coord[k]]]] += rhs[k];
+    for (int k = 0; k < m->nd_dyn - m->ndc; k++)
+        w[m->dyn_def[k]] = rhs[m->ndc + k];
+    fm_jacobian_t_times(m, J, w, pulled);
+    for (int i = 0; i < m->nx; i++)
+        if (m->free_of[i] >= 0)
+            u[m->sd_band[m->free_of[i]]] += pulled[i];
+    band_solve(sd, u);
+    for (int i = 0; i < m->nx; i++)
+        z[i] = m->free_of[i] >= 0 ? u[m->sd_band[m->free_of[i]]] : 0.0;
+    for (int k = 0; k < m->ndc; k++)
+        dq[k] = -z[m->dyn_coord[k]];
+    fm_jacobian_times(m, J, z, rates);
+    for (int k = 0; k < m->nd_dyn - m->ndc; k++)
+        dq[m->ndc + k] = -rates[m->dyn_def[k]];
+}
+
+/* The accelerations of a state evaluated with the dynamic entries of qdd at zero: the
+ * saddle-point system with A = M gives the change z of the free coordinates'
+ * accelerations; the dynamic entries of qdd, xdd and edd are completed (THEORY 7). */
+int fm_accelerations(const FmModel *m, FmState *s, Band *sd, const double *user, FmError *err)
+{
+    int code;
+    fm_stresses(m, s);
+    fm_inertia(m, s);
+    fm_nodal_force(m, s, user);
+    if ((code = fm_saddle(m, s, sd, 0.0, 0.0, err)))
+        return code;
+    double *u = s->w1, *z = s->w3, *rates = s->w4;
+    memset(u, 0, sizeof(double) * sd->n);
+    memset(z, 0, sizeof(double) * m->nx);
+    for (int i = 0; i < m->nx; i++)
+        if (m->free_of[i] >= 0)
+            u[m->sd_band[m->free_of[i]]] = s->y[i];
+    band_solve(sd, u);
+    int finite = 1;
+    for (int i = 0; i < m->nx; i++)
+        if (m->free_of[i] >= 0) {
+            z[i] = u[m->sd_band[m->free_of[i]]];
+            finite &= isfinite(z[i]);
+            s->xdd[i] -= z[i];
+        }
+    fm_jacobian_times(m, s->J, z, rates);
+    for (int k = 0; k < m->ndc; k++)
+        s->qdd[m->q_dyn[k]] = -z[m->dyn_coord[k]];
+    for (int k = 0; k < m->nd_dyn - m->ndc; k++)
+        s->qdd[m->q_dyn[m->ndc + k]] = -rates[m->dyn_def[k]];
+    for (int i = 0; i < m->ne; i++)
+        s->edd[i] -= rates[i];
+    if (!finite)
+        return fail(err, FM_MASSLESS, s->t, 0, 0.0, -1);
+    fm_nodal_force(m, s, user);              /* at the accelerations found */
+    return FM_OK;
+}
+
+/* R = F_q^T y on the dynamic entries of q (nd_dyn), with w = D_c^-T y(c) over the rows
+ * of D_c (returned in `w`, ne entries, zero off the rows) (THEORY 4, 7). */
+void fm_reduced_residual(const FmModel *m, FmState *s, double *r, double *w)
+{
+    double *col = s->w1, *work = s->w2, *pulled = s->w3;
+    memset(w, 0, sizeof(double) * m->ne);
+    for (int j = 0; j < m->nr; j++)
+        col[j] = s->y[m->dep[j]];
+    if (m->nr)
+        solve_dc_t(m, s, col, work);
+    for (int i = 0; i < m->nr; i++)
+        w[m->rows[i]] = col[i];
+    if (r) {
+        fm_jacobian_t_times(m, s->J, w, pulled);
+        for (int k = 0; k < m->ndc; k++)
+            r[k] = s->y[m->dyn_coord[k]] - pulled[m->dyn_coord[k]];
+        for (int k = 0; k < m->nd_dyn - m->ndc; k++)
+            r[m->ndc + k] = w[m->dyn_def[k]];
+    }
+}
+
+/* Stresses of the constrained deformations from the nodal equilibrium of the dependent
+ * coordinates, then the loads of supports and drives (THEORY 8): with y the nodal force
+ * of the elastic stresses and w = D_c^-T y(c), sigma = sigma_el - w on the rows of D_c
+ * (with `free_dynamic`, a simulation's state, only on the rigid and input rows: w vanishes
+ * on the dynamic ones, whose stress is the elastic law); the load on a fixed or input
+ * coordinate is y - D_x^T w there; `driving` is F_q^T y on every entry of q. */
+void fm_equilibrium(const FmModel *m, FmState *s, int free_dynamic, double *reactions,
+                    double *driving)
+{
+    double *w = s->w4, *pulled = s->w5;
+    fm_reduced_residual(m, s, NULL, w);
+    fm_jacobian_t_times(m, s->J, w, pulled);
+    for (int i = 0; i < m->nr; i++)
+        if (!free_dynamic || m->mult_of_def[m->rows[i]] >= 0)
+            s->sigma[m->rows[i]] -= w[m->rows[i]];
+    if (reactions) {
+        memset(reactions, 0, sizeof(double) * m->nx);
+        for (int k = 0; k < m->nsupported; k++) {
+            const int i = m->supported[k];
+            reactions[i] = s->y[i] - pulled[i];
+        }
+    }
+    if (driving) {
+        for (int k = 0; k < m->nxm; k++)
+            driving[k] = s->y[m->q_coord[k]] - pulled[m->q_coord[k]];
+        for (int k = 0; k < m->nq - m->nxm; k++)
+            driving[m->nxm + k] = w[m->q_def[k]];
+    }
+}

@@ -1,0 +1,68 @@
+"""Saying in words what a singular or rank-deficient ``D_c`` leaves free (THEORY 3).
+
+The right null space of ``D_c`` holds the dependent-coordinate motions that leave
+every constrained deformation unchanged; the left null space holds combinations
+of constraint equations that are redundant. Both are named by their largest
+entries, with angles scaled by the model size so that the words do not depend on
+units.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .model import Model
+
+
+def _largest(vector: np.ndarray, share: float = 0.1) -> np.ndarray:
+    a = np.abs(vector)
+    return np.flatnonzero(a >= share * a.max())
+
+
+def weakest_direction(model: Model, D_c: np.ndarray) -> str:
+    """Name the coordinates and deformations of the smallest singular value of ``D_c``
+    ``(nr, nr)``."""
+    if not np.all(np.isfinite(D_c)):
+        return "the configuration is not finite"
+    scaled = D_c * model.coordinate_scale[model.dependent]
+    norms = np.linalg.norm(scaled, axis=1, keepdims=True)
+    u, _, vt = np.linalg.svd(scaled / np.maximum(norms, 1e-300))
+    constraints = ", ".join(model.describe_deformation(model.constrained[i])
+                            for i in _largest(u[:, -1]))
+    coordinates = ", ".join(model.describe_coordinate(model.dependent[j])
+                            for j in _largest(vt[-1]))
+    return f"the constraints {constraints} no longer determine {coordinates}"
+
+
+def diagnose_rank(model: Model, D_c: np.ndarray, rtol: float = 1e-10) -> str:
+    """Explain a rank-deficient or non-square ``D_c`` in words; ``""`` if it is regular."""
+    rows, cols = D_c.shape
+    u, s, vt = np.linalg.svd(D_c)
+    rank = int(np.sum(s > rtol * (s[0] if s.size else 0.0)))
+    if rank == rows == cols:
+        return ""
+    parts = [f"rank {rank} for {rows} equations in {cols} dependent coordinates"]
+    free = vt[rank:]
+    if len(free):
+        involved = np.flatnonzero(np.abs(free).max(axis=0) > 1e-8)
+        names = ", ".join(model.describe_coordinate(model.dependent[j]) for j in involved)
+        parts.append(f"the coordinates {names} can move without changing any rigid or "
+                     f"independent deformation")
+    redundant = u[:, rank:]
+    if redundant.shape[1]:
+        involved = np.flatnonzero(np.abs(redundant).max(axis=1) > 1e-8)
+        names = ", ".join(model.describe_deformation(model.constrained[i]) for i in involved)
+        parts.append(f"the equations of {names} are linearly dependent")
+    return "; ".join(parts)
+
+
+def at_time(time: float | None) -> str:
+    """``"at t = 0.5 s"``, or ``"in the given configuration"`` without a time."""
+    return "in the given configuration" if time is None else f"at t = {time:.6g} s"
+
+
+def singular_message(model: Model, D_c: np.ndarray, time: float | None, what: str) -> str:
+    """The message of a singular ``D_c`` at ``time``, naming what no longer holds."""
+    return (f"singular configuration {at_time(time)}: {what}; {weakest_direction(model, D_c)}; "
+            f"the mechanism is at a dead point or at the end of its range of motion, where "
+            f"the inputs cannot drive it further")

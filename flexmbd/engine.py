@@ -1,0 +1,603 @@
+"""The engine: a model compiled for the core, and every run on it.
+
+Every analysis of flexmbd runs on one pipeline, the compiled core
+(``flexmbd/_core``, C, built by ``pip install``): kinematic analysis, inverse
+dynamics, forward simulation and the single evaluations of the per-state
+functions. This module is its Python side:
+
+* :func:`compile_model` turns an immutable :class:`~flexmbd.model.Model` into the
+  flat arrays of the core: element data and index maps, the classification, and
+  the orderings of the two square systems (``D_c`` and the saddle-point matrix of
+  the accelerations and the Newton matrix), chosen once by reverse Cuthill-McKee
+  so that their banded LU costs grow linearly along a chain of beams;
+* :class:`Engine` is a run's workspace: the core built from those arrays, the
+  laws and loads of a run, and the translation of the core's failures into
+  flexmbd's errors, named after the model's coordinates and deformations.
+
+Nothing is cached on the model: each run (and each per-state call) builds its own
+engine.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from collections.abc import Callable, Mapping
+
+import numpy as np
+
+from .diagnosis import at_time, singular_message
+from .elements import ELEMENT_TYPES, TRANSLATIONAL
+from .errors import (
+    ConvergenceError,
+    ModelError,
+    SimulationError,
+    SingularConfigurationError,
+)
+from .model import CoordinateClass, DeformationClass, Model
+from .motion import Law, Polynomial
+
+try:
+    from . import _core
+except ImportError as error:  # no fallback: the core is the engine (see check_core)
+    _core, _CORE_MISSING = None, str(error)
+
+
+def check_core() -> None:
+    """Refuse to run without the compiled core, or on kernels compiled for other element
+    types than the package's (the package itself imports without it, so that
+    ``python -m flexmbd.codegen`` can make the kernels the core is built from)."""
+    if _core is None:
+        raise ImportError(
+            f"flexmbd's compiled core (flexmbd._core) is not built or cannot be loaded "
+            f"({_CORE_MISSING}); install flexmbd with `pip install -e .` from its folder, "
+            f"which compiles it (needs a C compiler and the Python headers)")
+    if tuple(ELEMENT_TYPES) != _core.KEYWORDS:
+        raise ImportError(
+            f"flexmbd's compiled core has the element types {_core.KEYWORDS}, the package "
+            f"{tuple(ELEMENT_TYPES)}: regenerate the kernels (python -m flexmbd.codegen) and "
+            f"reinstall (pip install -e .)")
+
+
+#: default Newton tolerance relative to the model's characteristic length (THEORY 3)
+RELATIVE_TOLERANCE = 1e-10
+#: Newton iterations of a position solve before giving up
+MAX_ITERATIONS = 25
+#: the core's description of itself, e.g. ``"C, gcc -O3 ..."`` (``flexmbd --version``)
+CORE_BUILD = _core.BUILD if _core is not None else "not built"
+
+_TYPE_NUMBER = {cls: k for k, cls in enumerate(ELEMENT_TYPES.values())}
+
+
+# --- element values at one configuration (per-state functions, the builder's checks) -----
+def _kernel(element, name: str, x: np.ndarray, size: int, xd: np.ndarray | None = None
+            ) -> np.ndarray:
+    check_core()
+    out = np.empty(size)
+    coords = list(element.coordinates)
+    _core.kernel(_TYPE_NUMBER[element.type], name, np.ascontiguousarray(x[coords]),
+                 np.asarray(element.reference, dtype=float),
+                 None if xd is None else np.ascontiguousarray(xd[coords]), None, out)
+    return out
+
+
+def dense_jacobian(model: Model, x: np.ndarray) -> np.ndarray:
+    """``D_x`` ``(ne, nx)`` at ``x`` (dense; for inspection and checks), with the
+    deformations ``e`` from the same kernels: see :func:`deformations_and_jacobian`."""
+    return deformations_and_jacobian(model, x)[1]
+
+
+def deformations_and_jacobian(model: Model, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``e = D(x)`` ``(ne,)`` and ``D_x`` ``(ne, nx)`` from the generated kernels."""
+    x = np.asarray(x, dtype=float)
+    e, D_x = np.zeros(model.n_deformations), np.zeros((model.n_deformations, len(x)))
+    for element in model.elements.values():
+        nd, nc = len(element.deformations), len(element.coordinates)
+        out = _kernel(element, "deform_jac", x, nd * (1 + nc))
+        rows = list(element.deformations)
+        e[rows] = out[:nd]
+        D_x[np.ix_(rows, list(element.coordinates))] = out[nd:].reshape(nd, nc)
+    return e, D_x
+
+
+def dense_hessian(model: Model, x: np.ndarray) -> np.ndarray:
+    """``D_xx`` ``(ne, nx, nx)`` at ``x`` (dense; for inspection and small models)."""
+    x = np.asarray(x, dtype=float)
+    H = np.zeros((model.n_deformations, len(x), len(x)))
+    for element in model.elements.values():
+        nd, nc = len(element.deformations), len(element.coordinates)
+        coords = list(element.coordinates)
+        H[np.ix_(list(element.deformations), coords, coords)] = _kernel(
+            element, "hessian", x, nd * nc * nc).reshape(nd, nc, nc)
+    return H
+
+
+def quadratic_velocity(model: Model, x: np.ndarray, xd: np.ndarray) -> np.ndarray:
+    """``(D_xx xdot) xdot`` ``(ne,)`` (THEORY 2)."""
+    x, xd = np.asarray(x, dtype=float), np.asarray(xd, dtype=float)
+    out = np.zeros(model.n_deformations)
+    for element in model.elements.values():
+        nd = len(element.deformations)
+        out[list(element.deformations)] = _kernel(element, "quadratic", x, nd, xd)
+    return out
+
+
+# --- compiling a model ----------------------------------------------------------------------
+def reverse_cuthill_mckee(neighbours: list[set[int]]) -> list[int]:
+    """An ordering of a graph's nodes with a small bandwidth: breadth-first from a node of
+    least degree in each component, neighbours by increasing degree, then reversed."""
+    n = len(neighbours)
+    degree = [len(s) for s in neighbours]
+    seen = [False] * n
+    order: list[int] = []
+    for start in sorted(range(n), key=degree.__getitem__):
+        if seen[start]:
+            continue
+        seen[start] = True
+        queue = deque([start])
+        while queue:
+            node = queue.popleft()
+            order.append(node)
+            for other in sorted(neighbours[node], key=degree.__getitem__):
+                if not seen[other]:
+                    seen[other] = True
+                    queue.append(other)
+    return order[::-1]
+
+
+def _positions(index, size: int) -> np.ndarray:
+    """Position of each global index within ``index`` (``-1`` where absent), ``(size,)``."""
+    where = np.full(size, -1, dtype=np.int32)
+    where[np.asarray(index, dtype=int)] = np.arange(len(index))
+    return where
+
+
+def _band_of(n_nodes: int, edges: list[tuple[int, int]]) -> np.ndarray:
+    """Band position of each node of the graph ``edges`` (reverse Cuthill-McKee)."""
+    neighbours: list[set[int]] = [set() for _ in range(n_nodes)]
+    for a, b in edges:
+        if a != b:
+            neighbours[a].add(b)
+            neighbours[b].add(a)
+    band = np.empty(n_nodes, dtype=np.int32)
+    band[reverse_cuthill_mckee(neighbours)] = np.arange(n_nodes)
+    return band
+
+
+def compile_model(model: Model) -> dict[str, object]:
+    """The arrays of ``flexmbd._core.Core`` for ``model`` (see ``_core/core.h``)."""
+    i32 = np.int32
+    nx, ne = model.n_coordinates, model.n_deformations
+    elements = [model.elements[n] for n in sorted(model.elements)]
+    cclass, dclass = model.coordinate_class, model.deformation_class
+    nc = np.array([len(e.coordinates) for e in elements], dtype=int)
+    nd = np.array([len(e.deformations) for e in elements], dtype=int)
+    npar = np.array([len(e.reference) for e in elements], dtype=int)
+
+    def offsets(sizes):
+        return np.concatenate([[0], np.cumsum(sizes)]).astype(i32)
+
+    c_off, d_off, p_off = offsets(nc), offsets(nd), offsets(npar)
+    j_off, b_off, law_off = offsets(nd * nc), offsets(nc * nc), offsets(nd * nd)
+    c_idx = np.array([i for e in elements for i in e.coordinates], dtype=i32)
+    d_idx = np.array([i for e in elements for i in e.deformations], dtype=i32)
+
+    # properties: masses, the elastic law on dynamic and released deformations, pre-stress
+    elastic_def = np.asarray(model.carries_elastic_stress)
+    emass, consistent = np.zeros(len(elements)), np.zeros(len(elements), dtype=i32)
+    lumped_diag, S, C = np.zeros(c_off[-1]), np.zeros(law_off[-1]), np.zeros(law_off[-1])
+    sigma0 = np.zeros(ne)
+    elastic, prestressed = np.zeros(len(elements), dtype=i32), np.zeros(len(elements), dtype=i32)
+    f_const = np.zeros(nx)
+    gravity = np.asarray(model.gravity, dtype=float)
+    kinds = _coordinate_kinds(model)
+    for k, element in enumerate(elements):
+        etype, p = element.type, np.array([element.reference])
+        props = model.element_properties.get(element.number)
+        defs = list(element.deformations)
+        mask = elastic_def[defs]
+        if props is not None and props.mass_per_length:
+            mass = props.mass_per_length * element.reference[0]
+            if props.lumped:
+                diag = etype.lumped_masses(p, np.array([mass]))[0]
+                lumped_diag[c_off[k]:c_off[k + 1]] = diag
+                for a, i in enumerate(element.coordinates):  # weight on translations
+                    if kinds[i][0] == TRANSLATIONAL:
+                        f_const[i] += diag[a] * gravity[kinds[i][1]]
+            else:
+                emass[k], consistent[k] = mass, 1
+        stiffness = {v.name: np.array([(props.stiffness if props else {}).get(v.name, 0.0)])
+                     for v in etype.stiffness_values}
+        damping = {v.name: np.array([(props.damping if props else {}).get(v.name, 0.0)])
+                   for v in etype.damping_values}
+        law_s, law_c = etype.elastic_law(p, stiffness, damping)
+        both = mask[:, None] & mask[None, :]
+        S[law_off[k]:law_off[k + 1]] = np.where(both, law_s[0], 0.0).ravel()
+        C[law_off[k]:law_off[k + 1]] = np.where(both, law_c[0], 0.0).ravel()
+        if props is not None and props.prestress is not None:
+            sigma0[defs] = np.where(mask, props.prestress, 0.0)
+        prestressed[k] = bool(np.any(sigma0[defs]))
+        elastic[k] = bool(np.any(S[law_off[k]:law_off[k + 1]])
+                          or np.any(C[law_off[k]:law_off[k + 1]]) or prestressed[k])
+
+    nodal_mass = np.zeros(nx)
+    for number, mass in model.nodal_masses.items():
+        node = model.nodes[number]
+        nodal_mass[list(node.coordinates)] += mass
+        if node.kind == TRANSLATIONAL:
+            f_const[list(node.coordinates)] += mass * gravity
+    for number, load in model.nodal_forces.items():
+        f_const[list(model.nodes[number].coordinates)] += load
+
+    # classification and index maps
+    rows = np.asarray(model.constrained)
+    dep = np.asarray(model.dependent)
+    if len(rows) != len(dep):
+        raise ModelError(f"D_c is not square: {len(rows)} constraint equations for "
+                         f"{len(dep)} dependent coordinates")
+    q_dynamic = np.flatnonzero(~np.asarray(model.q_is_input))
+    nxm = len(model.independent_coordinates)
+    dyn_coord = np.asarray(model.independent_coordinates)[q_dynamic[q_dynamic < nxm]]
+    dyn_def = np.asarray(model.independent_deformations)[q_dynamic[q_dynamic >= nxm] - nxm]
+    free = np.flatnonzero((cclass == CoordinateClass.DEPENDENT)
+                          | (cclass == CoordinateClass.DYNAMIC))
+    multipliers = np.flatnonzero((dclass == DeformationClass.RIGID)
+                                 | (dclass == DeformationClass.INPUT))
+    row_of_def, dep_at = _positions(rows, ne), _positions(dep, nx)
+    free_of, mult_of_def = _positions(free, nx), _positions(multipliers, ne)
+    nfree = len(free)
+
+    # entries of D_c, and of the saddle-point matrix [[A, C^T], [C, 0]]
+    dc_src, dc_row, dc_col = [], [], []
+    sa_src, sa_u, sa_v, sc_src, sc_u, sc_v = [], [], [], [], [], []
+    for k, element in enumerate(elements):
+        coords, defs = element.coordinates, element.deformations
+        for i, d in enumerate(defs):
+            for a, c in enumerate(coords):
+                src = int(j_off[k]) + i * nc[k] + a
+                if row_of_def[d] >= 0 and dep_at[c] >= 0:
+                    dc_src.append(src)
+                    dc_row.append(row_of_def[d])
+                    dc_col.append(dep_at[c])
+                if mult_of_def[d] >= 0 and free_of[c] >= 0:
+                    sc_src.append(src)
+                    sc_u.append(nfree + mult_of_def[d])
+                    sc_v.append(free_of[c])
+        for a, ca in enumerate(coords):
+            for b, cb in enumerate(coords):
+                if free_of[ca] >= 0 and free_of[cb] >= 0:
+                    sa_src.append(int(b_off[k]) + a * nc[k] + b)
+                    sa_u.append(free_of[ca])
+                    sa_v.append(free_of[cb])
+    sm_coord = np.flatnonzero((free_of >= 0) & (nodal_mass != 0.0))
+
+    # orderings: D_c's rows and columns as one bipartite graph; the saddle's unknowns
+    nr, ns = len(rows), nfree + len(multipliers)
+    both = _band_of(2 * nr, [(r, nr + c) for r, c in zip(dc_row, dc_col, strict=True)])
+    dc_rowband = np.argsort(np.argsort(both[:nr], kind="stable")).astype(i32)
+    dc_colband = np.argsort(np.argsort(both[nr:], kind="stable")).astype(i32)
+    sd_band = _band_of(ns, list(zip(sa_u, sa_v, strict=True))
+                       + list(zip(sc_u, sc_v, strict=True)))
+
+    def ints(values):
+        return np.asarray(values, dtype=i32)
+
+    return {
+        "nx": nx, "ne": ne, "nel": len(elements), "nq": model.n_dof, "nxm": nxm,
+        "nr": nr, "nrigid": len(model.rigid), "nfree": nfree, "nmult": len(multipliers),
+        "nd_dyn": len(q_dynamic), "ndc": len(dyn_coord), "total_j": int(j_off[-1]),
+        "total_b": int(b_off[-1]),
+        "etype": ints([_TYPE_NUMBER[e.type] for e in elements]), "c_off": c_off,
+        "c_idx": c_idx, "d_off": d_off, "d_idx": d_idx, "p_off": p_off, "j_off": j_off,
+        "b_off": b_off, "law_off": law_off,
+        "param": np.array([v for e in elements for v in e.reference], dtype=float),
+        "emass": emass, "consistent": consistent, "lumped_diag": lumped_diag, "S": S, "C": C,
+        "elastic": elastic, "prestressed": prestressed, "sigma0": sigma0,
+        "fixed": ints(model.fixed), "x_fixed": np.asarray(model.x0, float)[model.fixed],
+        "q_coord": ints(model.independent_coordinates),
+        "q_def": ints(model.independent_deformations),
+        "q_input": ints(model.q_is_input), "q_dyn": ints(q_dynamic), "rows": ints(rows),
+        "row_of_def": row_of_def, "dep": ints(dep), "free_of": free_of,
+        "dyn_coord": ints(dyn_coord), "dyn_def": ints(dyn_def),
+        "supported": ints(np.sort(np.concatenate([model.fixed, model.input_coordinates]))),
+        "elastic_def": ints(elastic_def), "nodal_mass": nodal_mass, "f_const": f_const,
+        "gravity": gravity, "x0": np.asarray(model.x0, dtype=float),
+        "coord_scale": np.asarray(model.coordinate_scale, dtype=float),
+        "dc_src": ints(dc_src), "dc_row": ints(dc_row), "dc_col": ints(dc_col),
+        "dc_rowband": dc_rowband, "dc_colband": dc_colband,
+        "dc_colscale": np.asarray(model.coordinate_scale, dtype=float)[dep],
+        "sd_band": sd_band, "sd_a_src": ints(sa_src), "sd_a_u": ints(sa_u),
+        "sd_a_v": ints(sa_v), "sd_m_coord": ints(sm_coord), "sd_m_u": free_of[sm_coord],
+        "sd_c_src": ints(sc_src), "sd_c_u": ints(sc_u), "sd_c_v": ints(sc_v),
+        "mult_of_def": mult_of_def,
+    }
+
+
+def _coordinate_kinds(model: Model) -> dict[int, tuple[str, int]]:
+    """Kind of node and direction (0-based) of every coordinate."""
+    return {i: (node.kind, k) for node in model.nodes.values()
+            for k, i in enumerate(node.coordinates)}
+
+
+# --- laws ---------------------------------------------------------------------------------
+def q_index(model: Model, label: str) -> int:
+    """Position in ``q`` of an independent coordinate (``"x2.1"``) or deformation (``"e3.2"``)."""
+    labels = model.q_labels
+    try:
+        if label.strip().lower().startswith("e"):
+            wanted = model.deformation_labels[model.deformation_index(label)]
+        else:
+            wanted = model.coordinate_labels[model.coordinate_index(label)]
+    except KeyError as err:
+        raise ModelError(str(err.args[0])) from None
+    if wanted not in labels:
+        raise ModelError(f"{label} is not an input or dynamic degree of freedom of the model "
+                         f"(those are: {', '.join(labels) or 'none'})")
+    return labels.index(wanted)
+
+
+def initial_q(model: Model) -> np.ndarray:
+    """``q`` of the initial configuration: ``x(m)`` from ``x0``, ``e(m) = 0``."""
+    return np.concatenate([np.asarray(model.x0)[model.independent_coordinates],
+                           np.zeros(len(model.independent_deformations))])
+
+
+def resolve_laws(model: Model, inputs: Mapping[str, Law] | None = None) -> list[Law]:
+    """One law per entry of ``q``: ``inputs`` first, then the model's defaults.
+
+    Dynamic degrees of freedom without a law are held at their initial value
+    (a kinematic analysis moves only what is prescribed).
+
+    Raises:
+        ModelError: an unknown label, or an input without any law.
+    """
+    laws: list[Law | None] = [None] * model.n_dof
+    for source in (model.input_laws, inputs or {}):
+        for label, law in source.items():
+            if not callable(law):
+                raise ModelError(f"the motion given for {label} is not callable: {law!r}")
+            laws[q_index(model, label)] = law
+    q0 = initial_q(model)
+    missing = []
+    for j, (law, is_input) in enumerate(zip(laws, model.q_is_input, strict=True)):
+        if law is None and is_input:
+            missing.append(model.describe_q(j))
+        elif law is None:
+            laws[j] = Polynomial(float(q0[j]))
+    if missing:
+        raise ModelError(
+            f"no motion given for the input(s) {', '.join(missing)}: pass "
+            f"inputs={{label: Polynomial(x0, v0, a0)}} or give law= when classifying"
+        )
+    return laws  # type: ignore[return-value]
+
+
+#: applied loads as a function of time and state: ``forces(t, x, xdot)`` returning an
+#: array ``(nx,)`` or a mapping from coordinate labels (``"x2.1"``) to values [N, N m]
+Forces = Callable[[float, np.ndarray, np.ndarray], "np.ndarray | Mapping[str, float]"]
+
+
+def load_vector(model: Model, value) -> np.ndarray:
+    """User loads (array or label mapping, see :data:`Forces`) as an array ``(nx,)``."""
+    if isinstance(value, Mapping):
+        f = np.zeros(model.n_coordinates)
+        for label, v in value.items():
+            try:
+                f[model.coordinate_index(label)] += v
+            except KeyError as err:
+                raise ModelError(f"forces: {err.args[0]}") from None
+        return f
+    f = np.asarray(value, dtype=float)
+    if f.shape != (model.n_coordinates,):
+        raise ModelError(f"forces must return an array of shape ({model.n_coordinates},) or a "
+                         f"mapping of coordinate labels, got shape {f.shape}")
+    return f
+
+
+#: the columns a run fills, with their sizes as functions of the model
+OUTPUTS = {"x": "nx", "xd": "nx", "xdd": "nx", "e": "ne", "ed": "ne", "edd": "ne",
+           "q": "nq", "qd": "nq", "qdd": "nq", "sigma": "ne", "reactions": "nx",
+           "driving": "nq"}
+
+
+class Engine:
+    """A run's workspace on the core: the model compiled once, a run's laws and loads,
+    its output arrays and the translation of failures into flexmbd's errors.
+
+    Args:
+        model: the mechanism.
+        tolerance: Newton tolerance of the position solve [m, rad]; default ``1e-10``
+            times the model size.
+        max_iterations: Newton iterations of a position solve before giving up.
+    """
+
+    def __init__(self, model: Model, tolerance: float | None = None,
+                 max_iterations: int = MAX_ITERATIONS):
+        check_core()
+        self.model = model
+        self.core = _core.Core(compile_model(model))
+        self.tolerance = (RELATIVE_TOLERANCE * model.characteristic_length
+                          if tolerance is None else float(tolerance))
+        self.max_iterations = int(max_iterations)
+        #: scaled conditioning of D_c below which a converged position counts as singular:
+        #: near a singular root Newton converges only linearly and stops about
+        #: sqrt(tolerance) away from it, where D_c still looks regular
+        self.regularity_limit = 10.0 * float(np.sqrt(self.tolerance
+                                                     / model.characteristic_length))
+        self.arrays: dict[str, np.ndarray] = {}
+        self.core.settings(self.tolerance, self.max_iterations, self.regularity_limit)
+
+    # --- preparing a run ------------------------------------------------------------------
+    def prepare(self, laws: list[Law], n_outputs: int, *, integrated: bool = False,
+                dynamics: bool = False, forces: Forces | None = None,
+                progress: Callable[[float], None] | None = None,
+                columns: tuple[str, ...] | None = None) -> dict[str, np.ndarray]:
+        """Hand a run's laws (one per entry of ``q``; with ``integrated`` the dynamic
+        entries come from the integrator instead), loads and output arrays to the core.
+        Returns the output arrays ``{name: (n_outputs, size)}`` the run fills."""
+        model = self.model
+        nq = model.n_dof
+        kind = np.zeros(nq, dtype=np.int32)
+        coef = np.zeros((nq, 3))
+        python: list[int] = []
+        for j, law in enumerate(laws):
+            if integrated and not model.q_is_input[j]:
+                kind[j] = 2
+            elif isinstance(law, Polynomial):
+                coef[j] = law.x0, law.v0, law.a0
+            else:
+                kind[j] = 1
+                python.append(j)
+        values = np.zeros((nq, 3))
+
+        def fill_laws(t):
+            for j in python:
+                values[j] = _law_values(laws[j], t, model.describe_q(j))
+
+        sizes = {"nx": model.n_coordinates, "ne": model.n_deformations, "nq": nq}
+        wanted = columns or tuple(OUTPUTS)
+        self.arrays = {name: np.zeros((n_outputs, sizes[OUTPUTS[name]])) for name in wanted}
+        options = {}
+        if python:
+            options.update(law_callback=fill_laws, law_values=values)
+        if forces is not None:
+            x, xd, f = np.zeros(model.n_coordinates), np.zeros(model.n_coordinates), \
+                np.zeros(model.n_coordinates)
+
+            def apply_forces(t):
+                f[:] = load_vector(model, forces(t, x.copy(), xd.copy()))
+
+            options.update(forces=apply_forces, force_x=x, force_xd=xd, force_f=f)
+        if progress is not None:
+            options["progress"] = progress
+        self.core.prepare(kind, coef, self.arrays, n_outputs, int(dynamics), **options)
+        return self.arrays
+
+    # --- failures -------------------------------------------------------------------------
+    def error(self, status: Mapping[str, object]) -> BaseException | None:
+        """The exception of a run's ``status`` (``None`` when it completed): flexmbd's
+        errors with the time and the coordinates and deformations involved, or the
+        exception a Python callback raised."""
+        code = status["code"]
+        if code == _core.OK:
+            return None
+        if code == _core.PYTHON:
+            return status["exception"] or KeyboardInterrupt()
+        model, time = self.model, float(status["time"])
+        time_or_none = None if np.isnan(time) else time
+        if code == _core.NOT_CONVERGED:
+            worst = status["worst"]
+            where = (model.describe_deformation(worst) if worst >= 0
+                     else "a non-finite configuration")
+            return ConvergenceError(
+                f"position solve did not converge {at_time(time_or_none)}: residual "
+                f"{status['residual']:.3g} after {status['iterations']} iterations (tolerance "
+                f"{self.tolerance:.3g}), largest in {where}; the inputs may ask for a "
+                f"configuration the constraints cannot reach (e.g. beyond an element's "
+                f"length) or the step from the previous solution is too large",
+                time_or_none, iterations=int(status["iterations"]),
+                residual=float(status["residual"]))
+        if code in (_core.SINGULAR, _core.SINGULAR_TOLERANCE):
+            what = "D_c is singular"
+            if code == _core.SINGULAR_TOLERANCE:
+                what = (f"D_c is singular within the position tolerance (scaled smallest "
+                        f"singular value {status['conditioning']:.2g} < "
+                        f"{status['limit']:.2g})")
+            x = np.empty(model.n_coordinates)
+            self.core.failed_x(x)
+            D_x = dense_jacobian(model, x)
+            D_c = D_x[np.ix_(model.constrained, model.dependent)]
+            return SingularConfigurationError(singular_message(model, D_c, time_or_none, what),
+                                              time_or_none)
+        if code == _core.MASSLESS:
+            dofs = ", ".join(model.describe_q(j) for j in np.flatnonzero(~model.q_is_input))
+            return SingularConfigurationError(
+                f"the reduced mass matrix of the dynamic degrees of freedom ({dofs}) is "
+                f"singular {at_time(time_or_none)}: give every dynamic degree of freedom "
+                f"mass or inertia", time_or_none)
+        if code == _core.NOT_FINITE:
+            worst = int(status["worst"])
+            what = (f"the law of {model.describe_q(worst)}" if worst >= 0 else
+                    f"the applied load on {model.describe_coordinate(-2 - worst)}")
+            return SimulationError(f"{what} is not finite {at_time(time_or_none)}",
+                                   time_or_none)
+        if code == _core.STEP_FAILED:
+            return SimulationError(
+                f"the GeneralizedAlpha integrator failed {at_time(time_or_none)}: its Newton "
+                f"iteration did not converge even with step {status['step']:.3g} s",
+                time_or_none)
+        return SimulationError(f"the core stopped with code {code} {at_time(time_or_none)}",
+                               time_or_none)
+
+    def call(self, method: Callable, *args):
+        """Call a single evaluation of the core; its failure as flexmbd's error."""
+        try:
+            return method(*args)
+        except _core.CoreError as error:
+            raise self.error(error.args[0]) from None
+
+    # --- single evaluations -----------------------------------------------------------------
+    def positions(self, q: np.ndarray, guess: np.ndarray | None = None,
+                  time: float | None = None, near: float = 0.0) -> tuple[np.ndarray, float]:
+        """Solve the position problem for ``q`` (THEORY 3) from ``guess`` (default ``x0``);
+        returns ``x`` ``(nx,)`` and the scaled conditioning of ``D_c`` there. ``D_c`` stays
+        factorised for :meth:`solve`."""
+        model = self.model
+        x = np.empty(model.n_coordinates)
+        guess = np.asarray(model.x0 if guess is None else guess, dtype=float)
+        conditioning = self.call(self.core.positions, np.nan if time is None else float(time),
+                                 np.ascontiguousarray(q, dtype=float),
+                                 np.ascontiguousarray(guess), x, near)
+        return x, conditioning
+
+    def state(self, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
+              guess: np.ndarray | None = None, time: float | None = None
+              ) -> dict[str, np.ndarray]:
+        """Positions, velocities and accelerations of coordinates and deformations for
+        ``q, qdot, qddot`` ``(nq,)`` (THEORY 3, 4): ``{"x", "xd", "xdd", "e", "ed",
+        "edd"}``, from the position solve started at ``guess`` (default ``x0``)."""
+        model = self.model
+        out = {name: np.empty(model.n_coordinates if name.startswith("x") else
+                              model.n_deformations) for name in ("x", "xd", "xdd", "e", "ed",
+                                                                 "edd")}
+        guess = np.asarray(model.x0 if guess is None else guess, dtype=float)
+        vectors = [np.ascontiguousarray(v, dtype=float) for v in (q, qd, qdd)]
+        self.call(self.core.state, np.nan if time is None else float(time), *vectors,
+                  np.ascontiguousarray(guess), *out.values())
+        return out
+
+    def factor(self, x: np.ndarray) -> float:
+        """Factorise ``D_c`` at ``x``; returns its scaled conditioning (0 when singular)."""
+        return self.core.factor(np.ascontiguousarray(x, dtype=float))
+
+    def solve(self, rhs: np.ndarray, transposed: bool = False) -> np.ndarray:
+        """``D_c^-1 rhs`` (or ``D_c^-T rhs``) with the last factorisation, for ``rhs`` of
+        shape ``(nr,)`` or ``(nr, k)``."""
+        rhs = np.asarray(rhs, dtype=float)
+        columns = np.array(rhs.reshape(rhs.shape[0], -1).T, order="C")  # solved in place
+        self.core.solve(columns, transposed)
+        return columns.T.reshape(rhs.shape)
+
+    def mass(self, x: np.ndarray, xd: np.ndarray | None = None
+             ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The mass matrix ``M`` ``(nx, nx)`` [kg, kg m, kg m^2], the velocity-dependent
+        inertia ``h`` ``(nx,)`` (inertia force ``M xddot + h``) and the constant loads and
+        gravity ``f`` ``(nx,)`` [N, N m] at ``(x, xd)`` (THEORY 5)."""
+        nx = self.model.n_coordinates
+        M, h, f = np.empty((nx, nx)), np.empty(nx), np.empty(nx)
+        xd = np.zeros(nx) if xd is None else xd
+        self.core.mass_matrix(np.ascontiguousarray(x, dtype=float),
+                              np.ascontiguousarray(xd, dtype=float), M, h, f)
+        return M, h, f
+
+
+def _law_values(law: Law, t: float, what: str) -> tuple[float, float, float]:
+    try:
+        values = tuple(float(v) for v in law(t))
+    except (TypeError, ValueError) as error:
+        raise ModelError(f"the law of {what} must return (value, rate, acceleration) as "
+                         f"numbers: {error}") from None
+    if len(values) != 3:
+        raise ModelError(f"the law of {what} must return (value, rate, acceleration), got "
+                         f"{len(values)} values")
+    return values
+

@@ -1,0 +1,35 @@
+"""Build of the compiled core, ``flexmbd._core`` (C, no dependencies beyond a compiler and
+the Python headers). Everything else is in pyproject.toml."""
+
+import sysconfig
+
+from setuptools import Extension, setup
+from setuptools.command.build_ext import build_ext
+
+SOURCES = ["flexmbd/csrc/module.c", "flexmbd/csrc/system.c", "flexmbd/csrc/alpha.c",
+           "flexmbd/csrc/band.c", "flexmbd/csrc/kernels.c"]
+FLAGS = ["-O3", "-std=c99", "-fno-math-errno"]
+
+
+class BuildCore(build_ext):
+    """build_ext that names what is missing when the core cannot be compiled."""
+
+    def build_extensions(self):
+        compiler = getattr(self.compiler, "compiler_so", ["cc"])[0]
+        for extension in self.extensions:
+            extension.define_macros.append(
+                ("FLEXMBD_BUILD", f'"C, {compiler} {" ".join(FLAGS)}"'))
+        try:
+            super().build_extensions()
+        except Exception as error:
+            include = sysconfig.get_paths()["include"]
+            raise SystemExit(
+                f"flexmbd: cannot compile its core (flexmbd._core): {error}\n"
+                f"flexmbd needs a C compiler ({compiler}) and the Python headers "
+                f"(Python.h in {include}); on Debian or Ubuntu: apt install gcc python3-dev"
+            ) from None
+
+
+setup(ext_modules=[Extension("flexmbd._core", SOURCES, extra_compile_args=FLAGS,
+                             depends=["flexmbd/csrc/core.h", "flexmbd/csrc/alpha.h"])],
+      cmdclass={"build_ext": BuildCore})
