@@ -10,7 +10,7 @@ it with the functions below; every analysis runs on the compiled core
 from .builder import ModelBuilder
 from .dat import read_dat, write_dat
 from .dynamics import inverse_dynamics, mass_matrix, reduced_mass_matrix, simulate
-from .elements import Beam, Hinge, RigidBeam, Truss
+from .elements import Beam, Hinge, RigidBeam, SpringDamper, Truss
 from .errors import (
     ConvergenceError,
     FlexmbdError,
@@ -61,6 +61,7 @@ __all__ = [
     "SimulationError",
     "SimulationResult",
     "SingularConfigurationError",
+    "SpringDamper",
     "Truss",
     "__version__",
     "accelerations",

@@ -22,6 +22,7 @@ plbeam  2  3 4 5 6        # coupler (keywords are case-insensitive)
 PLBEAM  3  5 7 8 9
 PLHINGE 4  6 7
 PLTRUSS 5  8 10
+PLSPRING 6  5 10          % flexmbd's spring-damper (released by default)
 X 1 0 0
 X 3 0.1 0.0
 X 5 0.3 0.0
@@ -45,6 +46,9 @@ ESTIFF 4 3.5
 EDAMP 2 0.0 0.01
 EDAMP 4 0.2
 ESIG 5 1 12.5
+ESTIFF 6 400.0
+EDAMP 6 1.5
+ESIG 6 1 2.0
 XM 5 0.02
 XM 6 1e-4
 XF 5 1.0 -2.0
@@ -89,13 +93,14 @@ def state(model: fm.Model, settings: fm.RunSettings | None = None) -> dict:
 def test_every_keyword_is_read():
     model, s = dat_from_text(EVERYTHING, "everything.dat")
     assert model.name == "everything"
-    assert [model.elements[n].type for n in range(1, 6)] == [
-        fm.RigidBeam, fm.Beam, fm.Beam, fm.Hinge, fm.Truss]
+    assert [model.elements[n].type for n in range(1, 7)] == [
+        fm.RigidBeam, fm.Beam, fm.Beam, fm.Hinge, fm.Truss, fm.SpringDamper]
     assert model.nodes[10].position == (0.5, -0.2)
     assert model.q_labels == ("x2.1", "x5.2", "e2.2", "e2.3", "e5.1")
     assert model.q_is_input.tolist() == [True, False, False, False, True]
-    assert model.deformation_class[model.deformation_index("e4.1")] == \
-        fm.DeformationClass.RELEASED
+    for label in ("e4.1", "e6.1"):  # RLSE, and the spring's default
+        assert model.deformation_class[model.deformation_index(label)] == \
+            fm.DeformationClass.RELEASED
     p = model.element_properties
     assert (p[2].mass_per_length, p[2].lumped) == (0.5, False)
     assert p[3].lumped and p[1].mass_per_length == 0.1
@@ -104,6 +109,8 @@ def test_every_keyword_is_read():
     assert dict(p[2].damping) == {"axial": 0.0, "bending": 0.01}
     assert dict(p[4].damping) == {"hinge": 0.2}
     assert p[5].prestress == (12.5,)
+    assert (dict(p[6].stiffness), dict(p[6].damping), p[6].prestress) == (
+        {"spring": 400.0}, {"spring": 1.5}, (2.0,))
     assert model.nodal_masses == {5: 0.02, 6: 1e-4}
     assert model.nodal_forces == {5: (1.0, -2.0), 6: (0.3,)}
     assert model.gravity == (0.0, -9.81)
@@ -164,8 +171,8 @@ MALFORMED = {
                       "directions are 1 and 2"),
     "block-2 keyword in block 1": ("PLTRUSS 1 1 2\nEM 1 2.0\nEND\nEND\n", 2,
                                    "belongs in the dynamics block"),
-    "mass on a massless element": ("PLHINGE 1 1 2\nFIX 1\nINPUTX 2\nEND\n"
-                                   "HALT\nEM 1 2.0\nEND\nEND\n", 6, "which has no mass"),
+    "mass on a massless element": ("PLSPRING 1 1 2\nX 1 0 0\nX 2 1 0\nFIX 1\nFIX 2\nEND\n"
+                                   "HALT\nEM 1 2.0\nEND\nEND\n", 8, "which has no mass"),
     "start of a coordinate that is not dynamic": (
         "PLTRUSS 1 1 2\nX 1 0 0\nX 2 1 0\nFIX 1\nFIX 2\nRLSE 1\nEND\nHALT\n"
         "STARTDX 2 1 0.1\nEND\nEND\n", 9, "x2.1 is not a dynamic degree of freedom"),

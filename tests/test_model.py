@@ -169,5 +169,17 @@ def test_properties_are_checked_against_the_element_type():
     assert "formulation 'heavy' is not 'consistent' or 'lumped'" in text
 
 
+def test_a_spring_damper_is_released_and_massless():
+    b = sliding_truss().fix(1).fix(2, "x").add_node(3, 0.0, 3.0).fix(3)
+    b.add_element(2, fm.SpringDamper, (2, 3))
+    b.set_stiffness(2, spring=1e3).set_damping(2, spring=2.0)
+    b.set_prestress(2, 1, 5.0)
+    model = b.build()  # truss 1 holds node 2 on a circle; its x is fixed: y dependent
+    assert model.deformation_class[model.deformation_index("e2.1")] == DeformationClass.RELEASED
+    assert dict(model.element_properties[2].stiffness) == {"spring": 1e3}
+    b.set_mass(2, 1.0)
+    assert "a spring-damper has no mass" in problems_of(b)[0]
+
+
 def test_summary_mentions_inputs():
     assert "x2.1 (node 2, phi)" in slider_crank().summary()

@@ -9,11 +9,12 @@ from .base import ROTATIONAL, TRANSLATIONAL, ElementType
 from .beam import Beam
 from .hinge import Hinge
 from .rigid_beam import RigidBeam
+from .spring_damper import SpringDamper
 from .truss import Truss
 
 #: the element types by SPACAR keyword; the order is the compiled core's type numbers
 ELEMENT_TYPES: dict[str, type[ElementType]] = {
-    cls.keyword: cls for cls in (Truss, Beam, RigidBeam, Hinge)
+    cls.keyword: cls for cls in (Truss, Beam, RigidBeam, Hinge, SpringDamper)
 }
 
 __all__ = [
@@ -24,5 +25,6 @@ __all__ = [
     "ElementType",
     "Hinge",
     "RigidBeam",
+    "SpringDamper",
     "Truss",
 ]
