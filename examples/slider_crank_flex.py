@@ -166,8 +166,8 @@ def energy_balance(result: fm.SimulationResult) -> float:
     the drive's work is all that changes the energy.
     """
     model = result.model
-    kinetic = np.array([0.5 * xd @ fm.mass_matrix(model, x) @ xd
-                        for x, xd in zip(result.x, result.xd, strict=True)])
+    kinetic = 0.5 * np.einsum("ti,tij,tj->t", result.xd, fm.mass_matrix(model, result.x),
+                              result.xd)
     elastic = 0.5 * np.sum(result.sigma * result.e, axis=1)
     torque = result.driving[:, model.q_labels.index("x2.1")]
     power = torque * result["xd2.1"]

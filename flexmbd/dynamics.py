@@ -38,9 +38,14 @@ __all__ = ["Forces", "initial_state", "inverse_dynamics", "mass_matrix",
 
 
 def mass_matrix(model: Model, x: np.ndarray) -> np.ndarray:
-    """The system mass matrix ``M(x)`` ``(nx, nx)`` [kg, kg m, kg m^2] (THEORY 5): the
-    inertia force is ``M xddot + h``."""
-    return Engine(model).mass(x)[0]
+    """The system mass matrix ``M(x)`` [kg, kg m, kg m^2] (THEORY 5): the inertia force is
+    ``M xddot + h``. ``x`` is one configuration ``(nx,)`` (gives ``(nx, nx)``) or a batch
+    ``(nt, nx)`` (gives ``(nt, nx, nx)``)."""
+    x = np.asarray(x, dtype=float)
+    engine = Engine(model)
+    if x.ndim == 1:
+        return engine.mass(x)[0]
+    return np.stack([engine.mass(row)[0] for row in x])
 
 
 def reduced_mass_matrix(model: Model, x: np.ndarray) -> np.ndarray:

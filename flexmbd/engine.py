@@ -164,13 +164,17 @@ def _band_of(n_nodes: int, edges: list[tuple[int, int]]) -> np.ndarray:
 
 
 def compile_model(model: Model) -> dict[str, object]:
-    """The arrays of ``flexmbd._core.Core`` for ``model`` (see ``_core/core.h``)."""
+    """The arrays of ``flexmbd._core.Core`` for ``model`` (see ``csrc/core.h``).
+
+    Elements are taken in the order of their numbers and evaluated type by type with
+    the types' vectorised laws; the entries of ``D_c`` and of the saddle-point matrix
+    are located once, and the two systems ordered for narrow bands."""
     i32 = np.int32
     nx, ne = model.n_coordinates, model.n_deformations
     elements = [model.elements[n] for n in sorted(model.elements)]
     cclass, dclass = model.coordinate_class, model.deformation_class
-    nc = np.array([len(e.coordinates) for e in elements], dtype=int)
-    nd = np.array([len(e.deformations) for e in elements], dtype=int)
+    nc = np.array([e.type.n_coordinates() for e in elements], dtype=int)
+    nd = np.array([e.type.n_deformations() for e in elements], dtype=int)
     npar = np.array([len(e.reference) for e in elements], dtype=int)
 
     def offsets(sizes):
@@ -180,53 +184,6 @@ def compile_model(model: Model) -> dict[str, object]:
     j_off, b_off, law_off = offsets(nd * nc), offsets(nc * nc), offsets(nd * nd)
     c_idx = np.array([i for e in elements for i in e.coordinates], dtype=i32)
     d_idx = np.array([i for e in elements for i in e.deformations], dtype=i32)
-
-    # properties: masses, the elastic law on dynamic and released deformations, pre-stress
-    elastic_def = np.asarray(model.carries_elastic_stress)
-    emass, consistent = np.zeros(len(elements)), np.zeros(len(elements), dtype=i32)
-    lumped_diag, S, C = np.zeros(c_off[-1]), np.zeros(law_off[-1]), np.zeros(law_off[-1])
-    sigma0 = np.zeros(ne)
-    elastic, prestressed = np.zeros(len(elements), dtype=i32), np.zeros(len(elements), dtype=i32)
-    f_const = np.zeros(nx)
-    gravity = np.asarray(model.gravity, dtype=float)
-    kinds = _coordinate_kinds(model)
-    for k, element in enumerate(elements):
-        etype, p = element.type, np.array([element.reference])
-        props = model.element_properties.get(element.number)
-        defs = list(element.deformations)
-        mask = elastic_def[defs]
-        if props is not None and props.mass_per_length:
-            mass = props.mass_per_length * element.reference[0]
-            if props.lumped:
-                diag = etype.lumped_masses(p, np.array([mass]))[0]
-                lumped_diag[c_off[k]:c_off[k + 1]] = diag
-                for a, i in enumerate(element.coordinates):  # weight on translations
-                    if kinds[i][0] == TRANSLATIONAL:
-                        f_const[i] += diag[a] * gravity[kinds[i][1]]
-            else:
-                emass[k], consistent[k] = mass, 1
-        stiffness = {v.name: np.array([(props.stiffness if props else {}).get(v.name, 0.0)])
-                     for v in etype.stiffness_values}
-        damping = {v.name: np.array([(props.damping if props else {}).get(v.name, 0.0)])
-                   for v in etype.damping_values}
-        law_s, law_c = etype.elastic_law(p, stiffness, damping)
-        both = mask[:, None] & mask[None, :]
-        S[law_off[k]:law_off[k + 1]] = np.where(both, law_s[0], 0.0).ravel()
-        C[law_off[k]:law_off[k + 1]] = np.where(both, law_c[0], 0.0).ravel()
-        if props is not None and props.prestress is not None:
-            sigma0[defs] = np.where(mask, props.prestress, 0.0)
-        prestressed[k] = bool(np.any(sigma0[defs]))
-        elastic[k] = bool(np.any(S[law_off[k]:law_off[k + 1]])
-                          or np.any(C[law_off[k]:law_off[k + 1]]) or prestressed[k])
-
-    nodal_mass = np.zeros(nx)
-    for number, mass in model.nodal_masses.items():
-        node = model.nodes[number]
-        nodal_mass[list(node.coordinates)] += mass
-        if node.kind == TRANSLATIONAL:
-            f_const[list(node.coordinates)] += mass * gravity
-    for number, load in model.nodal_forces.items():
-        f_const[list(model.nodes[number].coordinates)] += load
 
     # classification and index maps
     rows = np.asarray(model.constrained)
@@ -246,37 +203,96 @@ def compile_model(model: Model) -> dict[str, object]:
     free_of, mult_of_def = _positions(free, nx), _positions(multipliers, ne)
     nfree = len(free)
 
-    # entries of D_c, and of the saddle-point matrix [[A, C^T], [C, 0]]
-    dc_src, dc_row, dc_col = [], [], []
-    sa_src, sa_u, sa_v, sc_src, sc_u, sc_v = [], [], [], [], [], []
+    # per type: properties, the elastic law on dynamic and released deformations, and
+    # where the entries of its Jacobian blocks and element matrices land
+    elastic_def = np.asarray(model.carries_elastic_stress)
+    gravity = np.asarray(model.gravity, dtype=float)
+    kinds = _coordinate_kinds(model)
+    translational = np.array([kinds[i][0] == TRANSLATIONAL for i in range(nx)], dtype=bool)
+    direction = np.array([kinds[i][1] for i in range(nx)], dtype=int)
+    emass, consistent = np.zeros(len(elements)), np.zeros(len(elements), dtype=i32)
+    lumped_diag, S, C = np.zeros(c_off[-1]), np.zeros(law_off[-1]), np.zeros(law_off[-1])
+    sigma0, f_const = np.zeros(ne), np.zeros(nx)
+    elastic, prestressed = np.zeros(len(elements), dtype=i32), np.zeros(len(elements), dtype=i32)
+    dc, sc, sa = ([], [], []), ([], [], []), ([], [], [])
+    by_type: dict[type, list[int]] = {}
     for k, element in enumerate(elements):
-        coords, defs = element.coordinates, element.deformations
-        for i, d in enumerate(defs):
-            for a, c in enumerate(coords):
-                src = int(j_off[k]) + i * nc[k] + a
-                if row_of_def[d] >= 0 and dep_at[c] >= 0:
-                    dc_src.append(src)
-                    dc_row.append(row_of_def[d])
-                    dc_col.append(dep_at[c])
-                if mult_of_def[d] >= 0 and free_of[c] >= 0:
-                    sc_src.append(src)
-                    sc_u.append(nfree + mult_of_def[d])
-                    sc_v.append(free_of[c])
-        for a, ca in enumerate(coords):
-            for b, cb in enumerate(coords):
-                if free_of[ca] >= 0 and free_of[cb] >= 0:
-                    sa_src.append(int(b_off[k]) + a * nc[k] + b)
-                    sa_u.append(free_of[ca])
-                    sa_v.append(free_of[cb])
+        by_type.setdefault(element.type, []).append(k)
+    for etype, ks in by_type.items():
+        ks = np.array(ks)
+        n_c, n_d = etype.n_coordinates(), etype.n_deformations()
+        coords = c_idx[c_off[ks][:, None] + np.arange(n_c)]          # (n, nc)
+        defs = d_idx[d_off[ks][:, None] + np.arange(n_d)]            # (n, nd)
+        p = np.array([elements[k].reference for k in ks]).reshape(len(ks), -1)
+        props = [model.element_properties.get(elements[k].number) for k in ks]
+
+        def values(attribute, declared, props=props):
+            return {v.name: np.array([getattr(q, attribute).get(v.name, 0.0) if q else 0.0
+                                      for q in props]) for v in declared}
+
+        law_s, law_c = etype.elastic_law(p, values("stiffness", etype.stiffness_values),
+                                         values("damping", etype.damping_values))
+        mask = elastic_def[defs]
+        both = mask[:, :, None] & mask[:, None, :]
+        at = law_off[ks][:, None] + np.arange(n_d * n_d)
+        S[at] = np.where(both, law_s, 0.0).reshape(len(ks), -1)
+        C[at] = np.where(both, law_c, 0.0).reshape(len(ks), -1)
+        given = np.array([q.prestress if q and q.prestress is not None else (0.0,) * n_d
+                          for q in props]).reshape(len(ks), n_d)
+        sigma0[defs] = np.where(mask, given, 0.0)
+        prestressed[ks] = np.any(sigma0[defs] != 0.0, axis=1)
+        elastic[ks] = (np.any(S[at] != 0.0, axis=1) | np.any(C[at] != 0.0, axis=1)
+                       | prestressed[ks].astype(bool))
+        rho = np.array([q.mass_per_length if q else 0.0 for q in props])
+        lumped = np.array([bool(q and q.lumped) for q in props])
+        mass = rho * p[:, 0] if etype.has_mass else np.zeros(len(ks))
+        emass[ks] = np.where(lumped, 0.0, mass)
+        consistent[ks] = (mass != 0.0) & ~lumped
+        if np.any(lumped & (mass != 0.0)):
+            diag = np.where(lumped[:, None], etype.lumped_masses(p, np.where(lumped, mass, 0.0)),
+                            0.0)
+            lumped_diag[c_off[ks][:, None] + np.arange(n_c)] = diag
+            weight = np.where(translational[coords], diag * gravity[direction[coords]], 0.0)
+            np.add.at(f_const, coords, weight)
+        # entries of the Jacobian blocks (n, nd, nc) and element matrices (n, nc, nc)
+        src = j_off[ks][:, None, None] + np.arange(n_d)[:, None] * n_c + np.arange(n_c)
+        r, c = row_of_def[defs][:, :, None], dep_at[coords][:, None, :]
+        keep = (r >= 0) & (c >= 0)
+        for target, values_ in zip(dc, (src, np.broadcast_to(r, src.shape),
+                                        np.broadcast_to(c, src.shape)), strict=True):
+            target.append(values_[keep])
+        u, v = mult_of_def[defs][:, :, None], free_of[coords][:, None, :]
+        keep = (u >= 0) & (v >= 0)
+        for target, values_ in zip(sc, (src, np.broadcast_to(nfree + u, src.shape),
+                                        np.broadcast_to(v, src.shape)), strict=True):
+            target.append(values_[keep])
+        block = b_off[ks][:, None, None] + np.arange(n_c)[:, None] * n_c + np.arange(n_c)
+        u, v = free_of[coords][:, :, None], free_of[coords][:, None, :]
+        keep = (u >= 0) & (v >= 0)
+        for target, values_ in zip(sa, (block, np.broadcast_to(u, block.shape),
+                                        np.broadcast_to(v, block.shape)), strict=True):
+            target.append(values_[keep])
+    dc_src, dc_row, dc_col = (np.concatenate(a) if a else np.zeros(0, int) for a in dc)
+    sc_src, sc_u, sc_v = (np.concatenate(a) if a else np.zeros(0, int) for a in sc)
+    sa_src, sa_u, sa_v = (np.concatenate(a) if a else np.zeros(0, int) for a in sa)
+
+    nodal_mass = np.zeros(nx)
+    for number, mass in model.nodal_masses.items():
+        node = model.nodes[number]
+        nodal_mass[list(node.coordinates)] += mass
+        if node.kind == TRANSLATIONAL:
+            f_const[list(node.coordinates)] += mass * gravity
+    for number, load in model.nodal_forces.items():
+        f_const[list(model.nodes[number].coordinates)] += load
     sm_coord = np.flatnonzero((free_of >= 0) & (nodal_mass != 0.0))
 
     # orderings: D_c's rows and columns as one bipartite graph; the saddle's unknowns
     nr, ns = len(rows), nfree + len(multipliers)
-    both = _band_of(2 * nr, [(r, nr + c) for r, c in zip(dc_row, dc_col, strict=True)])
+    both = _band_of(2 * nr, list(zip(dc_row.tolist(), (nr + dc_col).tolist(), strict=True)))
     dc_rowband = np.argsort(np.argsort(both[:nr], kind="stable")).astype(i32)
     dc_colband = np.argsort(np.argsort(both[nr:], kind="stable")).astype(i32)
-    sd_band = _band_of(ns, list(zip(sa_u, sa_v, strict=True))
-                       + list(zip(sc_u, sc_v, strict=True)))
+    sd_band = _band_of(ns, list(zip(sa_u.tolist(), sa_v.tolist(), strict=True))
+                       + list(zip(sc_u.tolist(), sc_v.tolist(), strict=True)))
 
     def ints(values):
         return np.asarray(values, dtype=i32)

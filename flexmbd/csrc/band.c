@@ -147,6 +147,14 @@ void band_solve_t(const Band *b, double *x)
     }
 }
 
+static double norm1(const double *x, int n)
+{
+    double s = 0.0;
+    for (int i = 0; i < n; i++)
+        s += fabs(x[i]);
+    return s;
+}
+
 double band_min_pivot(const Band *b)
 {
     double smallest = INFINITY;
@@ -158,19 +166,24 @@ double band_min_pivot(const Band *b)
     return smallest;
 }
 
-static double norm1(const double *x, int n)
+/* ||A^-1 e_j||_1: the norm of column j of the inverse, one solve (a lower bound of ||A^-1||_1). */
+double band_column_norm(Band *b, int j)
 {
-    double s = 0.0;
-    for (int i = 0; i < n; i++)
-        s += fabs(x[i]);
-    return s;
+    double *x = b->work;
+    memset(x, 0, sizeof(double) * b->n);
+    x[j] = 1.0;
+    band_solve(b, x);
+    return norm1(x, b->n);
 }
 
 /* Hager's method with Higham's refinements (the estimator of LAPACK's dlacn2) for
- * ||A^-1||_1 from solves with A and A^T, plus Higham's alternating-sign vector. */
-double band_inverse_norm(Band *b)
+ * ||A^-1||_1 from solves with A and A^T, plus Higham's alternating-sign vector. `column`
+ * is set to the column of the inverse the estimate found largest (-1 when the alternating
+ * vector gave it), for band_column_norm to follow later. */
+double band_inverse_norm(Band *b, int *column)
 {
     const int n = b->n;
+    *column = -1;
     if (n == 0)
         return 0.0;
     double *x = b->work, *z = b->work + n;
@@ -200,10 +213,15 @@ double band_inverse_norm(Band *b)
             break;
         }
         estimate = next;
+        *column = j;
     }
     for (int i = 0; i < n; i++)                 /* Higham's extra vector */
         x[i] = (i % 2 ? -1.0 : 1.0) * (1.0 + (n > 1 ? (double)i / (n - 1) : 0.0));
     band_solve(b, x);
     const double alternating = 2.0 * norm1(x, n) / (3.0 * n);
-    return alternating > estimate ? alternating : estimate;
+    if (alternating > estimate) {
+        *column = -1;
+        return alternating;
+    }
+    return estimate;
 }

@@ -48,7 +48,8 @@ void band_copy(Band *to, const Band *from);
 int band_factor(Band *b);                      /* 0, or k + 1 for a zero pivot k */
 void band_solve(const Band *b, double *x);     /* A x = rhs, in place */
 void band_solve_t(const Band *b, double *x);   /* A^T x = rhs, in place */
-double band_inverse_norm(Band *b);             /* estimate of ||A^-1||_1 (Hager, Higham) */
+double band_inverse_norm(Band *b, int *column);  /* estimate of ||A^-1||_1 (Hager, Higham) */
+double band_column_norm(Band *b, int j);       /* ||A^-1 e_j||_1, one solve */
 double band_min_pivot(const Band *b);          /* smallest |u_jj| */
 
 /* --- errors ---------------------------------------------------------------------------- */
@@ -140,8 +141,10 @@ typedef struct {
     double *y;                           /* nx: nodal force */
     double *w1, *w2, *w3, *w4, *w5, *w6; /* scratch, max(nx, ne, ns) + 1 each */
     Band dc;                             /* D_c at x */
-    double conditioning;
+    double conditioning;                 /* NaN until estimated */
     int has_factor;
+    int cond_column, cond_age;           /* the incremental estimate (fm_conditioning) */
+    double cond_reference;
 } FmState;
 
 /* system.c */

@@ -1247,8 +1247,9 @@ static PyObject *Core_factor(Core *c, PyObject *args)
     if (band_factor(b) || !(band_min_pivot(b) > 0.0) || !isfinite(band_min_pivot(b)))
         return Py_BuildValue("d", 0.0);
     s->has_factor = 1;
-    s->conditioning = 1.0 / band_inverse_norm(b);
-    return Py_BuildValue("d", s->conditioning);
+    s->conditioning = NAN;
+    s->cond_column = -1;                     /* a configuration of its own: estimate in full */
+    return Py_BuildValue("d", fm_conditioning(m, s));
 }
 
 /* solve(rhs, transposed): D_c^-1 rhs (rows -> columns) or D_c^-T rhs, in place, for rhs of
