@@ -159,6 +159,7 @@ def simulate(
     with progress_bar(times, f"simulating ({method})", progress, work) as advance:
         arrays = engine.prepare(laws, len(times), integrated=True, dynamics=True,
                                 forces=forces, progress=advance)
+        engine.start(laws, times[0], q0)
         if alpha is not None:
             status = engine.core.alpha_run(
                 times, q0, qd0, near=GA_JACOBIAN_POINT * model.characteristic_length,
@@ -181,7 +182,6 @@ def _scipy_run(engine: Engine, times, q0, qd0, method, rtol, atol, max_step):
     """A scipy integrator over the core's accelerations; each output evaluated as soon as
     it is reached, from the solution of the evaluation before it."""
     core, n = engine.core, len(q0)
-    core.reset()
     accelerations = np.empty(n)
 
     def fun(t, y):
@@ -243,6 +243,7 @@ def inverse_dynamics(
     with progress_bar(times, "inverse dynamics", progress) as advance:
         arrays = engine.prepare(laws, len(times), dynamics=True, forces=forces,
                                 progress=advance)
+        engine.start(laws, times[0])
         status = engine.core.kinematic_run(times)
     if not with_reactions:
         arrays.pop("reactions")

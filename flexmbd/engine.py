@@ -213,7 +213,7 @@ def compile_model(model: Model) -> dict[str, object]:
     emass, consistent = np.zeros(len(elements)), np.zeros(len(elements), dtype=i32)
     lumped_diag, S, C = np.zeros(c_off[-1]), np.zeros(law_off[-1]), np.zeros(law_off[-1])
     sigma0, f_const = np.zeros(ne), np.zeros(nx)
-    elastic, prestressed = np.zeros(len(elements), dtype=i32), np.zeros(len(elements), dtype=i32)
+    elastic = np.zeros(len(elements), dtype=i32)
     dc, sc, sa = ([], [], []), ([], [], []), ([], [], [])
     by_type: dict[type, list[int]] = {}
     for k, element in enumerate(elements):
@@ -240,9 +240,8 @@ def compile_model(model: Model) -> dict[str, object]:
         given = np.array([q.prestress if q and q.prestress is not None else (0.0,) * n_d
                           for q in props]).reshape(len(ks), n_d)
         sigma0[defs] = np.where(mask, given, 0.0)
-        prestressed[ks] = np.any(sigma0[defs] != 0.0, axis=1)
         elastic[ks] = (np.any(S[at] != 0.0, axis=1) | np.any(C[at] != 0.0, axis=1)
-                       | prestressed[ks].astype(bool))
+                       | np.any(sigma0[defs] != 0.0, axis=1))
         rho = np.array([q.mass_per_length if q else 0.0 for q in props])
         lumped = np.array([bool(q and q.lumped) for q in props])
         mass = rho * p[:, 0] if etype.has_mass else np.zeros(len(ks))
@@ -307,7 +306,7 @@ def compile_model(model: Model) -> dict[str, object]:
         "b_off": b_off, "law_off": law_off,
         "param": np.array([v for e in elements for v in e.reference], dtype=float),
         "emass": emass, "consistent": consistent, "lumped_diag": lumped_diag, "S": S, "C": C,
-        "elastic": elastic, "prestressed": prestressed, "sigma0": sigma0,
+        "elastic": elastic, "sigma0": sigma0,
         "fixed": ints(model.fixed), "x_fixed": np.asarray(model.x0, float)[model.fixed],
         "q_coord": ints(model.independent_coordinates),
         "q_def": ints(model.independent_deformations),
@@ -385,6 +384,20 @@ def resolve_laws(model: Model, inputs: Mapping[str, Law] | None = None) -> list[
             f"inputs={{label: Polynomial(x0, v0, a0)}} or give law= when classifying"
         )
     return laws  # type: ignore[return-value]
+
+
+def _q_scale(model: Model) -> np.ndarray:
+    """Per entry of ``q``: 1 for angles, one over the model size for lengths."""
+    length = model.characteristic_length
+    coordinates = [1.0 / length if c in model.nodes[n].coordinates and
+                   model.nodes[n].kind == TRANSLATIONAL else 1.0
+                   for c in model.independent_coordinates for n in model.nodes
+                   if c in model.nodes[n].coordinates]
+    deformations = []
+    for d in model.independent_deformations:
+        etype = next(e.type for e in model.elements.values() if d in e.deformations)
+        deformations.append(1.0 / length if etype.ends() is not None else 1.0)
+    return np.array(coordinates + deformations)
 
 
 #: applied loads as a function of time and state: ``forces(t, x, xdot)`` returning an
@@ -488,6 +501,20 @@ class Engine:
         self.core.prepare(kind, coef, self.arrays, n_outputs, int(dynamics), **options)
         return self.arrays
 
+    def start(self, laws: list[Law], t: float, dynamic: np.ndarray | None = None) -> None:
+        """Start the next run from the configuration :meth:`continued` to ``q`` at time ``t``
+        [s]: the laws' values, and the integrated entries ``dynamic`` when given. A start
+        the continuation cannot reach is left to the run, which reports its failure."""
+        model = self.model
+        q = np.array([_law_values(law, t, model.describe_q(j))[0]
+                      for j, law in enumerate(laws)], dtype=float)
+        if dynamic is not None:
+            q[~np.asarray(model.q_is_input)] = dynamic
+        try:
+            self.core.reset(self.continued(q, t))
+        except SimulationError:
+            self.core.reset()
+
     # --- failures -------------------------------------------------------------------------
     def error(self, status: Mapping[str, object]) -> BaseException | None:
         """The exception of a run's ``status`` (``None`` when it completed): flexmbd's
@@ -519,7 +546,7 @@ class Engine:
                         f"singular value {status['conditioning']:.2g} < "
                         f"{status['limit']:.2g})")
             x = np.empty(model.n_coordinates)
-            self.core.failed_x(x)
+            self.core.configuration(x)
             D_x = dense_jacobian(model, x)
             D_c = D_x[np.ix_(model.constrained, model.dependent)]
             return SingularConfigurationError(singular_message(model, D_c, time_or_none, what),
@@ -553,17 +580,31 @@ class Engine:
 
     # --- single evaluations -----------------------------------------------------------------
     def positions(self, q: np.ndarray, guess: np.ndarray | None = None,
-                  time: float | None = None, near: float = 0.0) -> tuple[np.ndarray, float]:
-        """Solve the position problem for ``q`` (THEORY 3) from ``guess`` (default ``x0``);
-        returns ``x`` ``(nx,)`` and the scaled conditioning of ``D_c`` there. ``D_c`` stays
-        factorised for :meth:`solve`."""
+                  time: float | None = None) -> np.ndarray:
+        """Solve the position problem for ``q`` (THEORY 3) from ``guess``: ``x`` ``(nx,)``.
+        Without a guess, the configuration on the branch of the reference one
+        (:meth:`continued`)."""
+        if guess is None:
+            return self.continued(q, time)
+        zero = np.zeros(self.model.n_dof)
+        return self.state(q, zero, zero, guess, time)["x"]
+
+    def continued(self, q: np.ndarray, time: float | None = None) -> np.ndarray:
+        """The configuration ``x`` ``(nx,)`` at ``q`` that the reference configuration turns
+        into when ``q`` moves there from its reference value (``x0``'s): solved in steps
+        of at most 0.1 rad of an angle or 0.1 of the model size, each from the last. A
+        position problem has several solutions (a bar pointing either way along its
+        line); this keeps the one the model was drawn in."""
         model = self.model
-        x = np.empty(model.n_coordinates)
-        guess = np.asarray(model.x0 if guess is None else guess, dtype=float)
-        conditioning = self.call(self.core.positions, np.nan if time is None else float(time),
-                                 np.ascontiguousarray(q, dtype=float),
-                                 np.ascontiguousarray(guess), x, near)
-        return x, conditioning
+        q = np.asarray(q, dtype=float)
+        start = initial_q(model)
+        change = np.abs(q - start) * _q_scale(model)
+        steps = int(np.ceil(np.max(change, initial=0.0) / 0.1)) if np.all(
+            np.isfinite(change)) else 1
+        x, zero = np.asarray(model.x0, dtype=float), np.zeros(model.n_dof)
+        for s in np.linspace(0.0, 1.0, min(steps, 10_000) + 1)[1:]:
+            x = self.state(start + s * (q - start), zero, zero, x, time)["x"]
+        return x
 
     def state(self, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
               guess: np.ndarray | None = None, time: float | None = None

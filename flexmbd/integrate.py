@@ -92,48 +92,23 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarray,
               atol: float = 1e-9, max_step: float = np.inf, progress: bool | None = None,
               on_output: Callable[[int, float, np.ndarray], None] | None = None,
               **options) -> IntegrationResult:
-    """Integrate ``y' = fun(t, y)`` from ``t_eval[0]`` to ``t_eval[-1]``, output at ``t_eval``.
+    """Integrate ``y' = fun(t, y)`` from ``t_eval[0]`` to ``t_eval[-1]`` with one of scipy's
+    methods, output at ``t_eval``.
 
-    With ``method="GeneralizedAlpha"`` ``y`` is ``[q; v]`` (even length) and ``options``
-    are those of :class:`AlphaOptions` (``step`` defaults to the output interval).
-    ``on_output(k, t, y)``, for scipy's methods, is called as soon as output ``k`` is
-    reached (right after the step that passes it).
+    ``on_output(k, t, y)``, when given, is called as soon as output ``k`` is reached (right
+    after the step that passes it); a :class:`SimulationError` it raises ends the run
+    there. Other ``options`` go to scipy's solver.
 
     Raises:
-        ValueError: an unknown ``method``, bad ``t_eval`` or bad options.
+        ValueError: an unknown ``method`` (GeneralizedAlpha integrates models only, with
+            :func:`flexmbd.simulate`) or bad ``t_eval``.
     """
     check_method(method)
-    t_eval = _check_grid(t_eval)
-    y0 = np.array(y0, dtype=float)
     if method == "GeneralizedAlpha":
-        return _integrate_alpha(fun, y0, t_eval, rtol, atol, max_step, **options)
-    return _integrate_scipy(fun, y0, t_eval, method, rtol, atol, max_step, progress, on_output,
-                            **options)
-
-
-def _integrate_alpha(fun, y0, t_eval, rtol, atol, max_step, *, step: float | None = None,
-                     **options) -> IntegrationResult:
-    from . import _core
-
-    if len(y0) % 2:
-        raise ValueError("generalized-alpha needs a state [q; v] of even length")
-    step = float(np.diff(t_eval).min()) if step is None else step
-    settings = AlphaOptions(min(step, max_step), rtol=rtol, atol=atol, **options)
-    y = np.zeros((len(t_eval), len(y0)))
-    status = _core.alpha_ode(fun, t_eval, y0, y, **settings.core_arguments())
-    done, error = status["reached"], status["exception"]
-    message = "completed"
-    if status["code"] == _core.STEP_FAILED:
-        message = (f"the GeneralizedAlpha integrator failed at t = {status['time']:.6g} s: "
-                   f"its Newton iteration did not converge even with step "
-                   f"{status['step']:.3g} s")
-    elif error is not None:
-        if not isinstance(error, SimulationError):
-            raise error
-        message = str(error)
-    stats = {name: int(status[name]) for name in ("nfev", "njev", "nlu", "nsteps")}
-    return IntegrationResult(t_eval[:done], y[:done], status["code"] == _core.OK, message,
-                             error, stats)
+        raise ValueError("GeneralizedAlpha integrates models in the compiled core: use "
+                         "flexmbd.simulate(model, ..., method='GeneralizedAlpha')")
+    return _integrate_scipy(fun, np.array(y0, dtype=float), _check_grid(t_eval), method, rtol,
+                            atol, max_step, progress, on_output, **options)
 
 
 def _integrate_scipy(fun, y0, t_eval, method, rtol, atol, max_step, progress, on_output,

@@ -155,7 +155,7 @@ def position_analysis(model: Model, q: np.ndarray, x_guess: np.ndarray | None = 
                       max_iterations: int = _engine.MAX_ITERATIONS) -> PositionSolution:
     """:func:`solve_position` that also returns the partitioned Jacobian at the solution."""
     engine = Engine(model, tolerance, max_iterations)
-    x, _ = engine.positions(np.asarray(q, dtype=float), x_guess, time)
+    x = engine.positions(np.asarray(q, dtype=float), x_guess, time)
     return PositionSolution(x, partition_jacobian(model, x, time))
 
 
@@ -268,6 +268,7 @@ def kinematic_analysis(
     with progress_bar(times, "kinematics", progress) as bar:
         arrays = engine.prepare(laws, len(times), progress=bar,
                                 columns=("x", "xd", "xdd", "e", "ed", "edd"))
+        engine.start(laws, times[0])
         status = engine.core.kinematic_run(times)
     done = status["reached"]
     result = KinematicResult(model, times[:done], **{k: v[:done] for k, v in arrays.items()})

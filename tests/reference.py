@@ -91,6 +91,24 @@ def terms(model: fm.Model, q: np.ndarray, qd: np.ndarray, x_guess=None, forces=N
                  generalized_force)
 
 
+def newton_matrix(model: fm.Model, t: Terms, qdd: np.ndarray, c_q: float, c_v: float
+                  ) -> np.ndarray:
+    """``S = Mbar + c_q (K + G) + c_v D`` ``(nq, nq)`` at a state with accelerations ``qdd``:
+    ``K = E_q^T S E_q``, ``D = E_q^T C E_q`` and the geometric stiffness ``G = F_q^T (sum_i
+    sigma_i D_xx,i) F_q`` of all stresses, the elastic ones and those the constraints need
+    at these accelerations (THEORY 8 away from equilibrium: ``D_c^T sigma = -y(c)``)."""
+    S, C, _ = elastic_law(model)
+    xdd = t.F_q @ qdd + t.convective
+    y = t.M @ xdd + t.h - t.f + t.D_x.T @ t.sigma
+    rows, dep = model.constrained, model.dependent
+    sigma = t.sigma.copy()
+    if len(rows):
+        sigma[rows] -= np.linalg.solve(t.D_x[np.ix_(rows, dep)].T, y[dep])
+    geometric = np.einsum("i,iab->ab", sigma, fm.hessian(model, t.x))
+    return (t.reduced_mass + c_q * (t.E_q.T @ S @ t.E_q + t.F_q.T @ geometric @ t.F_q)
+            + c_v * t.E_q.T @ C @ t.E_q)
+
+
 def accelerations(model: fm.Model, t: Terms, qdd_prescribed: np.ndarray) -> np.ndarray:
     """``qddot`` with the dynamic entries from ``Mbar_dd qdd_d = g_d - Mbar_dr qdd_r``."""
     d, r = ~model.q_is_input, model.q_is_input

@@ -162,15 +162,16 @@ def test_a_chain_of_beams_keeps_narrow_bands():
 
 
 def test_newton_operator_is_the_reduced_newton_matrix():
-    """Generalized-alpha's Newton correction ``-S^-1 R`` with ``S = Mbar + c_q K + c_v C``
-    (the saddle-point system of the core) against ``Mbar = F_q^T M F_q`` and ``K = E_q^T S
-    E_q``, ``C = E_q^T C E_q`` in dense form, with flexible elongations and damping."""
+    """Generalized-alpha's Newton correction ``-S^-1 R`` (the saddle-point system of the core)
+    against ``S = Mbar + c_q (K + G) + c_v D`` in dense form (tests/reference.py), with
+    flexible elongations, damping and the geometric stiffness of elastic and constraint
+    stresses, at a state away from equilibrium."""
     model = flexible_slider_crank_one_beam(damped=True)
     c_q, c_v = 2e-6, 3e-3
     rng = np.random.default_rng(2)
     d = int(np.count_nonzero(~model.q_is_input))
     y = np.concatenate([rng.normal(scale=1e-3, size=d), rng.normal(scale=0.1, size=d)])
-    a, r = rng.normal(size=d), np.array([0.3, -1.2, 0.7])
+    a, r = rng.normal(scale=100.0, size=d), np.array([0.3, -1.2, 0.7])
     run = Engine(model)
     run.prepare(resolve_laws(model), 1, integrated=True, dynamics=True)
     run.core.reset()
@@ -181,14 +182,11 @@ def test_newton_operator_is_the_reduced_newton_matrix():
     terms = reference.terms(model, np.concatenate([[150.0 * t], y[:d]]),
                             np.concatenate([[150.0], y[d:]]))
     x = np.empty(model.n_coordinates)
-    run.core.failed_x(x)  # the configuration of the last evaluation
+    run.core.configuration(x)  # the configuration of the last evaluation
     np.testing.assert_allclose(x, terms.x, atol=1e-12)
-    stiffness, damping, _ = reference.elastic_law(model)
-    S = (terms.reduced_mass + c_q * terms.E_q.T @ stiffness @ terms.E_q
-         + c_v * terms.E_q.T @ damping @ terms.E_q)
+    S = reference.newton_matrix(model, terms, np.concatenate([[0.0], a]), c_q, c_v)
     dyn = ~model.q_is_input
-    expected = -np.linalg.solve(S[np.ix_(dyn, dyn)], r)
-    np.testing.assert_allclose(correction, expected, rtol=1e-9)
+    np.testing.assert_allclose(correction, -np.linalg.solve(S[np.ix_(dyn, dyn)], r), rtol=1e-9)
 
 
 def test_rho_inf_reaches_generalized_alpha_only():
@@ -201,3 +199,27 @@ def test_rho_inf_reaches_generalized_alpha_only():
                         initial={"e1.2": (0.01, 0.0)}, rho_inf=rho) for rho in (0.0, 1.0)]
     # the bending vibration, unresolved by these steps, decays only with rho_inf < 1
     assert np.ptp(runs[0]["e1.2"][5:]) < 0.5 * np.ptp(runs[1]["e1.2"][5:])
+
+
+def test_a_run_starts_on_the_branch_of_the_reference_configuration():
+    """A position problem has several solutions (a rigid bar pointing either way along its
+    line). A run that starts away from the reference configuration starts on the solution
+    the model was drawn in, continued there: here a pendulum released near its bottom
+    swings there, instead of starting upside down (Newton straight from the drawing,
+    90 degrees away, finds the mirrored solution)."""
+    from tests.test_generalized_alpha import pendulum
+
+    start = -1.5  # rad: 0.07 rad from hanging straight down
+    result = fm.simulate(pendulum(), np.linspace(0.0, 1.0, 21), initial={"x2.1": (start, 0.0)},
+                         method="DOP853", rtol=1e-10, atol=1e-12)
+    swing = result["x2.1"] + math.pi / 2
+    assert np.max(np.abs(swing)) == pytest.approx(math.pi / 2 + start, rel=1e-6)
+    assert result["x3.2"][0] < 0.0  # the mass below the pivot
+    # a kinematic run of the slider-crank starting at 160 degrees: the rod keeps its side
+    from .models import slider_crank
+
+    model = slider_crank(1.0, 2.0, fm.Polynomial(math.radians(160.0), 1.0))
+    run = fm.kinematic_analysis(model, [0.0, 0.1])
+    phi = run["x2.1"]
+    np.testing.assert_allclose(run["x5.1"], np.cos(phi) + np.sqrt(4.0 - np.sin(phi) ** 2),
+                               rtol=1e-12)

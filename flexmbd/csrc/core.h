@@ -89,7 +89,7 @@ typedef struct {
     int *varying;                        /* element mass varies with the configuration */
     double *S, *C;                       /* elastic law per element, nd x nd at b_off2 */
     int *law_off;
-    int *elastic, *prestressed;          /* per element: any elastic law, any pre-stress */
+    int *elastic;                        /* per element: any elastic law or pre-stress */
     double *sigma0;                      /* ne */
     double *mconst;                      /* constant element mass blocks nc x nc at b_off */
     /* classification */
@@ -137,7 +137,8 @@ typedef struct {
     double *blocks;                      /* element matrices nc x nc (at b_off) */
     double *hvec, *gvec;                 /* element velocity inertia and gravity (at c_off) */
     double *ablocks;                     /* the saddle-point matrix's element blocks */
-    double *sigma;                       /* ne */
+    double *sigma;                       /* ne: the elastic stresses */
+    double *w;                           /* ne: the multipliers of the reduced residual */
     double *y;                           /* nx: nodal force */
     double *w1, *w2, *w3, *w4, *w5, *w6; /* scratch, max(nx, ne, ns) + 1 each */
     Band dc;                             /* D_c at x */
@@ -165,10 +166,12 @@ int fm_saddle(const FmModel *m, FmState *s, Band *sd, double c_q, double c_v, Fm
 void fm_saddle_apply(const FmModel *m, FmState *s, const Band *sd, const double *J,
                      const double *rhs, double *dq);
 int fm_accelerations(const FmModel *m, FmState *s, Band *sd, const double *user, FmError *err);
-void fm_reduced_residual(const FmModel *m, FmState *s, double *r, double *w);
+void fm_reduced_residual(const FmModel *m, FmState *s, double *r);
 void fm_equilibrium(const FmModel *m, FmState *s, int free_dynamic, double *reactions,
                     double *driving);
 double fm_conditioning(const FmModel *m, FmState *s);
+int fm_factor_at(const FmModel *m, FmState *s, const double *x);
+void fm_solve_dc(const FmModel *m, FmState *s, double *r, int transposed);
 void fm_jacobian_times(const FmModel *m, const double *J, const double *v, double *out);
 void fm_jacobian_t_times(const FmModel *m, const double *J, const double *w, double *out);
 

@@ -28,7 +28,7 @@ int fm_state_init(FmState *s, const FmModel *m)
     s->e = alloc(m->ne); s->ed = alloc(m->ne); s->edd = alloc(m->ne); s->qv = alloc(m->ne);
     s->J = alloc(m->total_j); s->blocks = alloc(m->total_b); s->ablocks = alloc(m->total_b);
     s->hvec = alloc(m->c_off[m->nel]); s->gvec = alloc(m->c_off[m->nel]);
-    s->sigma = alloc(m->ne); s->y = alloc(m->nx);
+    s->sigma = alloc(m->ne); s->w = alloc(m->ne); s->y = alloc(m->nx);
     int n = m->nx > m->ne ? m->nx : m->ne;
     n = (n > m->ns ? n : m->ns) + 1;
     s->w1 = alloc(n); s->w2 = alloc(n); s->w3 = alloc(n);
@@ -37,7 +37,7 @@ int fm_state_init(FmState *s, const FmModel *m)
         return FM_NO_MEMORY;
     s->cond_column = -1;
     double *all[] = {s->q, s->qd, s->qdd, s->x, s->xd, s->xdd, s->e, s->ed, s->edd, s->qv,
-                     s->J, s->blocks, s->ablocks, s->hvec, s->gvec, s->sigma, s->y,
+                     s->J, s->blocks, s->ablocks, s->hvec, s->gvec, s->sigma, s->w, s->y,
                      s->w1, s->w2, s->w3, s->w4, s->w5, s->w6};
     for (size_t k = 0; k < sizeof(all) / sizeof(all[0]); k++)
         if (!all[k])
@@ -48,7 +48,7 @@ int fm_state_init(FmState *s, const FmModel *m)
 void fm_state_free(FmState *s)
 {
     double *all[] = {s->q, s->qd, s->qdd, s->x, s->xd, s->xdd, s->e, s->ed, s->edd, s->qv,
-                     s->J, s->blocks, s->ablocks, s->hvec, s->gvec, s->sigma, s->y,
+                     s->J, s->blocks, s->ablocks, s->hvec, s->gvec, s->sigma, s->w, s->y,
                      s->w1, s->w2, s->w3, s->w4, s->w5, s->w6};
     for (size_t k = 0; k < sizeof(all) / sizeof(all[0]); k++)
         free(all[k]);
@@ -185,6 +185,14 @@ double fm_conditioning(const FmModel *m, FmState *s)
     return s->conditioning = 1.0 / norm;
 }
 
+/* D_c at x (the element Jacobians there), factorised; FM_SINGULAR for a zero pivot. */
+int fm_factor_at(const FmModel *m, FmState *s, const double *x)
+{
+    memcpy(s->x, x, sizeof(double) * m->nx);
+    element_pass(m, s, 1);
+    return factor_dc(m, s, 0);
+}
+
 /* x = D_c^-1 r for r over the rows of D_c (in place: r becomes x over the columns). */
 static void solve_dc(const FmModel *m, const FmState *s, double *r, double *work)
 {
@@ -203,6 +211,15 @@ static void solve_dc_t(const FmModel *m, const FmState *s, double *y, double *wo
     band_solve_t(&s->dc, work);
     for (int i = 0; i < m->nr; i++)
         y[i] = m->dc_rowscale[i] * work[m->dc_rowband[i]];
+}
+
+/* D_c^-1 r, or D_c^-T r with `transposed`, in place, with the state's factorisation. */
+void fm_solve_dc(const FmModel *m, FmState *s, double *r, int transposed)
+{
+    if (transposed)
+        solve_dc_t(m, s, r, s->w2);
+    else
+        solve_dc(m, s, r, s->w2);
 }
 
 /* --- positions (THEORY 3) -----------------------------------------------------------------
@@ -463,9 +480,12 @@ void fm_nodal_force(const FmModel *m, FmState *s, const double *user)
 }
 
 /* --- the saddle-point system (THEORY 7, 8) ---------------------------------------------------- */
-/* [[A, C^T], [C, 0]] with A = M + c_q (D^T S D + sum sigma_i D_xx,i) + c_v D^T C D over the
- * free coordinates (the stiffness only when c_q or c_v is non-zero; the geometric part for
- * pre-stressed elements only: elsewhere it is of the order of the strains). */
+/* [[A, C^T], [C, 0]] over the free coordinates and the multipliers. A is the mass matrix, and
+ * for a Newton matrix (c_q, c_v not both zero) A = M + c_q (D^T S D + sum_i sigma_i D_xx,i)
+ * + c_v D^T C D: the element stiffness and damping, and the geometric stiffness of every
+ * stress of the state, elastic and of the constraints (sigma = sigma_el - w, with w the
+ * multipliers of its reduced residual). This is the derivative of the reduced residual but
+ * for the velocity terms of the inertia, which are of order h relative to the rest. */
 int fm_saddle(const FmModel *m, FmState *s, Band *sd, double c_q, double c_v, FmError *err)
 {
     double H[MAX_NC * MAX_NC * MAX_NC], c[MAX_NC];
@@ -475,36 +495,38 @@ int fm_saddle(const FmModel *m, FmState *s, Band *sd, double c_q, double c_v, Fm
         memcpy(s->ablocks, s->blocks, sizeof(double) * m->total_b);
         blocks = s->ablocks;
         for (int k = 0; k < m->nel; k++) {
-            if (!m->elastic[k])
-                continue;
             const int nc = m->c_off[k + 1] - m->c_off[k], nd = m->d_off[k + 1] - m->d_off[k];
+            const int *di = m->d_idx + m->d_off[k];
             double *A = s->ablocks + m->b_off[k];
             const double *J = s->J + m->j_off[k];
-            const double *S = m->S + m->law_off[k], *C = m->C + m->law_off[k];
-            double law[MAX_NC * MAX_NC], LJ[MAX_NC * MAX_NC];
-            for (int i = 0; i < nd * nd; i++)
-                law[i] = c_q * S[i] + c_v * C[i];
-            for (int i = 0; i < nd; i++)          /* (c_q S + c_v C) D */
-                for (int b = 0; b < nc; b++) {
-                    double sum = 0.0;
-                    for (int j = 0; j < nd; j++)
-                        sum += law[i * nd + j] * J[j * nc + b];
-                    LJ[i * nc + b] = sum;
-                }
-            for (int a = 0; a < nc; a++)          /* D^T (c_q S + c_v C) D */
-                for (int b = 0; b < nc; b++) {
-                    double sum = 0.0;
-                    for (int i = 0; i < nd; i++)
-                        sum += J[i * nc + a] * LJ[i * nc + b];
-                    A[a * nc + b] += sum;
-                }
-            if (m->prestressed[k] && c_q != 0.0) {
+            if (m->elastic[k]) {
+                const double *S = m->S + m->law_off[k], *C = m->C + m->law_off[k];
+                double LJ[MAX_NC * MAX_NC];
+                for (int i = 0; i < nd; i++)          /* (c_q S + c_v C) D */
+                    for (int b = 0; b < nc; b++) {
+                        double sum = 0.0;
+                        for (int j = 0; j < nd; j++)
+                            sum += (c_q * S[i * nd + j] + c_v * C[i * nd + j]) * J[j * nc + b];
+                        LJ[i * nc + b] = sum;
+                    }
+                for (int a = 0; a < nc; a++)          /* D^T (c_q S + c_v C) D */
+                    for (int b = 0; b < nc; b++) {
+                        double sum = 0.0;
+                        for (int i = 0; i < nd; i++)
+                            sum += J[i * nc + a] * LJ[i * nc + b];
+                        A[a * nc + b] += sum;
+                    }
+            }
+            int stressed = 0;
+            for (int i = 0; i < nd; i++)
+                stressed |= s->sigma[di[i]] - s->w[di[i]] != 0.0;
+            if (stressed && c_q != 0.0) {            /* sum_i sigma_i D_xx,i */
                 gather(m, k, s->x, c);
                 FM_KERNELS[m->etype[k]].hessian(c, m->param + m->p_off[k], H);
                 for (int i = 0; i < nd; i++) {
-                    const double w = c_q * s->sigma[m->d_idx[m->d_off[k] + i]];
+                    const double weight = c_q * (s->sigma[di[i]] - s->w[di[i]]);
                     for (int a = 0; a < nc * nc; a++)
-                        A[a] += w * H[i * nc * nc + a];
+                        A[a] += weight * H[i * nc * nc + a];
                 }
             }
         }
@@ -595,9 +617,10 @@ int fm_accelerations(const FmModel *m, FmState *s, Band *sd, const double *user,
 }
 
 /* R = F_q^T y on the dynamic entries of q (nd_dyn), with w = D_c^-T y(c) over the rows
- * of D_c (returned in `w`, ne entries, zero off the rows) (THEORY 4, 7). */
-void fm_reduced_residual(const FmModel *m, FmState *s, double *r, double *w)
+ * of D_c (kept in s->w, ne entries, zero off the rows) (THEORY 4, 7). */
+void fm_reduced_residual(const FmModel *m, FmState *s, double *r)
 {
+    double *w = s->w;
     double *col = s->w1, *work = s->w2, *pulled = s->w3;
     memset(w, 0, sizeof(double) * m->ne);
     for (int j = 0; j < m->nr; j++)
@@ -624,8 +647,8 @@ void fm_reduced_residual(const FmModel *m, FmState *s, double *r, double *w)
 void fm_equilibrium(const FmModel *m, FmState *s, int free_dynamic, double *reactions,
                     double *driving)
 {
-    double *w = s->w4, *pulled = s->w5;
-    fm_reduced_residual(m, s, NULL, w);
+    double *w = s->w, *pulled = s->w5;
+    fm_reduced_residual(m, s, NULL);
     fm_jacobian_t_times(m, s->J, w, pulled);
     for (int i = 0; i < m->nr; i++)
         if (!free_dynamic || m->mult_of_def[m->rows[i]] >= 0)
