@@ -7,7 +7,7 @@ from setuptools import Extension, setup
 from setuptools.command.build_ext import build_ext
 
 SOURCES = ["flexmbd/csrc/module.c", "flexmbd/csrc/system.c", "flexmbd/csrc/alpha.c",
-           "flexmbd/csrc/band.c", "flexmbd/csrc/kernels.c"]
+           "flexmbd/csrc/band.c", "flexmbd/csrc/text.c", "flexmbd/csrc/kernels.c"]
 FLAGS = ["-O3", "-std=c99", "-fno-math-errno"]
 
 
@@ -31,5 +31,6 @@ class BuildCore(build_ext):
 
 
 setup(ext_modules=[Extension("flexmbd._core", SOURCES, extra_compile_args=FLAGS,
-                             depends=["flexmbd/csrc/core.h", "flexmbd/csrc/alpha.h"])],
+                             depends=["flexmbd/csrc/core.h", "flexmbd/csrc/alpha.h",
+                                      "flexmbd/csrc/text.h"])],
       cmdclass={"build_ext": BuildCore})

@@ -177,12 +177,15 @@ class SimulationResult(KinematicResult):
 
 
 def write_csv(path: str | Path, columns: dict[str, np.ndarray]) -> Path:
-    """Write equally long columns ``{name: values}`` as CSV with a header row (full
-    precision); returns the path."""
+    """Write equally long columns ``{name: values}`` as CSV with a header row; every number
+    as ``"%.17g"`` writes it, which reads back to the same double. Returns the path."""
+    from . import _core
+
     rows = len(next(iter(columns.values()))) if columns else 0
     data = np.column_stack(list(columns.values())) if rows else np.empty((0, len(columns)))
-    return _writing(path, lambda p: np.savetxt(p, data, delimiter=",", header=",".join(columns),
-                                               comments="", fmt="%.17g"))
+    text = _core.csv_rows(np.ascontiguousarray(data, dtype=float))
+    header = (",".join(columns) + "\n").encode()
+    return _writing(path, lambda p: p.write_bytes(header + text))
 
 
 def check_times(times) -> np.ndarray:

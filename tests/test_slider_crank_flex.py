@@ -1,8 +1,8 @@
 """EXERCISES 4: the flexible slider-crank converges under refinement and behaves as expected.
 
 The histories of ``v/l2`` over two revolutions are computed once per beam count
-(linearly implicit generalized-alpha, 800 steps per turn: about 5e-5 from the
-step-converged history, measured) and shared by the tests.
+(linearly implicit generalized-alpha at the example's 400 steps per turn: within about
+2e-4 of the step-converged history, as its help states) and shared by the tests.
 """
 
 import math
@@ -68,7 +68,7 @@ def test_one_beam_matches_an_error_controlled_run_and_the_closed_form_deflection
     rk = example.simulate(1, revolutions=1.0, method="RK45", rtol=1e-8)
     v_ga = example.midpoint_deflection(ga.model, ga.x)
     v_rk = example.midpoint_deflection(rk.model, rk.x)
-    assert np.max(np.abs(v_ga - v_rk)) < 1e-4
+    assert np.max(np.abs(v_ga - v_rk)) < 2e-4  # the accuracy the example's help states
     # one beam, rigid elongation: v = (e2 + e3) / 8 (THEORY section 10)
     np.testing.assert_allclose(v_rk, (rk["e2.2"] + rk["e2.3"]) / 8 / example.L2, atol=1e-15)
 

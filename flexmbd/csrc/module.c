@@ -17,6 +17,7 @@
 
 #include "alpha.h"
 #include "core.h"
+#include "text.h"
 
 #ifndef FLEXMBD_BUILD
 #define FLEXMBD_BUILD "C"
@@ -1076,6 +1077,52 @@ static PyTypeObject CoreType = {
     .tp_methods = Core_methods,
 };
 
+/* --- result files ---------------------------------------------------------------------------- */
+/* csv_rows(values): the rows of a (n, m) float64 array as CSV text (bytes), each number as
+ * "%.17g" writes it (text.c), without a header */
+static PyObject *csv_rows(PyObject *self, PyObject *args)
+{
+    PyObject *array_object;
+    Py_buffer b;
+    (void)self;
+    if (!PyArg_ParseTuple(args, "O", &array_object))
+        return NULL;
+    if (PyObject_GetBuffer(array_object, &b, PyBUF_FORMAT | PyBUF_ND | PyBUF_C_CONTIGUOUS) < 0)
+        return NULL;
+    if (b.ndim != 2 || b.itemsize != sizeof(double) || strcmp(b.format, "d")) {
+        PyBuffer_Release(&b);
+        PyErr_SetString(PyExc_ValueError, "csv_rows: a 2-d float64 array is needed");
+        return NULL;
+    }
+    const Py_ssize_t rows = b.shape[0], columns = b.shape[1];
+    PyObject *text = PyBytes_FromStringAndSize(NULL, rows * columns * 25 + 1);
+    if (!text) {
+        PyBuffer_Release(&b);
+        return NULL;
+    }
+    char *p = PyBytes_AS_STRING(text);
+    const double *values = b.buf;
+    for (Py_ssize_t r = 0; r < rows; r++)
+        for (Py_ssize_t k = 0; k < columns; k++) {
+            p += format_17g(values[r * columns + k], p);
+            *p++ = k + 1 < columns ? ',' : '\n';
+        }
+    PyBuffer_Release(&b);
+    _PyBytes_Resize(&text, p - PyBytes_AS_STRING(text));
+    return text;
+}
+
+/* format_17g(x): one number as csv_rows writes it (for the tests) */
+static PyObject *format_number(PyObject *self, PyObject *args)
+{
+    double x;
+    char out[32];
+    (void)self;
+    if (!PyArg_ParseTuple(args, "d", &x))
+        return NULL;
+    return PyUnicode_FromStringAndSize(out, format_17g(x, out));
+}
+
 /* --- generated kernels, for the tests -------------------------------------------------------- */
 /* kernel(type, name, c, p, v, g, out): one generated element kernel at one element */
 static PyObject *kernel(PyObject *self, PyObject *args)
@@ -1125,6 +1172,9 @@ static PyObject *kernel(PyObject *self, PyObject *args)
 }
 
 static PyMethodDef module_methods[] = {
+    {"csv_rows", csv_rows, METH_VARARGS,
+     "csv_rows(values): rows of a (n, m) float64 array as CSV text (bytes), as %.17g."},
+    {"format_17g", format_number, METH_VARARGS, "format_17g(x): x as %.17g writes it."},
     {"kernel", kernel, METH_VARARGS,
      "kernel(type, name, c, p, v, g, out): one generated element kernel."},
     {NULL, NULL, 0, NULL}};
