@@ -15,8 +15,16 @@ from .model import Model
 
 
 def _largest(vector: np.ndarray, share: float = 0.1) -> np.ndarray:
+    """Indices of the entries of at least ``share`` of the largest, largest first."""
     a = np.abs(vector)
-    return np.flatnonzero(a >= share * a.max())
+    chosen = np.flatnonzero(a >= share * a.max())
+    return chosen[np.argsort(-a[chosen], kind="stable")]
+
+
+def _names(describe, indices, shown: int = 8) -> str:
+    """The first ``shown`` of ``indices`` in words, and how many more there are."""
+    names = ", ".join(describe(int(i)) for i in indices[:shown])
+    return names + (f" and {len(indices) - shown} more" if len(indices) > shown else "")
 
 
 def weakest_direction(model: Model, D_c: np.ndarray) -> str:
@@ -27,10 +35,8 @@ def weakest_direction(model: Model, D_c: np.ndarray) -> str:
     scaled = D_c * model.coordinate_scale[model.dependent]
     norms = np.linalg.norm(scaled, axis=1, keepdims=True)
     u, _, vt = np.linalg.svd(scaled / np.maximum(norms, 1e-300))
-    constraints = ", ".join(model.describe_deformation(model.constrained[i])
-                            for i in _largest(u[:, -1]))
-    coordinates = ", ".join(model.describe_coordinate(model.dependent[j])
-                            for j in _largest(vt[-1]))
+    constraints = _names(model.describe_deformation, model.constrained[_largest(u[:, -1])])
+    coordinates = _names(model.describe_coordinate, model.dependent[_largest(vt[-1])])
     return f"the constraints {constraints} no longer determine {coordinates}"
 
 
@@ -45,13 +51,13 @@ def diagnose_rank(model: Model, D_c: np.ndarray, rtol: float = 1e-10) -> str:
     free = vt[rank:]
     if len(free):
         involved = np.flatnonzero(np.abs(free).max(axis=0) > 1e-8)
-        names = ", ".join(model.describe_coordinate(model.dependent[j]) for j in involved)
+        names = _names(model.describe_coordinate, np.asarray(model.dependent)[involved])
         parts.append(f"the coordinates {names} can move without changing any rigid or "
                      f"independent deformation")
     redundant = u[:, rank:]
     if redundant.shape[1]:
         involved = np.flatnonzero(np.abs(redundant).max(axis=1) > 1e-8)
-        names = ", ".join(model.describe_deformation(model.constrained[i]) for i in involved)
+        names = _names(model.describe_deformation, np.asarray(model.constrained)[involved])
         parts.append(f"the equations of {names} are linearly dependent")
     return "; ".join(parts)
 

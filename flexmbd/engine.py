@@ -449,9 +449,12 @@ class Engine:
         self.max_iterations = int(max_iterations)
         #: scaled conditioning of D_c below which a converged position counts as singular:
         #: near a singular root Newton converges only linearly and stops about
-        #: sqrt(tolerance) away from it, where D_c still looks regular
-        self.regularity_limit = 10.0 * float(np.sqrt(self.tolerance
-                                                     / model.characteristic_length))
+        #: sqrt(tolerance) away from it, where D_c still looks regular. Relative to the
+        #: reference configuration's conditioning where that is below 1: a long chain of
+        #: beams is regular but less well conditioned than one link.
+        reference = self.core.factor(np.asarray(model.x0, dtype=float))
+        self.regularity_limit = 10.0 * float(np.sqrt(
+            self.tolerance / model.characteristic_length)) * min(1.0, reference)
         self.arrays: dict[str, np.ndarray] = {}
         self.core.settings(self.tolerance, self.max_iterations, self.regularity_limit)
 
@@ -634,13 +637,15 @@ class Engine:
         self.core.solve(columns, transposed)
         return columns.T.reshape(rhs.shape)
 
-    def mass(self, x: np.ndarray, xd: np.ndarray | None = None
+    def mass(self, x: np.ndarray, xd: np.ndarray | None = None, out: np.ndarray | None = None
              ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """The mass matrix ``M`` ``(nx, nx)`` [kg, kg m, kg m^2], the velocity-dependent
-        inertia ``h`` ``(nx,)`` (inertia force ``M xddot + h``) and the constant loads and
-        gravity ``f`` ``(nx,)`` [N, N m] at ``(x, xd)`` (THEORY 5)."""
+        """The mass matrix ``M`` ``(nx, nx)`` [kg, kg m, kg m^2] (written into ``out``, a
+        C-contiguous array, when given), the velocity-dependent inertia ``h`` ``(nx,)``
+        (inertia force ``M xddot + h``) and the constant loads and gravity ``f`` ``(nx,)``
+        [N, N m] at ``(x, xd)`` (THEORY 5)."""
         nx = self.model.n_coordinates
-        M, h, f = np.empty((nx, nx)), np.empty(nx), np.empty(nx)
+        M = np.empty((nx, nx)) if out is None else out
+        h, f = np.empty(nx), np.empty(nx)
         xd = np.zeros(nx) if xd is None else xd
         self.core.mass_matrix(np.ascontiguousarray(x, dtype=float),
                               np.ascontiguousarray(xd, dtype=float), M, h, f)

@@ -28,6 +28,8 @@ class KinematicResult:
         x, xd, xdd: coordinates and their first and second time derivatives,
             shape ``(nt, nx)`` [m, rad, per s, per s^2].
         e, ed, edd: deformations and their derivatives, shape ``(nt, ne)``.
+            Rates and accelerations are ``None`` where a simulation did not record
+            them (``simulate(..., outputs="positions")``).
         success: ``False`` when the run stopped early; the arrays then hold the
             points computed before the failure.
         message: what happened, one line.
@@ -37,11 +39,11 @@ class KinematicResult:
     model: Model
     t: np.ndarray
     x: np.ndarray
-    xd: np.ndarray
-    xdd: np.ndarray
-    e: np.ndarray
-    ed: np.ndarray
-    edd: np.ndarray
+    xd: np.ndarray | None = None
+    xdd: np.ndarray | None = None
+    e: np.ndarray | None = None
+    ed: np.ndarray | None = None
+    edd: np.ndarray | None = None
     success: bool = True
     message: str = "completed"
     error: SimulationError | None = None
@@ -58,7 +60,14 @@ class KinematicResult:
             index = self.model.coordinate_index(f"x{number}.{k}")
         else:
             index = self.model.deformation_index(f"e{number}.{k}")
-        return getattr(self, prefix)[:, index]
+        return self._recorded(prefix, name)[:, index]
+
+    def _recorded(self, attribute: str, name: str) -> np.ndarray:
+        values = getattr(self, attribute)
+        if values is None:
+            raise KeyError(f"{name!r} was not recorded: simulate(..., outputs='all') "
+                           f"records every column")
+        return values
 
     def columns(self) -> dict[str, np.ndarray]:
         """All columns by name, in the order ``t, x, xd, xdd, e, ed, edd``."""
@@ -67,7 +76,7 @@ class KinematicResult:
                                ("e", self.model.deformation_labels)):
             for suffix in ("", "d", "dd"):
                 values = getattr(self, prefix + suffix)
-                for j, label in enumerate(labels):
+                for j, label in enumerate(labels if values is not None else ()):
                     out[prefix + suffix + label[1:]] = values[:, j]
         return out
 
@@ -158,7 +167,8 @@ class SimulationResult(KinematicResult):
         """As :meth:`KinematicResult.__getitem__`, plus ``sig<elem>.<k>`` and ``f<node>.<k>``."""
         stripped = name.strip()
         if stripped.startswith("sig"):
-            return self.sigma[:, self.model.deformation_index("e" + stripped[3:])]
+            index = self.model.deformation_index("e" + stripped[3:])
+            return self._recorded("sigma", name)[:, index]
         if stripped.startswith("f") and self.reactions is not None:
             return self.reactions[:, self.model.coordinate_index("x" + stripped[1:])]
         return super().__getitem__(name)
@@ -167,7 +177,8 @@ class SimulationResult(KinematicResult):
         """All columns: those of :class:`KinematicResult`, stresses ``sig..`` and, when
         computed, the loads ``f..`` on fixed and input coordinates."""
         out = super().columns()
-        for j, label in enumerate(self.model.deformation_labels):
+        for j, label in enumerate(self.model.deformation_labels if self.sigma is not None
+                                  else ()):
             out["sig" + label[1:]] = self.sigma[:, j]
         if self.reactions is not None:
             model = self.model

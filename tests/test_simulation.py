@@ -7,6 +7,7 @@ import pytest
 
 import flexmbd as fm
 from flexmbd import engine
+from flexmbd.diagnosis import weakest_direction
 from flexmbd.engine import Engine, resolve_laws
 
 from . import reference
@@ -128,6 +129,31 @@ def test_errors_before_any_work():
         fm.simulate(flexible_pendulum(), [0.0, 0.1], method="Euler")
 
 
+@pytest.mark.parametrize("method", ["GeneralizedAlpha", "RK45"])
+def test_fewer_outputs_record_the_same_states(method):
+    """Positions (or rates) alone are solved for at each output by a shorter path: the
+    same states as the full outputs, to the position tolerance (1e-10 of the model
+    size), and the rest not recorded."""
+    model = flexible_slider_crank_one_beam()
+    times = np.linspace(0.0, 0.02, 41)
+    options = {"step": 1e-4, "iterations": 1} if method == "GeneralizedAlpha" else {}
+    full = fm.simulate(model, times, method=method, **options)
+    for outputs, same in (("positions", ("x", "e", "q")),
+                          ("velocities", ("x", "e", "q", "xd", "ed", "qd"))):
+        part = fm.simulate(model, times, method=method, outputs=outputs, **options)
+        for name in same:
+            np.testing.assert_allclose(getattr(part, name), getattr(full, name), rtol=0,
+                                       atol=1e-10 * np.max(np.abs(getattr(full, name))))
+        assert part.xdd is None and part.sigma is None and part.driving is None
+        assert set(part.columns()) < set(full.columns())
+        with pytest.raises(KeyError, match="not recorded"):
+            part["xdd2.1"]
+    with pytest.raises(ValueError, match="outputs must be one of"):
+        fm.simulate(model, times, outputs="x")
+    with pytest.raises(ValueError, match="with_reactions needs outputs='all'"):
+        fm.simulate(model, times, outputs="positions", with_reactions=True)
+
+
 def test_band_orderings_change_nothing_but_the_cost(monkeypatch):
     """The square systems are factorised in bands chosen by reverse Cuthill-McKee; with the
     identity ordering the band of a mechanism's D_c and saddle-point matrix is (nearly)
@@ -159,6 +185,23 @@ def test_a_chain_of_beams_keeps_narrow_bands():
     for name in ("dc_kl", "dc_ku", "saddle_kl"):
         assert bands[0][name] == bands[1][name] == bands[2][name] <= 12, (name, bands)
     assert bands[2]["saddle_n"] > 15 * bands[0]["saddle_kl"]
+
+
+def test_a_long_chain_is_regular_though_less_well_conditioned():
+    """D_c of a rod of 200 beams is regular but less well conditioned than a short one's;
+    the dead-point check measures the conditioning against the reference configuration's,
+    so the long rod runs, and a dead point names its largest contributors, not all 600."""
+    from flexmbd.examples import slider_crank_flex as example
+
+    model = example.build_model(200, eps1flex=True)
+    run = fm.simulate(model, np.linspace(0.0, 5e-4, 3), method="GeneralizedAlpha",
+                      step=2.5e-4, iterations=1, outputs="positions")
+    assert run.success and len(run.t) == 3
+    D_x = engine.dense_jacobian(model, np.asarray(model.x0))
+    D_c = D_x[np.ix_(model.constrained, model.dependent)]
+    words = weakest_direction(model, D_c)
+    assert " more" in words and words.count("(beam") <= 8
+    assert 0.0 < Engine(model).regularity_limit < 1e-4
 
 
 def test_newton_operator_is_the_reduced_newton_matrix():

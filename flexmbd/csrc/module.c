@@ -114,6 +114,7 @@ typedef struct {
     PyObject *progress;
     double *outs[N_OUT];
     int n_outputs, dynamics;
+    int level;                     /* outputs of a simulation: 0 positions, 1 rates, 2 all */
     double near;
     /* the integrator's predictor memory: the last evaluation */
     int have_last;
@@ -660,9 +661,10 @@ static int mech_apply(void *context, const double *r, double *da)
     return FM_OK;
 }
 
-/* The full state at output k from the integrated (q_d, qd_d): positions from the last
- * evaluation's solution and its D_c (chord steps, then D_c at the solution), then the
- * accelerations, stresses and reactions. */
+/* The state at output k from the integrated (q_d, qd_d), as far as the run's outputs
+ * need it: positions from the last evaluation's solution by chord steps with its D_c;
+ * for rates, D_c at the solution and the velocities; for all, the accelerations,
+ * stresses and reactions. */
 static int mech_output(void *context, int k, double t, const double *q, const double *v,
                        const double *a)
 {
@@ -672,10 +674,17 @@ static int mech_output(void *context, int k, double t, const double *q, const do
     (void)a;
     c->failed = s;
     fm_state_copy(s, &c->eval, &c->m);
-    if ((code = compose(c, s, t, q, v, NULL))
-        || (code = fm_kinematics(&c->m, s, t, c->eval.x, c->m.tolerance, c->eval.has_factor, 0,
-                                 &c->error)))
+    if ((code = compose(c, s, t, q, v, NULL)))
         return code;
+    code = c->level ? fm_kinematics(&c->m, s, t, c->eval.x, c->m.tolerance,
+                                    c->eval.has_factor, 0, &c->error)
+                    : fm_positions(&c->m, s, t, c->eval.x, c->m.tolerance, c->eval.has_factor,
+                                   -1, &c->error);
+    if (code || c->level < 2) {
+        if (!code)
+            store(c, k, s);
+        return code;
+    }
     return dynamics_of(c, s, k, 1, 1);
 }
 
@@ -1023,6 +1032,12 @@ static PyObject *Core_prepare(Core *c, PyObject *args, PyObject *kwds)
     c->progress = progress == Py_None ? NULL : Py_NewRef(progress);
     c->n_outputs = n_outputs;
     c->dynamics = dynamics;
+    c->level = 0;
+    for (int o = 0; o < N_OUT; o++)
+        if (c->outs[o] && o != OUT_X && o != OUT_E && o != OUT_Q) {
+            const int rates = o == OUT_XD || o == OUT_ED || o == OUT_QD;
+            c->level = rates && c->level < 2 ? 1 : 2;
+        }
     c->have_last = 0;
     Py_RETURN_NONE;
 }

@@ -231,7 +231,10 @@ void fm_solve_dc(const FmModel *m, FmState *s, double *r, int transposed)
  *   integrator with good guesses uses to solve with one Jacobian per evaluation;
  * - exact (refresh = 1): a fresh D_c at every iterate (full Newton, robust from a poor
  *   guess) and at the solution after the last step, for kinematic and inverse runs and
- *   single configurations. */
+ *   single configurations;
+ * - positions only (refresh = -1): the chord steps to the tolerance and one more, with
+ *   no D_x, factor or regularity check at the solution, for outputs of positions next to
+ *   a solution that had them. */
 static double residual_norm(const FmModel *m, const FmState *s, double *r, int *worst)
 {
     double norm = 0.0;
@@ -301,7 +304,7 @@ int fm_positions(const FmModel *m, FmState *s, double t, const double *guess, do
         solve_dc(m, s, r, work);
         for (int j = 0; j < nr; j++)
             s->x[m->dep[j]] -= r[j];
-        const int slow = refresh || (previous >= 0.0 && norm > SLOW_CHORD * previous);
+        const int slow = refresh > 0 || (previous >= 0.0 && norm > SLOW_CHORD * previous);
         fresh = slow;
         previous = slow ? -1.0 : norm;
         element_pass(m, s, slow);
@@ -311,6 +314,15 @@ int fm_positions(const FmModel *m, FmState *s, double t, const double *guess, do
             code = fail(err, FM_NOT_CONVERGED, t, iteration + 1, norm, worst);
             goto done;
         }
+    }
+    if (refresh < 0) {                       /* positions only: x to second order, e there */
+        if (norm > ROUND_OFF * m->tolerance) {
+            solve_dc(m, s, r, work);
+            for (int j = 0; j < nr; j++)
+                s->x[m->dep[j]] -= r[j];
+            element_pass(m, s, 0);
+        }
+        goto done;
     }
     if (!fresh) {                            /* the Jacobian at the last point */
         element_pass(m, s, 1);
@@ -334,7 +346,7 @@ int fm_positions(const FmModel *m, FmState *s, double t, const double *guess, do
             s->x[m->dep[j]] -= r[j];
             change[m->dep[j]] = -r[j];
         }
-        if (refresh) {                       /* D_x and D_c at the solution itself */
+        if (refresh > 0) {                   /* D_x and D_c at the solution itself */
             element_pass(m, s, 1);
             if ((code = factor_dc(m, s, 0)))
                 goto done;
