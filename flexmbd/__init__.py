@@ -8,7 +8,6 @@ it with the functions below; every analysis runs on the compiled core
 """
 
 from .builder import ModelBuilder
-from .dat import read_dat, write_dat
 from .dynamics import inverse_dynamics, mass_matrix, reduced_mass_matrix, simulate
 from .elements import Beam, Hinge, RigidBeam, SpringDamper, Truss
 from .errors import (
@@ -41,6 +40,19 @@ from .results import KinematicResult, SimulationResult
 from .settings import RunSettings
 
 __version__ = "0.2.0"
+
+
+def __getattr__(name: str):
+    """``read_dat`` and ``write_dat``, whose SPACAR syntax tables load on first use."""
+    if name in ("read_dat", "write_dat"):
+        from . import dat
+
+        return getattr(dat, name)
+    raise AttributeError(f"module 'flexmbd' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *__all__})
 
 __all__ = [
     "Beam",

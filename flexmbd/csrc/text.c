@@ -1,13 +1,15 @@
 /* Numbers as text for result files: exactly printf's "%.17g", fast.
  *
  * Seventeen significant digits read back to the same double. printf produces them by
- * exact (multi-precision) arithmetic, about 250 ns a number; here |x| is scaled by a power
- * of ten in 80-bit extended precision (powl within an ulp, 1.1e-19, then one rounding: N
- * within 0.02 of exact) and rounded to a 17-digit integer N. Where the scaled value lies
- * within 0.05 of a rounding tie (a few numbers in a hundred) or extended precision is not
- * at hand, printf itself formats
- * the number, so the text is printf's in every case. Then %g's layout: fixed notation for
- * decimal exponents from -4 to 16, scientific otherwise, trailing zeros removed.
+ * exact (multi-precision) arithmetic; here |x| is scaled by a power of ten in 80-bit
+ * extended precision and rounded to a 17-digit integer N. The powers 10^0 to 10^27 are
+ * exact in extended precision, so the scaled value has one rounding, within 0.006 of
+ * exact below 10^17 (the decimal exponents -11 to 16, most numbers of a result file);
+ * other powers come from powl within an ulp, 1.1e-19, so within 0.02. Where the scaled
+ * value lies within twice that of a rounding tie, or extended precision is not at hand,
+ * printf itself formats the number, so the text is printf's in every case. Then %g's
+ * layout: fixed notation for decimal exponents from -4 to 16, scientific otherwise,
+ * trailing zeros removed.
  */
 #include <float.h>
 #include <math.h>
@@ -38,6 +40,9 @@ int format_17g(double x, char *out)
     if (!have_powers) {
         for (int k = LOWEST; k <= HIGHEST; k++)
             powers[k - LOWEST] = powl(10.0L, k);
+        long double exact = 1.0L;
+        for (int k = 0; k <= 27; k++, exact *= 10.0L)   /* exact products: 5^27 < 2^64 */
+            powers[k - LOWEST] = exact;
         have_powers = 1;
     }
     const long double ax = fabsl((long double)x);
@@ -45,24 +50,28 @@ int format_17g(double x, char *out)
     frexp(x, &binary);                               /* 2^(binary - 1) <= |x| < 2^binary */
     int exponent = (int)floor((binary - 1) * 0.30102999566398120);  /* decimal, or one less */
     long double scaled = ax * powers[16 - exponent - LOWEST];
-    if (scaled >= 1e17L) {
-        exponent++;
-        scaled /= 10.0L;
-    } else if (scaled < 1e16L) {
-        exponent--;
-        scaled *= 10.0L;
+    if (scaled >= 1e17L || scaled < 1e16L) {        /* one decade off: scale afresh */
+        exponent += scaled >= 1e17L ? 1 : -1;
+        scaled = ax * powers[16 - exponent - LOWEST];
     }
-    const long double whole = floorl(scaled), fraction = scaled - whole;
-    if (fabsl(fraction - 0.5L) < 0.05L || scaled < 1e16L || scaled >= 1e17L)
+    const int exact_power = 16 - exponent >= 0 && 16 - exponent <= 27;
+    const long long nearest = llrintl(scaled);      /* no change of the x87 rounding mode */
+    const long double off = fabsl(scaled - (long double)nearest);   /* at most 0.5 */
+    if (0.5L - off < (exact_power ? 0.012L : 0.05L) || scaled < 1e16L || scaled >= 1e17L)
         return printf_17g(x, out);                  /* near a tie: printf decides */
-    uint64_t n = (uint64_t)whole + (fraction > 0.5L);
+    uint64_t n = (uint64_t)nearest;
     if (n == 100000000000000000ULL) {                /* rounded up to the next decade */
         n /= 10;
         exponent++;
     }
+    static const char pairs[] = "00010203040506070809101112131415161718192021222324"
+                                "25262728293031323334353637383940414243444546474849"
+                                "50515253545556575859606162636465666768697071727374"
+                                "75767778798081828384858687888990919293949596979899";
     char digits[17];
-    for (int k = 16; k >= 0; k--, n /= 10)
-        digits[k] = (char)('0' + n % 10);
+    for (int k = 15; k >= 1; k -= 2, n /= 100)      /* two digits a division */
+        memcpy(digits + k, pairs + 2 * (n % 100), 2);
+    digits[0] = (char)('0' + n);
     int last = 16;                                   /* without trailing zeros */
     while (last > 0 && digits[last] == '0')
         last--;
