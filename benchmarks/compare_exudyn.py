@@ -16,7 +16,8 @@ flexible elongation), recording ``v/l2`` at every step. The comparison has three
    ``simulate`` does by default, and recording positions only, all the job needs)
    take turns run by run, ``--runs`` times.
 3. **Whole process**: a fresh interpreter that imports, builds, solves and writes a CSV
-   of ``t, phi, v/l2``, timed from outside, the winners taking turns; and the README's
+   of ``t, phi, v/l2`` (the worker imports no more of the benchmark's own plumbing than
+   it needs), timed from outside, the winners taking turns; and the README's
    first command (``flexmbd example slider-crank-flex --nbeams 8 --eps1flex --out
    f.csv``, every column at the example's default 400 steps per turn) against Exudyn's
    winning process.
@@ -34,13 +35,8 @@ Run: ``python benchmarks/compare_exudyn.py [--nbeams 8] [--runs 7]``; for 64 bea
 from __future__ import annotations
 
 import argparse
-import compileall
-import itertools
 import json
-import shutil
-import subprocess
 import sys
-import tempfile
 import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
@@ -130,6 +126,8 @@ def reference(nbeams: int, steps_per_turn: int, points_per_turn: int,
 # --- 1. search ----------------------------------------------------------------------------
 def candidates(tool: str, steps: list[int]) -> list:
     """The grid of settings of a tool."""
+    import itertools
+
     if tool == "flexmbd":
         return [FlexmbdSetting(n, rho, renew, "positions")
                 for n, rho, renew in itertools.product(steps, (0.8, 0.9), (1, 2, 3))]
@@ -189,6 +187,8 @@ def process_command(tool: str, setting, nbeams: int, out: Path) -> list[str]:
 
 def readme_command(out: Path) -> list[str]:
     """The README's first command, without plots or movies."""
+    import shutil
+
     flexmbd = shutil.which("flexmbd") or str(Path(sys.executable).parent / "flexmbd")
     return [flexmbd, "example", "slider-crank-flex", "--nbeams", "8", "--eps1flex", "--out",
             str(out)]
@@ -196,6 +196,8 @@ def readme_command(out: Path) -> list[str]:
 
 def wall_times(commands: dict[str, list[str]], runs: int) -> dict[str, list[float]]:
     """Wall times [s] of fresh processes, the commands taking turns."""
+    import subprocess
+
     times: dict[str, list[float]] = {name: [] for name in commands}
     for _ in range(runs):
         for name, command in commands.items():
@@ -224,7 +226,9 @@ def print_search(tool: str, rows: list[tuple], best, threshold: float, shown: in
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--nbeams", type=int, default=8)
-    parser.add_argument("--runs", type=int, default=7, help="paired runs (default 7)")
+    parser.add_argument("--runs", type=int, default=7, help="paired solver runs (default 7)")
+    parser.add_argument("--process-runs", type=int, default=21,
+                        help="paired process runs (default 21: start-up times scatter)")
     parser.add_argument("--search-runs", type=int, default=3,
                         help="timed runs per searched setting (best of)")
     parser.add_argument("--steps", type=int, nargs="+",
@@ -245,6 +249,9 @@ def main() -> None:
         job, setting_type = JOBS[args.worker]
         job(args.nbeams, setting_type(**json.loads(args.setting)), csv=args.out)
         return
+
+    import compileall
+    import tempfile
 
     import exudyn
 
@@ -285,13 +292,13 @@ def main() -> None:
                     for k, (name, (tool, setting)) in enumerate(configs.items())}
         if args.nbeams == 8:
             commands["README command"] = readme_command(out / "readme.csv")
-        walls = wall_times(commands, args.runs)
+        walls = wall_times(commands, args.process_runs)
         startup = wall_times({"python -c pass": [sys.executable, "-c", "pass"],
                               "import numpy": [sys.executable, "-c", "import numpy"],
                               "import flexmbd": [sys.executable, "-c", "import flexmbd"],
                               "import exudyn": [sys.executable, "-c", "import exudyn"]},
-                             args.runs)
-    print(f"\nwhole process, paired runs (median of {args.runs}):\n")
+                             args.process_runs)
+    print(f"\nwhole process, paired runs (median of {args.process_runs}):\n")
     print("| command | wall [s] | / Exudyn's process |")
     print("|---|---|---|")
     for name, values in walls.items():
