@@ -48,9 +48,9 @@ EI = 12.72  #: rod bending stiffness [N m^2]
 EA = 2e11 * math.pi * 0.003**2  #: axial stiffness of the 6 mm steel rod [N]
 OMEGA = 150.0  #: crank speed [rad/s]
 POINTS_PER_REVOLUTION = 400
-#: fixed steps of the generalized-alpha method per crank turn: the fewest that keep v/l2
+#: fixed steps of the generalized-alpha method per crank turn, chosen by accuracy: v/l2
 #: within about 2e-4 of the step-converged history (1.3e-4 to 1.4e-4 for 2 to 8 beams,
-#: 2.1e-4 for one beam; 800 steps: 3e-5 to 8e-5)
+#: 2.1e-4 for one beam; 350 steps: 1.7e-4 for 8 beams; 800 steps: 3e-5 to 8e-5)
 STEPS_PER_REVOLUTION = 400
 EXAGGERATION = 10.0  #: deflection scale of the movie
 
@@ -223,7 +223,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
                              "damp the unresolved stiff modes; RK45 is the course's ode45)")
     parser.add_argument("--steps-per-revolution", type=int, default=STEPS_PER_REVOLUTION,
                         help="fixed steps per turn of GeneralizedAlpha (default 400: v/l2 "
-                             "within about 2e-4 of the step-converged history; 800: 1e-4)")
+                             "within about 2e-4 of the step-converged history; 800: 5e-5)")
     parser.add_argument("--rtol", type=float, default=1e-6,
                         help="relative tolerance of RK45 and the other error-controlled methods")
     parser.add_argument("--out", metavar="FILE.csv", help="write t, phi, v_over_l2, ... as CSV")
