@@ -255,22 +255,11 @@ def compile_model(model: Model) -> dict[str, object]:
             np.add.at(f_const, coords, weight)
         # entries of the Jacobian blocks (n, nd, nc) and element matrices (n, nc, nc)
         src = j_off[ks][:, None, None] + np.arange(n_d)[:, None] * n_c + np.arange(n_c)
-        r, c = row_of_def[defs][:, :, None], dep_at[coords][:, None, :]
-        keep = (r >= 0) & (c >= 0)
-        for target, values_ in zip(dc, (src, np.broadcast_to(r, src.shape),
-                                        np.broadcast_to(c, src.shape)), strict=True):
-            target.append(values_[keep])
-        u, v = mult_of_def[defs][:, :, None], free_of[coords][:, None, :]
-        keep = (u >= 0) & (v >= 0)
-        for target, values_ in zip(sc, (src, np.broadcast_to(nfree + u, src.shape),
-                                        np.broadcast_to(v, src.shape)), strict=True):
-            target.append(values_[keep])
+        _collect(dc, src, row_of_def[defs][:, :, None], dep_at[coords][:, None, :])
+        _collect(sc, src, mult_of_def[defs][:, :, None], free_of[coords][:, None, :],
+                 row_offset=nfree)
         block = b_off[ks][:, None, None] + np.arange(n_c)[:, None] * n_c + np.arange(n_c)
-        u, v = free_of[coords][:, :, None], free_of[coords][:, None, :]
-        keep = (u >= 0) & (v >= 0)
-        for target, values_ in zip(sa, (block, np.broadcast_to(u, block.shape),
-                                        np.broadcast_to(v, block.shape)), strict=True):
-            target.append(values_[keep])
+        _collect(sa, block, free_of[coords][:, :, None], free_of[coords][:, None, :])
     dc_src, dc_row, dc_col = (np.concatenate(a) if a else np.zeros(0, int) for a in dc)
     sc_src, sc_u, sc_v = (np.concatenate(a) if a else np.zeros(0, int) for a in sc)
     sa_src, sa_u, sa_v = (np.concatenate(a) if a else np.zeros(0, int) for a in sa)
@@ -325,6 +314,17 @@ def compile_model(model: Model) -> dict[str, object]:
         "sd_c_src": ints(sc_src), "sd_c_u": ints(sc_u), "sd_c_v": ints(sc_v),
         "mult_of_def": mult_of_def,
     }
+
+
+def _collect(lists: tuple[list, list, list], src: np.ndarray, rows: np.ndarray,
+             cols: np.ndarray, row_offset: int = 0) -> None:
+    """Append to ``lists`` (sources, rows, columns) the entries ``src`` of element blocks
+    whose row and column (broadcast to ``src``'s shape, ``-1`` where absent) both exist in
+    a square system; rows shifted by ``row_offset``."""
+    rows, cols = np.broadcast_to(rows, src.shape), np.broadcast_to(cols, src.shape)
+    keep = (rows >= 0) & (cols >= 0)
+    for target, values in zip(lists, (src, rows + row_offset, cols), strict=True):
+        target.append(values[keep])
 
 
 def _coordinate_kinds(model: Model) -> dict[int, tuple[str, int]]:
