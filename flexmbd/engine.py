@@ -626,7 +626,8 @@ class Engine:
         return out
 
     def factor(self, x: np.ndarray) -> float:
-        """Factorise ``D_c`` at ``x``; returns its scaled conditioning (0 when singular)."""
+        """Factorise ``D_c`` at ``x``; returns its scaled conditioning, 0 when singular (a
+        zero pivot, or the core's singular threshold)."""
         return self.core.factor(np.ascontiguousarray(x, dtype=float))
 
     def solve(self, rhs: np.ndarray, transposed: bool = False) -> np.ndarray:

@@ -32,9 +32,6 @@ from .motion import Law
 from .progress import progress_bar
 from .results import KinematicResult, check_on_failure, check_times, conclude
 
-#: scaled conditioning of ``D_c`` below which a factorisation counts as singular
-SINGULAR_RCOND = 1e-13
-
 __all__ = ["accelerations", "deformation_transfer", "deformations", "first_order_transfer",
            "hessian", "initial_q", "jacobian", "kinematic_analysis", "partition_jacobian",
            "position_analysis", "quadratic_velocity", "second_order_transfer",
@@ -136,12 +133,16 @@ def partition_jacobian(model: Model, x: np.ndarray, time: float | None = None
     Raises:
         SingularConfigurationError: ``D_c`` is singular at ``x``.
     """
-    engine = Engine(model)
+    return _partition(Engine(model), x, time)
+
+
+def _partition(engine: Engine, x: np.ndarray, time: float | None) -> PartitionedJacobian:
+    model = engine.model
     D_x = dense_jacobian(model, x)
     dependent = D_x[:, model.dependent]
     D_c = dependent[model.constrained]
     conditioning = engine.factor(x)
-    if len(D_c) and not conditioning > SINGULAR_RCOND:
+    if len(D_c) and not conditioning > 0.0:
         from .diagnosis import singular_message
 
         raise SingularConfigurationError(singular_message(model, D_c, time, "D_c is singular"),
@@ -156,7 +157,7 @@ def position_analysis(model: Model, q: np.ndarray, x_guess: np.ndarray | None = 
     """:func:`solve_position` that also returns the partitioned Jacobian at the solution."""
     engine = Engine(model, tolerance, max_iterations)
     x = engine.positions(np.asarray(q, dtype=float), x_guess, time)
-    return PositionSolution(x, partition_jacobian(model, x, time))
+    return PositionSolution(x, _partition(engine, x, time))
 
 
 # --- velocities, accelerations, transfer functions (THEORY 4) ---------------------------

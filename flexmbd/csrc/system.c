@@ -190,7 +190,7 @@ int fm_factor_at(const FmModel *m, FmState *s, const double *x)
 {
     memcpy(s->x, x, sizeof(double) * m->nx);
     element_pass(m, s, 1);
-    return factor_dc(m, s, 0);
+    return factor_dc(m, s, 1);
 }
 
 /* x = D_c^-1 r for r over the rows of D_c (in place: r becomes x over the columns). */
