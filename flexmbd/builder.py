@@ -19,7 +19,7 @@ import numpy as np
 from .diagnosis import diagnose_rank
 from .elements import ROTATIONAL, TRANSLATIONAL, Beam, ElementType, Hinge, RigidBeam, Truss
 from .engine import dense_jacobian
-from .errors import ModelError
+from .errors import ModelError, Problem
 from .model import (
     DIRECTION_NAMES,
     CoordinateClass,
@@ -33,7 +33,9 @@ from .model import (
 )
 from .motion import Law
 
-_ZERO_LENGTH = 1e-12  # relative to the model size
+_ZERO_LENGTH = 1e-12  # relative to the size of the nodes' positions
+#: positions farther from the origin [m] are refused: squared lengths would overflow
+LARGEST_POSITION = 1e100
 MASS_FORMULATIONS = ("consistent", "lumped")
 
 
@@ -94,14 +96,18 @@ class ModelBuilder:
     def add_node(self, number: int, x: float, y: float) -> ModelBuilder:
         """Translational node ``number`` at ``(x, y)`` [m] in the initial configuration."""
         if number in self._positions:
-            self._problems.append(f"node {number} is given a position twice")
+            self._problems.append(Problem(f"node {number} is given a position twice",
+                                          ("node", number)))
         try:
             position = (float(x), float(y))
         except (TypeError, ValueError):
-            self._problems.append(f"node {number}: position ({x!r}, {y!r}) is not two numbers")
+            self._problems.append(Problem(f"node {number}: position ({x!r}, {y!r}) is not two "
+                                          f"numbers", ("node", number)))
             return self
-        if not all(math.isfinite(v) for v in position):
-            self._problems.append(f"node {number}: position {position} is not finite")
+        if not all(abs(v) <= LARGEST_POSITION for v in position):
+            self._problems.append(Problem(f"node {number}: position {position} is not finite "
+                                          f"or beyond {LARGEST_POSITION:g} m",
+                                          ("node", number)))
         self._positions[number] = position
         return self
 
@@ -312,10 +318,9 @@ class ModelBuilder:
                     f"give it one with add_node({node}, x, y)"
                 )
             if kind == ROTATIONAL and node in self._positions:
-                problems.append(
+                problems.append(Problem(
                     f"node {node} is rotational (used by {', '.join(by_kind[kind])}) "
-                    f"but was given a position"
-                )
+                    f"but was given a position", ("node", node)))
         for node in self._positions:
             kinds.setdefault(node, TRANSLATIONAL)  # a free point mass, say
         for node in kinds:
@@ -334,7 +339,8 @@ class ModelBuilder:
                                 f"{etype.name})")
             seen[number] = etype.name
             if len(set(nodes)) != len(nodes):
-                problems.append(f"{etype.name} {number} uses a node twice: nodes {nodes}")
+                problems.append(Problem(f"{etype.name} {number} uses a node twice: nodes "
+                                        f"{nodes}", ("element", number)))
         return problems
 
     def _assemble(self, kinds: dict[int, str], problems: list[str]) -> Model:
@@ -366,7 +372,7 @@ class ModelBuilder:
                               etype.reference_parameters(x0_array[list(coords)])[0])
             elements[number] = Element(number, etype, element_nodes, coords,
                                        tuple(range(first, first + nd)), reference)
-        self._check_lengths(elements, problems)
+        self._check_lengths(elements, self._positions, problems)
 
         coordinate_class = np.full(len(x0), CoordinateClass.DEPENDENT, dtype=int)
         deformation_class = np.array(default_class, dtype=int)
@@ -393,18 +399,21 @@ class ModelBuilder:
         )
 
     @staticmethod
-    def _check_lengths(elements: dict[int, Element], problems: list[str]) -> None:
+    def _check_lengths(elements: dict[int, Element], positions, problems: list[str]) -> None:
         """Elements between translational nodes need a length: coinciding nodes make
         their chord direction undefined."""
-        lengths = [e.reference[0] for e in elements.values() if e.type.ends() and e.reference]
-        scale = max(max(lengths, default=1.0), 1.0)
         for number, element in elements.items():
             ends = element.type.ends()
-            if ends and element.reference and element.reference[0] <= _ZERO_LENGTH * scale:
+            # coinciding to round-off of the nodes' own positions; an element that is merely
+            # short against the rest of the model shows as an ill-conditioned D_c instead
+            size = max((abs(v) for n in element.nodes if (p := positions.get(n)) for v in p),
+                       default=0.0)
+            if ends and element.reference and element.reference[0] <= _ZERO_LENGTH * size:
                 translational = [n for n, r in zip(element.nodes, element.type.roles,
                                                    strict=True) if r.kind == TRANSLATIONAL]
-                problems.append(f"{element.type.name} {number} has zero length: its nodes "
-                                f"{translational[0]} and {translational[1]} coincide")
+                problems.append(Problem(f"{element.type.name} {number} has zero length: its "
+                                        f"nodes {translational[0]} and {translational[1]} "
+                                        f"coincide", ("element", number)))
 
     def _element_properties(self, elements, problems) -> dict[int, ElementProperties]:
         """Properties by element, each checked against what the element's type takes."""
@@ -533,13 +542,15 @@ def _assign(i, label, req, classes, assigned, problems):
     """Put entry ``i`` in class ``req.what``; a second, different class is a problem."""
     word = _CLASS_WORDS[req.what.name]
     if i in assigned and assigned[i] != word:
-        problems.append(f"{label} is put in two classes: {assigned[i]} and {word}")
+        kind = "coordinate" if label.startswith("x") else "deformation"
+        problems.append(Problem(f"{label} is put in two classes: {assigned[i]} and {word}",
+                                (kind, label)))
         return
     assigned[i] = word
     classes[i] = req.what
 
 
-def check_solvability(model: Model) -> list[str]:
+def check_solvability(model: Model) -> list[Problem]:
     """Problems with the square, nonsingular ``D_c`` required by THEORY section 3.
 
     Counts rows (rigid and independent deformations) against columns (dependent
@@ -554,14 +565,20 @@ def check_solvability(model: Model) -> list[str]:
     if rows and cols:
         D_x = dense_jacobian(model, np.asarray(model.x0))
         diagnosis = diagnose_rank(model, D_x[np.ix_(model.constrained, model.dependent)])
+        text, free, redundant = diagnosis
     elif rows:
+        free, redundant = [], model.constrained
         names = ", ".join(model.describe_deformation(i) for i in model.constrained)
-        diagnosis = f"the equations of {names} have no dependent coordinate to solve for"
+        text = f"the equations of {names} have no dependent coordinate to solve for"
     else:
+        free, redundant = model.dependent, []
         names = ", ".join(model.describe_coordinate(i) for i in model.dependent)
-        diagnosis = f"nothing determines the coordinates {names}"
+        text = f"nothing determines the coordinates {names}"
+    about = [*(("coordinate", model.coordinate_labels[i]) for i in free),
+             *(("deformation", model.deformation_labels[i]) for i in redundant)]
     if rows == cols:
-        return [f"D_c is singular in the initial configuration: {diagnosis}"] if diagnosis else []
+        return [Problem(f"D_c is singular in the initial configuration: {text}", *about)] \
+            if text else []
     excess = abs(rows - cols)
     if rows > cols:
         advice = (f"{excess} equation(s) too many; release {excess} deformation(s) or make "
@@ -569,6 +586,6 @@ def check_solvability(model: Model) -> list[str]:
     else:
         advice = (f"{excess} equation(s) too few; fix {excess} coordinate(s), make them inputs "
                   f"or dynamic, or add elements")
-    text = (f"the degree-of-freedom count does not close: {rows} constraint equations (rigid "
-            f"and independent deformations) for {cols} dependent coordinates, {advice}")
-    return [f"{text} ({diagnosis})" if diagnosis else text]
+    count = (f"the degree-of-freedom count does not close: {rows} constraint equations (rigid "
+             f"and independent deformations) for {cols} dependent coordinates, {advice}")
+    return [Problem(f"{count} ({text})" if text else count, *about)]

@@ -9,6 +9,8 @@ units.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from .model import Model
@@ -40,26 +42,36 @@ def weakest_direction(model: Model, D_c: np.ndarray) -> str:
     return f"the constraints {constraints} no longer determine {coordinates}"
 
 
-def diagnose_rank(model: Model, D_c: np.ndarray, rtol: float = 1e-10) -> str:
-    """Explain a rank-deficient or non-square ``D_c`` in words; ``""`` if it is regular."""
+class RankDiagnosis(NamedTuple):
+    """What a rank-deficient ``D_c`` leaves free, in words (``text``, ``""`` when it is
+    regular) and as global indices of the coordinates and deformations involved."""
+
+    text: str
+    coordinates: np.ndarray
+    deformations: np.ndarray
+
+
+def diagnose_rank(model: Model, D_c: np.ndarray, rtol: float = 1e-10) -> RankDiagnosis:
+    """Explain a rank-deficient or non-square ``D_c`` ``(nr, nc)``."""
     rows, cols = D_c.shape
     u, s, vt = np.linalg.svd(D_c)
     rank = int(np.sum(s > rtol * (s[0] if s.size else 0.0)))
+    none = np.zeros(0, dtype=int)
     if rank == rows == cols:
-        return ""
+        return RankDiagnosis("", none, none)
     parts = [f"rank {rank} for {rows} equations in {cols} dependent coordinates"]
-    free = vt[rank:]
-    if len(free):
-        involved = np.flatnonzero(np.abs(free).max(axis=0) > 1e-8)
-        names = _names(model.describe_coordinate, np.asarray(model.dependent)[involved])
-        parts.append(f"the coordinates {names} can move without changing any rigid or "
-                     f"independent deformation")
-    redundant = u[:, rank:]
-    if redundant.shape[1]:
-        involved = np.flatnonzero(np.abs(redundant).max(axis=1) > 1e-8)
-        names = _names(model.describe_deformation, np.asarray(model.constrained)[involved])
-        parts.append(f"the equations of {names} are linearly dependent")
-    return "; ".join(parts)
+    free, redundant = vt[rank:], u[:, rank:]
+    coordinates = np.asarray(model.dependent)[
+        np.flatnonzero(np.abs(free).max(axis=0) > 1e-8)] if len(free) else none
+    deformations = np.asarray(model.constrained)[
+        np.flatnonzero(np.abs(redundant).max(axis=1) > 1e-8)] if redundant.shape[1] else none
+    if len(coordinates):
+        parts.append(f"the coordinates {_names(model.describe_coordinate, coordinates)} can "
+                     f"move without changing any rigid or independent deformation")
+    if len(deformations):
+        parts.append(f"the equations of {_names(model.describe_deformation, deformations)} "
+                     f"are linearly dependent")
+    return RankDiagnosis("; ".join(parts), coordinates, deformations)
 
 
 def at_time(time: float | None) -> str:

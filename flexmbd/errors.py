@@ -12,11 +12,28 @@ class FlexmbdError(Exception):
     """Base class of all flexmbd errors."""
 
 
+class Problem(str):
+    """One problem of a model, in words, and what it is about.
+
+    ``about`` holds ``("node", number)``, ``("element", number)``,
+    ``("coordinate", label)`` or ``("deformation", label)`` pairs, so that a reader
+    of an input file can point at the lines that made those entities.
+    """
+
+    about: tuple[tuple[str, object], ...]
+
+    def __new__(cls, text: str, *about: tuple[str, object]) -> Problem:
+        problem = super().__new__(cls, text)
+        problem.about = about
+        return problem
+
+
 class ModelError(FlexmbdError, ValueError):
     """A model description is inconsistent.
 
-    ``problems`` lists every problem found, one sentence each, so that a user
-    can fix them all at once.
+    ``problems`` lists every problem found, one sentence each (a :class:`Problem`
+    where the builder knows what it is about), so that a user can fix them all
+    at once.
     """
 
     def __init__(self, problems: list[str] | str):

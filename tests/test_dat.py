@@ -148,6 +148,26 @@ def test_models_the_format_cannot_hold_are_refused(tmp_path):
         fm.write_dat(b.build(), tmp_path / "m.dat")
 
 
+CRANK = """PLRBEAM 1 1 2 3
+PLRBEAM 2 3 4 5
+X 1 0 0
+X 3 0.15 0
+X 5 0.45 0
+FIX 1
+FIX 5 2
+INPUTX 2 1
+END
+HALT
+EM 2 0.2225
+XM 5 0.03338
+GRAVITY 0 -9.81
+TIMESTEP 0.0419 72
+ESTIFF 1 1e6
+INPUTX 2 1 0 150
+END
+END
+"""
+
 MALFORMED = {
     "truncated": ("PLTRUSS 1 1 2\nX 1 0 0\nX 2 1 0\nFIX 1\nINPUTX 2", 5, "ends without"),
     "word for a number": ("PLTRUSS 1 1 two\nEND\nEND\n", 1, "must be a number"),
@@ -176,6 +196,26 @@ MALFORMED = {
     "start of a coordinate that is not dynamic": (
         "PLTRUSS 1 1 2\nX 1 0 0\nX 2 1 0\nFIX 1\nFIX 2\nRLSE 1\nEND\nHALT\n"
         "STARTDX 2 1 0.1\nEND\nEND\n", 9, "x2.1 is not a dynamic degree of freedom"),
+    # errors found when the model is assembled name the line that made what they are about
+    "nan in a law": (CRANK.replace("INPUTX 2 1 0 150", "INPUTX 2 1 nan 150"), 16,
+                     "x0 must be a finite number"),
+    "overflowing number": (CRANK.replace("X 5 0.45 0", "X 5 1e400 0"), 5,
+                           "x must be a finite number"),
+    "far node": (CRANK.replace("X 5 0.45 0", "X 5 1e300 0"), 5, "beyond 1e+100 m"),
+    "coincident nodes": (CRANK.replace("X 5 0.45 0", "X 5 0.15 0"), 2,
+                         "PLRBEAM: rigid beam 2 has zero length: its nodes 3 and 5 coincide"),
+    "two classes": (CRANK.replace("FIX 5 2", "FIX 5 2\nINPUTX 5 2"), 8,
+                    "INPUTX: x5.2 is put in two classes: fixed and an input"),
+    "too many equations": (CRANK.replace("FIX 5 2", "FIX 5"), 1,
+                           "degree-of-freedom count does not close"),
+    "too few equations": (CRANK.replace("FIX 5 2", ""), 2,
+                          "degree-of-freedom count does not close"),
+    "rotational node with a position": ("X 4 1 1\n" + CRANK, 1, "node 4 is rotational"),
+    "start of a rigid deformation": (CRANK.replace("TIMESTEP", "STARTDE 1 1 0.1\nTIMESTEP"), 14,
+                                     "STARTDE: e1.1 is not a dynamic degree of freedom"),
+    "invisible character": (CRANK.replace("FIX 1", "FIX\u200b 1"), 6,
+                            "unknown keyword 'FIX\\u200b'"),
+    "empty file": ("# nothing\n\n", 2, "the file is empty, without END"),
 }
 
 
@@ -191,6 +231,21 @@ def test_malformed_files_name_line_and_reason(case, tmp_path, capsys):
     assert cli(["run", str(path)]) == 1
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and reason in err and "Traceback" not in err
+
+
+def test_a_byte_order_mark_is_not_a_keyword():
+    model, _ = dat_from_text("\ufeff" + CRANK, "bom.dat")
+    assert model.n_dof == 1
+
+
+def test_a_file_that_is_not_text_is_refused_unread(tmp_path):
+    with pytest.raises(fm.InputFileError, match="larger than 64 MiB"):
+        fm.read_dat("/dev/zero")
+    binary = tmp_path / "image.dat"
+    binary.write_bytes(b"PLTRUSS 1 1 2\n\x00\x01\x02")
+    with pytest.raises(fm.InputFileError, match="not a text file") as info:
+        fm.read_dat(binary)
+    assert info.value.line == 2
 
 
 def test_a_model_error_after_reading_names_the_file(tmp_path):

@@ -61,7 +61,9 @@ def mutated(draw) -> str:
 def test_mutated_files_raise_only_library_errors(text):
     try:
         model, run = dat_from_text(text, "fuzz.dat")
-    except fm.FlexmbdError:
+    except fm.InputFileError as error:  # every model error names the file and the line
+        assert error.path == "fuzz.dat" and error.line is not None, str(error)
+        assert str(error).startswith(f"fuzz.dat:{error.line}: ")
         return
     # a file that reads is a valid model: it writes and reads back to the same text
     written = dat_text(model, run)

@@ -40,6 +40,9 @@ from ..motion import Polynomial
 from ..settings import RunSettings
 from .syntax import DatText, Statement, parse_text
 
+#: input files larger than this [bytes] are refused before they are read
+LARGEST_FILE = 64 * 2**20
+
 
 class DatFile(NamedTuple):
     """What a SPACAR input file describes: the mechanism and how it is meant to be run.
@@ -61,11 +64,19 @@ def read_dat(path: str | Path) -> DatFile:
     """
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8", errors="replace")
+        with open(path, "rb") as file:  # bounded: /dev/zero or a disk image is not read whole
+            data = file.read(LARGEST_FILE + 1)
     except OSError as error:
         raise InputFileError(f"cannot read the file: {error.strerror or error}",
                              str(path)) from None
-    return dat_from_text(text, path)
+    if len(data) > LARGEST_FILE:
+        raise InputFileError(f"the file is larger than {LARGEST_FILE // 2**20} MiB; a SPACAR "
+                             f"input file is text of a few kB", str(path))
+    if b"\0" in data:
+        line = data[:data.index(b"\0")].count(b"\n") + 1
+        raise InputFileError("this is not a text file (it holds NUL bytes); a SPACAR input "
+                             "file is text", str(path), line)
+    return dat_from_text(data.decode("utf-8", errors="replace"), path)
 
 
 def dat_from_text(text: str, path: str | Path | None = None) -> DatFile:
@@ -86,6 +97,8 @@ class _Reader:
         self.inputs: set[tuple[str, int, int]] = set()  # ("x"|"e", number, k) of block 1
         self.settings: dict[str, object] = {}
         self.initial: dict[str, tuple[tuple[float, float], Statement]] = {}
+        self.classified: dict[str, list[int]] = {}  # label -> lines that classified it
+        self.by_line = {s.line: s for s in (*text.kinematics, *text.dynamics)}
 
     def fail(self, statement: Statement, message: str):
         raise InputFileError(f"{statement.keyword}: {message}", self.path, statement.line)
@@ -99,8 +112,39 @@ class _Reader:
         try:
             model = self.builder.build()
         except ModelError as error:
-            raise InputFileError(f"the model is not valid: {error}", self.path) from None
+            raise self.located(error.problems) from None
         return DatFile(model, self.run_settings(model))
+
+    def located(self, problems: list[str]) -> InputFileError:
+        """The builder's problems, each at the line of the statement that made what it is
+        about (the END of the kinematics block for the model as a whole)."""
+        placed = []
+        for problem in problems:
+            lines = [self.line_of(kind, key) for kind, key in getattr(problem, "about", ())]
+            line = next((n for n in lines if n is not None), self.text.kinematics_end)
+            placed.append((line, f"{self.keyword_at(line)}: {problem}"))
+        if len(placed) == 1:
+            return InputFileError(placed[0][1], self.path, placed[0][0])
+        text = "".join(f"\n  - line {line}: {message}" for line, message in placed)
+        return InputFileError(f"{len(placed)} problems:{text}", self.path, placed[0][0])
+
+    def line_of(self, kind: str, key) -> int | None:
+        """The line of the statement that made node, element, coordinate or deformation
+        ``key``; for a coordinate or deformation the last that classified it."""
+        if kind in ("coordinate", "deformation"):
+            if self.classified.get(key):
+                return self.classified[key][-1]
+            number = int(key[1:].split(".")[0])
+            return self.line_of("node" if kind == "coordinate" else "element", number)
+        if kind == "element":
+            return self.elements[key][2] if key in self.elements else None
+        if key in self.positions:
+            return self.positions[key]
+        return next((line for _, nodes, line in self.elements.values() if key in nodes), None)
+
+    def keyword_at(self, line: int) -> str:
+        statement = self.by_line.get(line)
+        return statement.keyword if statement else "END"
 
     def run_settings(self, model: Model) -> RunSettings:
         """The settings, with initial values checked to name dynamic degrees of freedom."""
@@ -146,19 +190,25 @@ class _Reader:
         elif s.keyword in ("FIX", "INPUTX", "DYNX"):
             node, directions = v[0], v[1:]
             self.check_directions(s, node, directions)
+            ks = directions or range(1, 3 if self.kind(s, node) == TRANSLATIONAL else 2)
+            self.classify(s, (f"x{node}.{k}" for k in ks))
             if s.keyword == "INPUTX":
-                ks = directions or range(1, 3 if self.kind(s, node) == TRANSLATIONAL else 2)
                 self.inputs |= {("x", node, k) for k in ks}
             {"FIX": b.fix, "INPUTX": b.input_coordinate, "DYNX": b.dynamic_coordinate}[
                 s.keyword](node, *directions)
         else:  # INPUTE, DYNE, RLSE
             element, ks = v[0], v[1:]
             self.check_deformations(s, element, ks)
+            ks = ks or range(1, self.etype(s, element).n_deformations() + 1)
+            self.classify(s, (f"e{element}.{k}" for k in ks))
             if s.keyword == "INPUTE":
-                self.inputs |= {("e", element, k) for k in ks or
-                                range(1, self.etype(s, element).n_deformations() + 1)}
+                self.inputs |= {("e", element, k) for k in ks}
             {"INPUTE": b.input_deformation, "DYNE": b.dynamic_deformation,
              "RLSE": b.release}[s.keyword](element, *ks)
+
+    def classify(self, s: Statement, labels) -> None:
+        for label in labels:
+            self.classified.setdefault(label, []).append(s.line)
 
     def kind(self, s: Statement, node: int) -> str:
         """Kind of a node known from elements or X; unknown nodes are an error."""

@@ -13,6 +13,7 @@ with a zero fraction (``3.``).
 
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass
 from pathlib import Path
@@ -117,6 +118,8 @@ class DatText:
     kinematics: tuple[Statement, ...]
     dynamics: tuple[Statement, ...]
     path: str | None
+    #: the line of the END that closes the kinematics block
+    kinematics_end: int = 0
 
 
 def _number(word: str, kind: type, what: str, keyword: str, path, line):
@@ -125,6 +128,9 @@ def _number(word: str, kind: type, what: str, keyword: str, path, line):
     except ValueError:
         raise InputFileError(f"{keyword}: {what} must be a number, got {word!r}",
                              path, line) from None
+    if not math.isfinite(value):
+        raise InputFileError(f"{keyword}: {what} must be a finite number, got {word!r}",
+                             path, line)
     if kind is int:
         if not value.is_integer():
             raise InputFileError(f"{keyword}: {what} must be a whole number, got {word!r}",
@@ -159,15 +165,17 @@ def parse_text(text: str, path: str | Path | None = None) -> DatText:
     """
     path = None if path is None else str(path)
     blocks: dict[str, list[Statement]] = {"kinematics": [], "dynamics": []}
-    state, last = "kinematics", 0
-    for number, raw in enumerate(text.splitlines(), start=1):
+    state, kinematics_end = "kinematics", 0
+    lines = text.removeprefix("\ufeff").splitlines()  # a byte-order mark is not a keyword
+    for number, raw in enumerate(lines, start=1):
         words = _COMMENT.split(raw, maxsplit=1)[0].split()
         if not words:
             continue
-        last = number
         keyword, rest = words[0].upper(), words[1:]
         if state == "done":
             break
+        if keyword == "END" and state == "kinematics":
+            kinematics_end = number
         if keyword == "END":
             state = {"kinematics": "after kinematics", "after kinematics": "done",
                      "dynamics": "after dynamics", "after dynamics": "done"}[state]
@@ -191,8 +199,10 @@ def parse_text(text: str, path: str | Path | None = None) -> DatText:
                    "after kinematics": "the final END (or HALT and a dynamics block)",
                    "dynamics": "END ending the dynamics block",
                    "after dynamics": "the final END"}[state]
-        raise InputFileError(f"the file ends without {missing}", path, last or None)
-    return DatText(tuple(blocks["kinematics"]), tuple(blocks["dynamics"]), path)
+        empty = not any(_COMMENT.split(line, maxsplit=1)[0].strip() for line in lines)
+        what = "the file is empty," if empty else "the file ends"
+        raise InputFileError(f"{what} without {missing}", path, max(len(lines), 1))
+    return DatText(tuple(blocks["kinematics"]), tuple(blocks["dynamics"]), path, kinematics_end)
 
 
 def _unknown(keyword: str, block: str) -> str:
@@ -203,5 +213,7 @@ def _unknown(keyword: str, block: str) -> str:
         where = "dynamics block (after END and HALT)" if block == "kinematics" else \
             "kinematics block (before the first END)"
         return f"{keyword} belongs in the {where}"
+    if not keyword.isprintable() or not keyword.isascii():
+        keyword = ascii(keyword)  # show invisible and look-alike characters
     return (f"unknown keyword {keyword} in the {block} block; known: "
             f"{', '.join(sorted({*KINEMATICS, *DYNAMICS}))}")
