@@ -3,8 +3,12 @@
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from dataclasses import dataclass
+
+from flexmbd.errors import FlexmbdError
+from flexmbd.outputs import check_display, check_output
 
 
 @dataclass(frozen=True)
@@ -45,17 +49,47 @@ def print_checks(title: str, checks: list[Check], file=None) -> bool:
     return passed
 
 
-PLOT_TYPES = (".png", ".pdf", ".svg", ".jpg")
-MOVIE_TYPES = (".gif", ".mp4")
-
-
-def _file_of_type(types: tuple[str, ...]):
-    """An argparse type that accepts file names ending in one of ``types``."""
+def _output_file(what: str):
+    """An argparse type for an output file holding ``what`` (``"plot"``, ``"movie"``,
+    ``"table"``), checked before any work: type, directory, the extra that writes it."""
     def check(name: str) -> str:
-        if not name.lower().endswith(types):
-            raise argparse.ArgumentTypeError(f"{name!r} must end in {', '.join(types)}")
+        try:
+            check_output(name, what, "file")
+        except FlexmbdError as error:
+            raise argparse.ArgumentTypeError(str(error).removeprefix("file: ")) from None
         return name
     return check
+
+
+def number(low: float = -math.inf, high: float = math.inf, *, whole: bool = False,
+           open_low: bool = False):
+    """An argparse type for a finite number in ``[low, high]`` (``(low, high]`` with
+    ``open_low``), a whole number with ``whole``."""
+    bounds = [f"{'>' if open_low else '>='} {low:g}"] if low > -math.inf else []
+    bounds += [f"<= {high:g}"] if high < math.inf else []
+    wanted = " and ".join(["finite", *bounds])
+
+    def check(text: str):
+        try:
+            value = int(text) if whole else float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f"{text!r} is not a {'whole ' if whole else ''}number") from None
+        above = value > low if open_low else value >= low
+        if not (math.isfinite(value) and above and value <= high):
+            raise argparse.ArgumentTypeError(f"{text} must be {wanted}")
+        return value
+    return check
+
+
+#: argparse types of the usual options
+POSITIVE = number(0.0, open_low=True)
+FINITE = number()
+
+
+def count(low: int = 1):
+    """An argparse type for a whole number of at least ``low``."""
+    return number(low, whole=True)
 
 
 def example_parser(doc: str, prog: str | None) -> argparse.ArgumentParser:
@@ -63,14 +97,29 @@ def example_parser(doc: str, prog: str | None) -> argparse.ArgumentParser:
     return argparse.ArgumentParser(prog=prog, description=doc.split("\n\n")[0])
 
 
-def add_output_options(parser: argparse.ArgumentParser) -> None:
-    """``--plot``, ``--movie`` and ``--show``, with the file types checked before any work."""
-    parser.add_argument("--plot", metavar="FILE.png", type=_file_of_type(PLOT_TYPES),
+def add_output_options(parser: argparse.ArgumentParser, table: bool = False) -> None:
+    """``--plot``, ``--movie``, ``--show`` and, with ``table``, ``--out FILE.csv``; the files
+    are checked before any work."""
+    if table:
+        parser.add_argument("--out", metavar="FILE.csv", type=_output_file("table"),
+                            help="write the result table as CSV")
+    parser.add_argument("--plot", metavar="FILE.png", type=_output_file("plot"),
                         help="save a plot (.png, .pdf, .svg)")
-    parser.add_argument("--movie", metavar="FILE.mp4", type=_file_of_type(MOVIE_TYPES),
+    parser.add_argument("--movie", metavar="FILE.mp4", type=_output_file("movie"),
                         help="save an animation (.mp4 needs the movie extra; .gif works without)")
     parser.add_argument("--show", action="store_true",
                         help="open the plot and the animation in windows")
+
+
+def parse(parser: argparse.ArgumentParser, argv: list[str] | None) -> argparse.Namespace:
+    """Parse ``argv``; ``--show`` without a display is a usage error before any work."""
+    args = parser.parse_args(argv)
+    if getattr(args, "show", False):
+        try:
+            check_display()
+        except FlexmbdError as error:
+            parser.error(str(error))
+    return args
 
 
 def finish_outputs(args: argparse.Namespace, result, draw_plot, *, movie_title: str,

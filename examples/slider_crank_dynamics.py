@@ -28,11 +28,14 @@ import sys
 
 import numpy as np
 from flexmbd.examples._support import (
+    POSITIVE,
     Check,
     add_output_options,
+    count,
     example_parser,
     finish_outputs,
     format_matrix,
+    parse,
     print_checks,
 )
 from flexmbd.examples.slider_crank_kinematics import closed_form
@@ -211,15 +214,13 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
     """Run the example with command-line arguments ``argv``; returns the exit code."""
     parser = example_parser(__doc__, prog)
     parser.add_argument("--gravity", action="store_true", help="gravity 9.81 m/s^2 along -y")
-    parser.add_argument("--omega", type=float, default=OMEGA, help="crank speed [rad/s]")
-    parser.add_argument("--revolutions", type=float, default=3.0,
+    parser.add_argument("--omega", type=POSITIVE, default=OMEGA, help="crank speed [rad/s]")
+    parser.add_argument("--revolutions", type=POSITIVE, default=3.0,
                         help="turns of the PD-controlled simulation (default 3)")
-    parser.add_argument("--points", type=int, default=600, help="output times of the simulation")
+    parser.add_argument("--points", type=count(2), default=600,
+                        help="output times of the simulation")
     add_output_options(parser)
-    args = parser.parse_args(argv)
-    if args.omega <= 0 or args.revolutions <= 0 or args.points < 2:
-        parser.error("--omega and --revolutions must be positive, --points at least 2")
-
+    args = parse(parser, argv)
     print(build_model(gravity=args.gravity, omega=args.omega).summary())
     print_mass_matrices()
     ok = print_checks(f"\nconstant crank speed {args.omega:g} rad/s over a revolution:",

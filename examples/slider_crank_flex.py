@@ -30,15 +30,21 @@ import sys
 
 import numpy as np
 from flexmbd.examples._support import (
+    FINITE,
+    POSITIVE,
     Check,
     add_output_options,
+    count,
     example_parser,
     finish_outputs,
+    number,
+    parse,
     print_checks,
 )
 
 import flexmbd as fm
 from flexmbd import plot, results
+from flexmbd.checks import LARGEST_RTOL, SMALLEST_RTOL
 from flexmbd.integrate import METHODS
 
 L1 = 0.15  #: crank length [m]
@@ -213,32 +219,38 @@ def describe(result: fm.SimulationResult) -> None:
 def main(argv: list[str] | None = None, prog: str | None = None) -> int:
     """Run the example with command-line arguments ``argv``; returns the exit code."""
     parser = example_parser(__doc__, prog)
-    parser.add_argument("--nbeams", type=int, default=1, help="beams along the rod (default 1)")
+    parser.add_argument("--nbeams", type=count(1), default=1,
+                        help="beams along the rod (default 1)")
     parser.add_argument("--eps1flex", action="store_true", help="flexible elongation")
-    parser.add_argument("--revolutions", type=float, default=2.0, help="crank turns (default 2)")
-    parser.add_argument("--omega", type=float, default=OMEGA, help="crank speed [rad/s]")
-    parser.add_argument("--alpha", type=float, default=0.0, help="crank acceleration [rad/s^2]")
+    parser.add_argument("--revolutions", type=POSITIVE, default=2.0,
+                        help="crank turns (default 2)")
+    parser.add_argument("--omega", type=POSITIVE, default=OMEGA, help="crank speed [rad/s]")
+    parser.add_argument("--alpha", type=number(0.0), default=0.0,
+                        help="crank acceleration [rad/s^2], >= 0")
     parser.add_argument("--method", default="GeneralizedAlpha", choices=sorted(METHODS),
                         help="time integrator (default GeneralizedAlpha: fixed steps that "
                              "damp the unresolved stiff modes; RK45 is the course's ode45)")
-    parser.add_argument("--steps-per-revolution", type=int, default=STEPS_PER_REVOLUTION,
+    parser.add_argument("--steps-per-revolution", type=count(1), default=STEPS_PER_REVOLUTION,
                         help="fixed steps per turn of GeneralizedAlpha (default 400: v/l2 "
                              "within about 2e-4 of the step-converged history; 800: 5e-5)")
-    parser.add_argument("--rtol", type=float, default=1e-6,
+    parser.add_argument("--rtol", type=number(SMALLEST_RTOL, LARGEST_RTOL), default=1e-6,
                         help="relative tolerance of RK45 and the other error-controlled methods")
-    parser.add_argument("--out", metavar="FILE.csv", help="write t, phi, v_over_l2, ... as CSV")
-    parser.add_argument("--exaggeration", type=float, default=EXAGGERATION,
+    parser.add_argument("--exaggeration", type=FINITE, default=EXAGGERATION,
                         help="deflection scale in the movie (default 10)")
-    add_output_options(parser)
-    args = parser.parse_args(argv)
-    if args.nbeams < 1 or args.revolutions <= 0 or args.steps_per_revolution < 1:
-        parser.error("--nbeams and --steps-per-revolution must be >= 1, --revolutions > 0")
+    add_output_options(parser, table=True)
+    args = parse(parser, argv)
 
     model = build_model(args.nbeams, args.eps1flex, args.omega, args.alpha)
     print(model.summary())
-    result = run(model, args.revolutions, omega=args.omega, alpha=args.alpha,
-                 method=args.method, steps_per_revolution=args.steps_per_revolution,
-                 rtol=args.rtol, on_failure="return")
+    try:
+        result = run(model, args.revolutions, omega=args.omega, alpha=args.alpha,
+                     method=args.method, steps_per_revolution=args.steps_per_revolution,
+                     rtol=args.rtol, on_failure="return", progress=True)
+    except KeyboardInterrupt as interrupt:  # write what was computed, then stop
+        if args.out and getattr(interrupt, "partial_result", None) is not None:
+            write_csv(interrupt.partial_result, args.out)
+            print(f"interrupted: {len(interrupt.partial_result.t)} rows written to {args.out}")
+        raise
     print(f"\nsimulation: {result.message}")
     if args.out:
         write_csv(result, args.out)

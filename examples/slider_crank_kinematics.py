@@ -24,11 +24,14 @@ import sys
 
 import numpy as np
 from flexmbd.examples._support import (
+    FINITE,
     Check,
     add_output_options,
+    count,
     example_parser,
     finish_outputs,
     format_matrix,
+    parse,
     print_checks,
 )
 
@@ -148,17 +151,33 @@ def print_symbolic(model: fm.Model) -> None:
         print(f"  d{model.coordinate_labels[i]}/dphi2 = {F_q[i, 0]}")
 
 
+def revolution_time(omega0: float, alpha: float) -> float | None:
+    """The first ``t > 0`` [s] with ``omega0 t + alpha t^2 / 2 = 2 pi``, or ``None``."""
+    if alpha == 0:
+        return 2 * math.pi / omega0 if omega0 > 0 else None
+    discriminant = omega0**2 + 4 * math.pi * alpha
+    if discriminant < 0:
+        return None
+    roots = [(-omega0 + sign * math.sqrt(discriminant)) / alpha for sign in (1, -1)]
+    positive = [t for t in roots if t > 0 and math.isfinite(t)]
+    return min(positive) if positive else None
+
+
 def main(argv: list[str] | None = None, prog: str | None = None) -> int:
     """Run the example with command-line arguments ``argv``; returns the exit code."""
     parser = example_parser(__doc__, prog)
-    parser.add_argument("--omega0", type=float, default=OMEGA0, help="initial crank speed [rad/s]")
-    parser.add_argument("--alpha", type=float, default=ALPHA,
+    parser.add_argument("--omega0", type=FINITE, default=OMEGA0, help="initial crank speed [rad/s]")
+    parser.add_argument("--alpha", type=FINITE, default=ALPHA,
                         help="crank angular acceleration [rad/s^2]")
-    parser.add_argument("--points", type=int, default=400, help="output times")
+    parser.add_argument("--points", type=count(2), default=400, help="output times")
     parser.add_argument("--symbolic", action="store_true",
                         help="also print D(x) and F_q as SymPy expressions")
     add_output_options(parser)
-    args = parser.parse_args(argv)
+    args = parse(parser, argv)
+    t_rev = revolution_time(args.omega0, args.alpha)
+    if t_rev is None:
+        parser.error(f"the crank (--omega0 {args.omega0:g}, --alpha {args.alpha:g}) never "
+                     f"completes a forward revolution")
 
     model = build_model(omega0=args.omega0, alpha=args.alpha)
     print(model.summary())
@@ -171,11 +190,6 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
     if args.symbolic:
         print_symbolic(model)
 
-    # time of one revolution: omega0 t + alpha t^2 / 2 = 2 pi
-    if args.alpha:
-        t_rev = (-args.omega0 + math.sqrt(args.omega0**2 + 4 * math.pi * args.alpha)) / args.alpha
-    else:
-        t_rev = 2 * math.pi / args.omega0
     result = fm.kinematic_analysis(model, np.linspace(0.0, t_rev, args.points),
                                    on_failure="return")
     print(f"\nrevolution: {result.message}")

@@ -23,10 +23,13 @@ import sys
 
 import numpy as np
 from flexmbd.examples._support import (
+    POSITIVE,
     Check,
     add_output_options,
+    count,
     example_parser,
     finish_outputs,
+    parse,
     print_checks,
 )
 
@@ -113,11 +116,11 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
     """Run the example with command-line arguments ``argv``; returns the exit code."""
     parser = example_parser(__doc__, prog)
     parser.add_argument("--variant", choices=("truss", "beam"), default="truss")
-    parser.add_argument("--t-end", type=float, default=None,
+    parser.add_argument("--t-end", type=POSITIVE, default=None,
                         help="end time [s] (the truss stops at its singular end point 1 s)")
-    parser.add_argument("--points", type=int, default=200, help="output times")
+    parser.add_argument("--points", type=count(2), default=200, help="output times")
     add_output_options(parser)
-    args = parser.parse_args(argv)
+    args = parse(parser, argv)
 
     if args.variant == "truss":
         model = truss_model()

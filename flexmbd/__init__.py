@@ -11,6 +11,7 @@ from .builder import ModelBuilder
 from .dynamics import inverse_dynamics, mass_matrix, reduced_mass_matrix, simulate
 from .elements import Beam, Hinge, RigidBeam, SpringDamper, Truss
 from .errors import (
+    ArgumentError,
     ConvergenceError,
     FlexmbdError,
     InputFileError,
@@ -55,6 +56,7 @@ def __dir__() -> list[str]:
     return sorted({*globals(), *__all__})
 
 __all__ = [
+    "ArgumentError",
     "Beam",
     "ConvergenceError",
     "CoordinateClass",

@@ -11,7 +11,7 @@ import importlib
 import sys
 
 from . import __version__
-from .errors import FlexmbdError
+from .errors import ArgumentError, FlexmbdError
 
 EXIT_ERROR = 1
 EXIT_USAGE = 2
@@ -94,6 +94,9 @@ def main(argv: list[str] | None = None) -> int:
         if rest:
             parser.error(f"unrecognized arguments: {' '.join(rest)}")
         parser.print_help()
+        return EXIT_USAGE
+    except ArgumentError as error:  # an option that cannot work: a usage error
+        print(f"flexmbd: error: {_one_line(error)}", file=sys.stderr)
         return EXIT_USAGE
     except FlexmbdError as error:
         print(f"flexmbd: error: {_one_line(error)}", file=sys.stderr)

@@ -21,8 +21,9 @@ from typing import Literal
 
 import numpy as np
 
+from . import checks
 from .engine import Engine, Forces, initial_q, q_index, resolve_laws
-from .errors import ModelError
+from .errors import ArgumentError, ModelError
 from .integrate import AlphaOptions, check_method, integrate
 from .model import Model
 from .motion import Law
@@ -158,20 +159,27 @@ def simulate(
                          "add_point_mass() before simulating")
     check_method(method)
     if outputs not in RECORDED:
-        raise ValueError(f"outputs must be one of {', '.join(map(repr, RECORDED))}, not "
-                         f"{outputs!r}")
+        raise ArgumentError("outputs", f"must be one of {', '.join(map(repr, RECORDED))}, "
+                                       f"not {outputs!r}")
     if with_reactions and outputs != "all":
-        raise ValueError("with_reactions needs outputs='all' (reactions come with the "
-                         "accelerations)")
+        raise ArgumentError("with_reactions", "needs outputs='all' (reactions come with the "
+                                              "accelerations)")
+    rtol, atol = checks.integrator_tolerances(rtol, atol, model.characteristic_length)
+    if not (max_step == np.inf or checks.real(max_step, "max_step") > 0):
+        raise ArgumentError("max_step", f"must be positive, got {max_step!r}")
+    span = float(times[-1] - times[0])
     alpha = None
     if method == "GeneralizedAlpha":
         interval = float(np.diff(times).min()) if len(times) > 1 else float(max_step)
         alpha = AlphaOptions(min(interval if step is None else step, max_step), rho_inf, rtol,
                              atol, iterations, renew_every)
+        checks.step_count(span, alpha.step, "step")
     elif step is not None or iterations is not None or renew_every != 1 or rho_inf != 0.8:
-        raise ValueError(f"step, iterations, renew_every and rho_inf belong to "
-                         f"GeneralizedAlpha; {method} chooses its own steps (bound them with "
-                         f"max_step)")
+        raise ArgumentError("step", f"step, iterations, renew_every and rho_inf belong to "
+                                    f"GeneralizedAlpha; {method} chooses its own steps (bound "
+                                    f"them with max_step)")
+    else:
+        checks.step_count(span, max_step, "max_step")
     laws = resolve_laws(model, inputs)
     q0, qd0 = initial_state(model, initial)
     engine = Engine(model, tolerance)
@@ -188,7 +196,7 @@ def simulate(
             stats = {name: int(status[name]) for name in ("nfev", "njev", "nlu", "nsteps")}
         else:
             done, error, stats = _scipy_run(engine, times, q0, qd0, method, rtol, atol,
-                                            max_step)
+                                            max_step, advance)
     if not with_reactions:
         arrays.pop("reactions", None)
     result = SimulationResult(model, times[:done], **{k: v[:done] for k, v in arrays.items()})
@@ -198,7 +206,7 @@ def simulate(
                     f"({stats['nsteps']} steps, {stats['nfev']} evaluations)")
 
 
-def _scipy_run(engine: Engine, times, q0, qd0, method, rtol, atol, max_step):
+def _scipy_run(engine: Engine, times, q0, qd0, method, rtol, atol, max_step, advance):
     """A scipy integrator over the core's accelerations; each output evaluated as soon as
     it is reached, from the solution of the evaluation before it."""
     core, n = engine.core, len(q0)
@@ -212,7 +220,8 @@ def _scipy_run(engine: Engine, times, q0, qd0, method, rtol, atol, max_step):
         engine.call(core.output, k, float(t), np.ascontiguousarray(y))
 
     run = integrate(fun, np.concatenate([q0, qd0]), times, method=method, rtol=rtol,
-                    atol=atol, max_step=max_step, progress=False, on_output=output)
+                    atol=atol, max_step=max_step, progress=advance or False,
+                    on_output=output)
     error = run.error
     if error is None and not run.success:
         from .errors import SimulationError

@@ -25,6 +25,7 @@ from collections.abc import Callable, Mapping
 
 import numpy as np
 
+from . import checks
 from .diagnosis import at_time, singular_message
 from .elements import ELEMENT_TYPES, TRANSLATIONAL
 from .errors import (
@@ -443,10 +444,12 @@ class Engine:
                  max_iterations: int = MAX_ITERATIONS):
         check_core()
         self.model = model
+        length = model.characteristic_length
+        self.tolerance = (RELATIVE_TOLERANCE * length if tolerance is None else
+                          checks.position_tolerance(tolerance, length,
+                                                    float(np.abs(model.x0).max(initial=0))))
+        self.max_iterations = checks.iteration_limit(max_iterations)
         self.core = _core.Core(compile_model(model))
-        self.tolerance = (RELATIVE_TOLERANCE * model.characteristic_length
-                          if tolerance is None else float(tolerance))
-        self.max_iterations = int(max_iterations)
         #: scaled conditioning of D_c below which a converged position counts as singular:
         #: near a singular root Newton converges only linearly and stops about
         #: sqrt(tolerance) away from it, where D_c still looks regular. Relative to the
@@ -487,6 +490,7 @@ class Engine:
 
         sizes = {"nx": model.n_coordinates, "ne": model.n_deformations, "nq": nq}
         wanted = columns or tuple(OUTPUTS)
+        checks.output_memory(n_outputs, sum(sizes[OUTPUTS[name]] for name in wanted))
         self.arrays = {name: np.zeros((n_outputs, sizes[OUTPUTS[name]])) for name in wanted}
         options = {}
         if python:

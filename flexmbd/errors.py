@@ -87,6 +87,15 @@ class InputFileError(FlexmbdError, ValueError):
         self.line = line
 
 
+class ArgumentError(FlexmbdError, ValueError):
+    """An argument of a function or an option of the command line cannot work; the message
+    starts with its name (``argument``)."""
+
+    def __init__(self, argument: str, message: str):
+        super().__init__(f"{argument}: {message}")
+        self.argument = argument
+
+
 class OptionalDependencyError(FlexmbdError, ImportError):
     """A feature needs an optional extra that is not installed; names the pip command."""
 

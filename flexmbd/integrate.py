@@ -13,11 +13,13 @@ losing it.
 from __future__ import annotations
 
 from collections.abc import Callable
+from contextlib import nullcontext
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import SimulationError
+from . import checks
+from .errors import ArgumentError, SimulationError
 from .progress import progress_bar
 
 #: integration methods by name (the course's ode45 is RK45, the default); all but
@@ -28,7 +30,8 @@ METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA", "GeneralizedAlpha"
 def check_method(method: str) -> None:
     """Raise ``ValueError`` for a ``method`` that is not in :data:`METHODS`."""
     if method not in METHODS:
-        raise ValueError(f"unknown method {method!r}; choose from {', '.join(METHODS)}")
+        raise ArgumentError("method", f"unknown method {method!r}; choose from "
+                                      f"{', '.join(METHODS)}")
 
 
 @dataclass(frozen=True)
@@ -43,17 +46,13 @@ class AlphaOptions:
     renew_every: int = 1
 
     def __post_init__(self):
-        if not (np.isfinite(self.step) and self.step > 0):
-            raise ValueError(f"step must be positive, got {self.step}")
-        if not 0.0 <= self.rho_inf <= 1.0:
-            raise ValueError(f"rho_inf must lie in [0, 1], got {self.rho_inf}")
-        if self.iterations is not None and not (
-                isinstance(self.iterations, (int, np.integer)) and self.iterations >= 1):
-            raise ValueError(f"iterations must be None or a positive integer, got "
-                             f"{self.iterations!r}")
-        if not (isinstance(self.renew_every, (int, np.integer)) and self.renew_every >= 1):
-            raise ValueError(f"renew_every must be a positive integer, got "
-                             f"{self.renew_every!r}")
+        if not checks.real(self.step, "step") > 0:
+            raise ArgumentError("step", f"must be positive, got {self.step}")
+        if not 0.0 <= checks.real(self.rho_inf, "rho_inf") <= 1.0:
+            raise ArgumentError("rho_inf", f"must lie in [0, 1], got {self.rho_inf}")
+        if self.iterations is not None:
+            checks.whole(self.iterations, "iterations", 1, checks.LARGEST_ITERATIONS)
+        checks.whole(self.renew_every, "renew_every", 1, checks.LARGEST_STEPS)
 
     def core_arguments(self) -> dict[str, float | int]:
         """The keyword arguments of the core's generalized-alpha runs."""
@@ -76,14 +75,14 @@ class IntegrationResult:
     y: np.ndarray
     success: bool
     message: str
-    error: SimulationError | None = None
+    error: SimulationError | KeyboardInterrupt | None = None
     stats: dict[str, int] = field(default_factory=dict)
 
 
 def _check_grid(t_eval) -> np.ndarray:
-    t_eval = np.asarray(t_eval, dtype=float)
-    if t_eval.size < 2 or np.any(np.diff(t_eval) <= 0) or not np.all(np.isfinite(t_eval)):
-        raise ValueError("output times must be at least two, finite, strictly increasing")
+    t_eval = checks.time_grid(t_eval, "t_eval")
+    if t_eval.size < 2:
+        raise ArgumentError("t_eval", "needs at least two times (a start and an end)")
     return t_eval
 
 
@@ -105,10 +104,28 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarray,
     """
     check_method(method)
     if method == "GeneralizedAlpha":
-        raise ValueError("GeneralizedAlpha integrates models in the compiled core: use "
-                         "flexmbd.simulate(model, ..., method='GeneralizedAlpha')")
+        raise ArgumentError("method", "GeneralizedAlpha integrates models in the compiled "
+                                      "core: use flexmbd.simulate(model, ..., "
+                                      "method='GeneralizedAlpha')")
     return _integrate_scipy(fun, np.array(y0, dtype=float), _check_grid(t_eval), method, rtol,
                             atol, max_step, progress, on_output, **options)
+
+
+def _outputs(solver, t_eval, k: int, ys: list, on_output) -> int:
+    """Append the outputs from ``t_eval[k]`` that the solver's last step passed; returns the
+    next ``k``. An output whose ``on_output`` raises is not kept."""
+    dense = None
+    while k < len(t_eval) and t_eval[k] <= solver.t:
+        if t_eval[k] == solver.t:
+            y = solver.y.copy()
+        else:
+            dense = dense or solver.dense_output()
+            y = dense(t_eval[k])
+        if on_output is not None:
+            on_output(k, t_eval[k], y)
+        ys.append(y)
+        k += 1
+    return k
 
 
 def _integrate_scipy(fun, y0, t_eval, method, rtol, atol, max_step, progress, on_output,
@@ -121,36 +138,23 @@ def _integrate_scipy(fun, y0, t_eval, method, rtol, atol, max_step, progress, on
     if on_output is not None:
         on_output(0, t_eval[0], y0)
     k, nsteps, error, message = 1, 0, None, "completed"
-    with progress_bar(t_eval, f"simulating ({method})", progress) as advance:
+    bar = nullcontext(progress) if callable(progress) else \
+        progress_bar(t_eval, f"simulating ({method})", progress)
+    with bar as advance:
         while solver.status == "running":
             try:
                 step_message = solver.step()
-            except SimulationError as err:
-                error, message = err, str(err)
+                nsteps += 1
+                if solver.status == "failed":
+                    message = (f"the {method} integrator failed at t = {solver.t:.6g} s: "
+                               f"{step_message}")
+                    break
+                k = _outputs(solver, t_eval, k, ys, on_output)
+                if advance is not None:
+                    advance(solver.t)
+            except (SimulationError, KeyboardInterrupt) as err:  # keep what was computed
+                error, message = err, str(err) or "interrupted"
                 break
-            nsteps += 1
-            if solver.status == "failed":
-                message = f"the {method} integrator failed at t = {solver.t:.6g} s: {step_message}"
-                break
-            dense = None
-            while k < len(t_eval) and t_eval[k] <= solver.t:
-                if t_eval[k] == solver.t:
-                    ys.append(solver.y.copy())
-                else:
-                    dense = dense or solver.dense_output()
-                    ys.append(dense(t_eval[k]))
-                if on_output is not None:
-                    try:
-                        on_output(k, t_eval[k], ys[-1])
-                    except SimulationError as err:
-                        error, message = err, str(err)
-                        ys.pop()
-                        break
-                k += 1
-            if error is not None:
-                break
-            if advance is not None:
-                advance(solver.t)
     stats = {"nfev": solver.nfev, "njev": solver.njev, "nlu": solver.nlu, "nsteps": nsteps}
     success = error is None and solver.status == "finished"
     return IntegrationResult(t_eval[:len(ys)], np.array(ys), success, message, error, stats)

@@ -1,8 +1,9 @@
-"""Progress bars for long runs (tqdm when wanted, silent otherwise)."""
+"""Progress of long runs: a tqdm bar on a terminal, a line every so often in a log."""
 
 from __future__ import annotations
 
 import sys
+import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 
@@ -10,26 +11,34 @@ import numpy as np
 
 #: runs of at least this many output points or steps show a bar when ``progress=None``
 AUTO_THRESHOLD = 2000
+#: seconds between the progress lines written when stderr is not a terminal (a log file)
+LOG_INTERVAL = 10.0
 
 
 @contextmanager
 def progress_bar(times: np.ndarray, description: str, enabled: bool | None = None,
                  work: int | None = None) -> Iterator[Callable[[float], None] | None]:
-    """Yield ``advance(t)``, which moves a bar over ``[times[0], times[-1]]`` to time ``t``
-    [s], or ``None`` when no bar is shown.
+    """Yield ``advance(t)``, which reports progress over ``[times[0], times[-1]]`` up to time
+    ``t`` [s], or ``None`` when nothing is reported.
 
     ``enabled=None`` shows a bar for long runs (``work``, default the number of
     output times, of at least :data:`AUTO_THRESHOLD`) on an interactive terminal
-    only, so that scripts, tests and CI logs stay clean.
+    only, so that scripts, tests and CI logs stay clean. ``enabled=True`` reports
+    every run: a bar on a terminal; where stderr is not a terminal (a log file) a
+    line every :data:`LOG_INTERVAL` seconds, so a long run never looks like a hang.
     """
+    terminal = sys.stderr.isatty()
     if enabled is None:
-        enabled = max(work or 0, len(times)) >= AUTO_THRESHOLD and sys.stderr.isatty()
+        enabled = max(work or 0, len(times)) >= AUTO_THRESHOLD and terminal
     if not enabled or len(times) < 2:
         yield None
         return
+    start, span = float(times[0]), float(times[-1] - times[0])
+    if not terminal:
+        yield _log_lines(description, start, span)
+        return
     from tqdm import tqdm
 
-    start, span = float(times[0]), float(times[-1] - times[0])
     bar = tqdm(total=1000, desc=description, unit="‰", leave=False)
 
     def advance(t: float) -> None:
@@ -41,3 +50,20 @@ def progress_bar(times: np.ndarray, description: str, enabled: bool | None = Non
         yield advance
     finally:
         bar.close()
+
+
+def _log_lines(description: str, start: float, span: float) -> Callable[[float], None]:
+    """``advance(t)`` writing ``description: 42 % (t = 1.2 s), 30 s elapsed`` to stderr at
+    most every :data:`LOG_INTERVAL` seconds."""
+    began = time.monotonic()
+    last = began
+
+    def advance(t: float) -> None:
+        nonlocal last
+        now = time.monotonic()
+        if now - last >= LOG_INTERVAL:
+            last = now
+            print(f"{description}: {100 * (t - start) / span:.0f} % (t = {t:.6g} s), "
+                  f"{now - began:.0f} s elapsed", file=sys.stderr, flush=True)
+
+    return advance

@@ -12,7 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import OptionalDependencyError, OutputError, SimulationError
+from . import checks
+from .errors import ArgumentError, OptionalDependencyError, OutputError, SimulationError
 from .model import Model
 
 _COLUMN = re.compile(r"^(xdd|xd|x|edd|ed|e)(\d+)(?:\.(\d+))?$")
@@ -203,12 +204,9 @@ def check_times(times) -> np.ndarray:
     """Output times as a float array ``(nt,)``; they must be finite and increase.
 
     Raises:
-        ValueError: empty, non-finite or not strictly increasing times.
+        ArgumentError: not one-dimensional, empty, non-finite or not strictly increasing.
     """
-    times = np.asarray(times, dtype=float).ravel()
-    if times.size == 0 or np.any(np.diff(times) <= 0) or not np.all(np.isfinite(times)):
-        raise ValueError("times must be a non-empty, finite, strictly increasing sequence")
-    return times
+    return checks.time_grid(times)
 
 
 def _writing(path: str | Path, write) -> Path:
@@ -245,4 +243,4 @@ def conclude(result: KinematicResult, error: BaseException | None, on_failure: s
 def check_on_failure(on_failure: str) -> None:
     """Reject a bad ``on_failure`` before a run does any work."""
     if on_failure not in ("raise", "return"):
-        raise ValueError(f"on_failure must be 'raise' or 'return', not {on_failure!r}")
+        raise ArgumentError("on_failure", f"must be 'raise' or 'return', not {on_failure!r}")

@@ -3,23 +3,24 @@
 from __future__ import annotations
 
 import argparse
-from importlib.util import find_spec
 from pathlib import Path
 
 import numpy as np
 
+from . import checks
 from .dat import read_dat
 from .dat.syntax import LARGEST_INTEGER
 from .dynamics import inverse_dynamics, simulate
-from .errors import ModelError, OptionalDependencyError
+from .engine import OUTPUTS
+from .errors import ArgumentError
 from .integrate import METHODS
 from .kinematics import kinematic_analysis
 from .model import CoordinateClass, Model
-from .results import KinematicResult
+from .outputs import check_output
+from .results import KinematicResult, SimulationResult
 from .settings import RunSettings
 
 MODES = ("kinematic", "dynamic", "inverse")
-RESULT_TYPES = (".csv", ".npz", ".h5", ".hdf5")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -28,7 +29,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--mode", choices=MODES,
                         help="analysis (default: dynamic when the model has dynamic degrees "
                              "of freedom, kinematic otherwise)")
-    parser.add_argument("--out", metavar="FILE.csv", help="write the results (.csv, .npz, .h5)")
+    parser.add_argument("--out", metavar="FILE.csv",
+                        help="write the results (.csv, .npz, .h5); also what an interrupted "
+                             "or failed run computed")
     parser.add_argument("--plot", metavar="FILE.png", help="plot columns against time")
     parser.add_argument("--columns", nargs="+", metavar="NAME",
                         help="columns to plot (default: the degrees of freedom of the run)")
@@ -46,30 +49,57 @@ def default_mode(model: Model) -> str:
     return "dynamic" if np.any(~model.q_is_input) else "kinematic"
 
 
+def check_mode(model: Model, mode: str) -> None:
+    """A kinematic analysis moves only what is prescribed: it would hold the dynamic
+    degrees of freedom of a model frozen, which is never what ``--mode kinematic`` means."""
+    dynamic = [label for label, given in zip(model.q_labels, model.q_is_input, strict=True)
+               if not given]
+    if mode == "kinematic" and dynamic:
+        shown = ", ".join(dynamic[:6]) + (f" and {len(dynamic) - 6} more" if len(dynamic) > 6
+                                          else "")
+        raise ArgumentError("--mode", f"kinematic analysis prescribes every degree of freedom, "
+                            f"but {shown} are dynamic (DYNX/DYNE); use --mode dynamic to "
+                            f"simulate them or --mode inverse to hold them at their initial "
+                            f"values")
+
+
 def output_times(settings: RunSettings, steps: int | None, t_end: float | None) -> np.ndarray:
     """``steps + 1`` times from 0 to ``t_end``, each defaulting to the file's TIMESTEP."""
     steps = settings.steps if steps is None else steps
     t_end = settings.t_end if t_end is None else t_end
     if steps is None or t_end is None:
-        raise ModelError("the file has no TIMESTEP line: give --t-end and --steps")
-    if not 1 <= steps <= LARGEST_INTEGER or not 0 < t_end < np.inf:
-        raise ModelError(f"need 1 <= --steps <= {LARGEST_INTEGER} and a finite --t-end > 0, "
-                         f"got {steps} and {t_end:g}")
+        raise ArgumentError("--t-end", "the file has no TIMESTEP line: give --t-end and --steps")
+    if not 1 <= steps <= LARGEST_INTEGER:
+        raise ArgumentError("--steps", f"must lie in 1 .. {LARGEST_INTEGER}, got {steps}")
+    if not 0 < t_end < np.inf:
+        raise ArgumentError("--t-end", f"must be a finite time > 0 [s], got {t_end:g}")
     return np.linspace(0.0, t_end, steps + 1)
 
 
 def analyse(model: Model, settings: RunSettings, mode: str, times: np.ndarray,
-            method: str = "RK45") -> KinematicResult:
+            method: str = "RK45", progress: bool | None = None) -> KinematicResult:
     """Run ``mode`` on ``model`` with the file's settings; failures are returned."""
     s = settings
     if mode == "kinematic":
         return kinematic_analysis(model, times, tolerance=s.tolerance,
-                                  max_iterations=s.max_iterations or 25, on_failure="return")
+                                  max_iterations=s.max_iterations or 25, on_failure="return",
+                                  progress=progress)
     if mode == "inverse":
-        return inverse_dynamics(model, times, tolerance=s.tolerance, on_failure="return")
+        return inverse_dynamics(model, times, tolerance=s.tolerance, on_failure="return",
+                                progress=progress)
     return simulate(model, times, initial=s.initial, method=method, rtol=s.rtol or 1e-6,
                     atol=s.atol or 1e-9, tolerance=s.tolerance, with_reactions=True,
-                    on_failure="return")
+                    on_failure="return", progress=progress)
+
+
+def empty_result(model: Model, mode: str) -> KinematicResult:
+    """A result of ``mode`` with no rows: the columns a run will have, known before it."""
+    sizes = {"nx": model.n_coordinates, "ne": model.n_deformations, "nq": model.n_dof}
+    arrays = {name: np.zeros((0, sizes[size])) for name, size in OUTPUTS.items()}
+    if mode == "kinematic":
+        return KinematicResult(model, np.zeros(0), **{k: arrays[k] for k in
+                                                      ("x", "xd", "xdd", "e", "ed", "edd")})
+    return SimulationResult(model, np.zeros(0), **arrays)
 
 
 def default_columns(result: KinematicResult, mode: str) -> list[str]:
@@ -86,48 +116,72 @@ def default_columns(result: KinematicResult, mode: str) -> list[str]:
     return [model.coordinate_labels[i] for i in dependent[:4]]
 
 
+def check_columns(result: KinematicResult, columns: list[str], against: str) -> None:
+    """Unknown column names are a usage error naming the option and what exists."""
+    for option, names in (("--columns", columns), ("--against", [against])):
+        for name in names:
+            try:
+                result[name]
+            except KeyError:
+                known = ", ".join(list(result.columns())[:8])
+                raise ArgumentError(option, f"{name!r} is not a result column (they are "
+                                            f"{known}, ...)") from None
+
+
+def check_arguments(args: argparse.Namespace) -> None:
+    """What can be checked before reading the file: output files, and options that only
+    mean something together with another."""
+    for option, what in (("--out", "results"), ("--plot", "plot"), ("--movie", "movie")):
+        if getattr(args, option[2:]):
+            check_output(getattr(args, option[2:]), what, option)
+    for option, given in (("--columns", args.columns), ("--against", args.against != "t")):
+        if given and not args.plot:
+            raise ArgumentError(option, "chooses what --plot draws; add --plot FILE.png")
+
+
 def run(args: argparse.Namespace) -> int:
-    """``flexmbd run``: returns 0 when the run completed, 1 when it stopped early."""
-    for name, types in (("--out", RESULT_TYPES), ("--movie", (".mp4", ".gif")),
-                        ("--plot", (".png", ".pdf", ".svg", ".jpg"))):
-        value = getattr(args, name[2:])
-        if value and not value.lower().endswith(types):
-            raise ModelError(f"{name} {value!r} must end in {', '.join(types)}")
-    if args.out and args.out.lower().endswith((".h5", ".hdf5")) and not find_spec("h5py"):
-        # refuse before the run, not after it: results are never computed to be lost
-        raise OptionalDependencyError("writing .h5 needs h5py: pip install 'flexmbd[hdf5]' "
-                                      "(or write .csv or .npz)")
+    """``flexmbd run``: 0 when the run completed, 1 when it stopped early, 130 when it was
+    interrupted. Everything computed is written, also after a failure or an interrupt."""
+    check_arguments(args)
     model, settings = read_dat(args.file)
     mode = args.mode or default_mode(model)
+    check_mode(model, mode)
     times = output_times(settings, args.steps, args.t_end)
+    empty = empty_result(model, mode)
+    checks.output_memory(len(times), len(empty.columns()), "--steps (or TIMESTEP)")
+    columns = args.columns or default_columns(empty, mode)
+    check_columns(empty, columns, args.against)
     print(model.summary())
     print(f"{mode} analysis of {Path(args.file).name}: {len(times)} output times to "
           f"t = {times[-1]:.6g} s")
-    result = analyse(model, settings, mode, times, args.method)
+    try:
+        result = analyse(model, settings, mode, times, args.method, progress=True)
+    except KeyboardInterrupt as interrupt:
+        result = getattr(interrupt, "partial_result", None)
+        if result is None:
+            raise
+        print(f"interrupted at t = {result.t[-1] if len(result.t) else times[0]:.6g} s")
+        write_outputs(args, result, mode, columns)
+        return 130
     print(result.message)
-    if args.out:  # written even after a failure: the rows before it
-        result.save(args.out)
-        print(f"{len(result.t)} rows written to {args.out}")
-    if len(result.t) >= 2:
-        if args.plot:
-            columns = args.columns or default_columns(result, mode)
-            _check_columns(result, [*columns, args.against])
-            result.plot(columns, args.against, filename=args.plot, title=f"{model.name} ({mode})")
-            print(f"plot saved to {args.plot}")
-        if args.movie:
-            from .plot import animate
-
-            animate(result, args.movie, title=f"{model.name} ({mode})")
-            print(f"movie saved to {args.movie}")
+    write_outputs(args, result, mode, columns)
     return 0 if result.success else 1
 
 
-def _check_columns(result: KinematicResult, columns: list[str]) -> None:
-    """Unknown column names are a usage error naming what exists."""
-    for name in columns:
-        try:
-            result[name]
-        except KeyError:
-            known = ", ".join(list(result.columns())[:8])
-            raise ModelError(f"--columns: {name!r} is not a result column (they are "
-                             f"{known}, ...)") from None
+def write_outputs(args: argparse.Namespace, result: KinematicResult, mode: str,
+                  columns: list[str]) -> None:
+    """Write the result file, the plot and the movie of what was computed."""
+    if args.out:
+        result.save(args.out)
+        print(f"{len(result.t)} rows written to {args.out}")
+    if len(result.t) < 2:
+        return
+    title = f"{result.model.name} ({mode})"
+    if args.plot:
+        result.plot(columns, args.against, filename=args.plot, title=title)
+        print(f"plot saved to {args.plot}")
+    if args.movie:
+        from .plot import animate
+
+        animate(result, args.movie, title=title)
+        print(f"movie saved to {args.movie}")

@@ -215,6 +215,19 @@ MALFORMED = {
                                      "STARTDE: e1.1 is not a dynamic degree of freedom"),
     "invisible character": (CRANK.replace("FIX 1", "FIX\u200b 1"), 6,
                             "unknown keyword 'FIX\\u200b'"),
+    # run settings that cannot work are refused at their line, before any run
+    "iteration limit that cannot help": (CRANK.replace("TIMESTEP", "ITERSTEP 100000000 1 "
+                                                       "1e-300\nTIMESTEP"), 14,
+                                         "ITERSTEP: max_iterations: must lie in 1 .. 1000"),
+    "tolerance below round-off": (CRANK.replace("TIMESTEP", "ITERSTEP 10 1 1e-300\nTIMESTEP"),
+                                  14, "ITERSTEP: tolerance: 1e-300 is below the round-off"),
+    "loose tolerance": (CRANK.replace("TIMESTEP", "ITERSTEP 10 1 1e10\nTIMESTEP"), 14,
+                        "ITERSTEP: tolerance: 1e+10 is not small against the model's size"),
+    "integrator tolerance below round-off": (
+        CRANK.replace("TIMESTEP", "ERROR 1e-300 1e-300\nTIMESTEP"), 14,
+        "ERROR: rtol: 1e-300 must lie in"),
+    "integrator tolerance that controls nothing": (
+        CRANK.replace("TIMESTEP", "ERROR 1e10 1e10\nTIMESTEP"), 14, "ERROR: rtol: 1e+10 must"),
     "empty file": ("# nothing\n\n", 2, "the file is empty, without END"),
 }
 
@@ -294,9 +307,9 @@ def test_sliding_bar_file_runs_kinematics_by_default(tmp_path):
 
 
 def test_a_missing_hdf5_writer_is_reported_before_the_run(tmp_path, capsys, monkeypatch):
-    import flexmbd.run_file
+    import flexmbd.outputs
 
-    monkeypatch.setattr(flexmbd.run_file, "find_spec", lambda name: None)
+    monkeypatch.setattr(flexmbd.outputs, "find_spec", lambda name: None)
     assert cli(["run", str(EXAMPLES / "sliding_bar.dat"), "--out", str(tmp_path / "r.h5")]) == 1
     captured = capsys.readouterr()
     assert "needs h5py" in captured.err and "analysis" not in captured.out
@@ -304,19 +317,19 @@ def test_a_missing_hdf5_writer_is_reported_before_the_run(tmp_path, capsys, monk
 
 def test_run_options_are_checked(tmp_path, capsys):
     dat = str(EXAMPLES / "sliding_bar.dat")
-    assert cli(["run", dat, "--out", str(tmp_path / "r.xlsx")]) == 1
-    assert "must end in" in capsys.readouterr().err
-    assert cli(["run", dat, "--steps", "0"]) == 1
-    assert "1 <= --steps" in capsys.readouterr().err
+    assert cli(["run", dat, "--out", str(tmp_path / "r.xlsx")]) == 2
+    assert "--out: " in capsys.readouterr().err
+    assert cli(["run", dat, "--steps", "0"]) == 2
+    assert "--steps: must lie in 1 .. " in capsys.readouterr().err
     no_grid = tmp_path / "nogrid.dat"
     no_grid.write_text("PLTRUSS 1 1 2\nX 1 -0.8 0\nX 2 0 0.6\nFIX 1 2\nFIX 2 1\nINPUTX 1 1\n"
                        "END\nHALT\nINPUTX 1 1 -0.8 0.1\nEND\nEND\n")
-    assert cli(["run", str(no_grid)]) == 1
+    assert cli(["run", str(no_grid)]) == 2
     assert "no TIMESTEP" in capsys.readouterr().err
     assert cli(["run", str(no_grid), "--t-end", "1", "--steps", "4"]) == 0
     capsys.readouterr()
-    assert cli(["run", dat, "--plot", str(tmp_path / "p.png"), "--columns", "x9.9"]) == 1
-    assert "'x9.9' is not a result column" in capsys.readouterr().err
+    assert cli(["run", dat, "--plot", str(tmp_path / "p.png"), "--columns", "x9.9"]) == 2
+    assert "--columns: 'x9.9' is not a result column" in capsys.readouterr().err
     with pytest.raises(SystemExit) as done:
         cli(["run", "--help"])
     assert done.value.code == 0 and "TIMESTEP" in capsys.readouterr().out

@@ -142,5 +142,5 @@ def test_inverse_dynamics_failures():
     assert not result.success and isinstance(result.error, fm.SimulationError)
     assert 0 < len(result.t) < len(times) and result.t[-1] < math.pi / 6
     assert math.pi / 6 - 0.1 <= result.error.time <= math.pi / 6 + 0.1
-    with pytest.raises(ValueError, match="increasing"):
+    with pytest.raises(ValueError, match="times: must increase strictly"):
         fm.inverse_dynamics(model, [1.0, 0.5])

@@ -125,7 +125,7 @@ def test_a_failing_step_ends_the_run_with_its_time_and_the_output_so_far():
 def test_bad_options():
     with pytest.raises(ValueError, match="rho_inf"):
         AlphaOptions(0.1, rho_inf=1.5)
-    with pytest.raises(ValueError, match="step must be positive"):
+    with pytest.raises(ValueError, match="step: must be positive"):
         AlphaOptions(0.0)
     with pytest.raises(ValueError, match="iterations"):
         AlphaOptions(0.1, iterations=0)

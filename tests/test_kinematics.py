@@ -235,7 +235,7 @@ def test_missing_and_unknown_input_laws():
                                                     "x2.2": fm.Polynomial(0.0)})
     with pytest.raises(fm.ModelError, match="node 9 is not in the model"):
         fm.kinematic_analysis(model, [0.1], inputs={"x9.1": fm.Polynomial(0.0)})
-    with pytest.raises(ValueError, match="strictly increasing"):
+    with pytest.raises(ValueError, match="must increase strictly"):
         fm.kinematic_analysis(model, [0.2, 0.1], inputs={"x1.1": fm.Polynomial(-1.9)})
 
 

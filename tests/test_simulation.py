@@ -148,9 +148,9 @@ def test_fewer_outputs_record_the_same_states(method):
         assert set(part.columns()) < set(full.columns())
         with pytest.raises(KeyError, match="not recorded"):
             part["xdd2.1"]
-    with pytest.raises(ValueError, match="outputs must be one of"):
+    with pytest.raises(ValueError, match="outputs: must be one of"):
         fm.simulate(model, times, outputs="x")
-    with pytest.raises(ValueError, match="with_reactions needs outputs='all'"):
+    with pytest.raises(ValueError, match="with_reactions: needs outputs='all'"):
         fm.simulate(model, times, outputs="positions", with_reactions=True)
 
 

@@ -32,9 +32,10 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import NamedTuple
 
+from .. import checks
 from ..builder import ModelBuilder
 from ..elements import ELEMENT_TYPES, ROTATIONAL, TRANSLATIONAL
-from ..errors import InputFileError, ModelError
+from ..errors import ArgumentError, InputFileError, ModelError
 from ..model import CoordinateClass, DeformationClass, Model
 from ..motion import Polynomial
 from ..settings import RunSettings
@@ -98,6 +99,7 @@ class _Reader:
         self.settings: dict[str, object] = {}
         self.initial: dict[str, tuple[tuple[float, float], Statement]] = {}
         self.classified: dict[str, list[int]] = {}  # label -> lines that classified it
+        self.setting_statements: dict[str, Statement] = {}
         self.by_line = {s.line: s for s in (*text.kinematics, *text.dynamics)}
 
     def fail(self, statement: Statement, message: str):
@@ -158,8 +160,31 @@ class _Reader:
                 self.fail(statement, f"{label} is not a dynamic degree of freedom (those are: "
                                      f"{', '.join(sorted(dynamic)) or 'none'}); classify it "
                                      f"with DYNX or DYNE in the kinematics block")
+        self.check_settings(model)
         initial = {label: pair for label, (pair, _) in self.initial.items()}
         return RunSettings(initial=MappingProxyType(initial), **self.settings)
+
+    def check_settings(self, model: Model) -> None:
+        """ITERSTEP, ERROR and TIMESTEP values that cannot work, refused at their line
+        before any run: tolerances below round-off or not small against the model,
+        iteration limits that cannot help, outputs that cannot fit in memory."""
+        given, length = self.setting_statements, model.characteristic_length
+        try:
+            if "ITERSTEP" in given:
+                checks.iteration_limit(self.settings["max_iterations"])
+                if "tolerance" in self.settings:
+                    checks.position_tolerance(self.settings["tolerance"], length,
+                                              float(abs(model.x0).max(initial=0)))
+            if "ERROR" in given:
+                checks.integrator_tolerances(self.settings["rtol"], self.settings["atol"],
+                                             length)
+            if "TIMESTEP" in given:
+                checks.output_memory(self.settings["steps"] + 1, model.n_coordinates +
+                                     model.n_deformations + model.n_dof, "steps")
+        except ArgumentError as error:
+            keyword = {"max_iterations": "ITERSTEP", "tolerance": "ITERSTEP", "rtol": "ERROR",
+                       "atol": "ERROR", "steps": "TIMESTEP"}[error.argument]
+            self.fail(given[keyword], str(error))
 
     # --- block 1 -------------------------------------------------------------------------
     def kinematic(self, s: Statement) -> None:
@@ -249,6 +274,8 @@ class _Reader:
 
     # --- block 2 -------------------------------------------------------------------------
     def dynamic(self, s: Statement) -> None:
+        if s.keyword in ("ITERSTEP", "ERROR", "TIMESTEP"):
+            self.setting_statements[s.keyword] = s
         getattr(self, f"_{s.keyword.lower()}")(s)
 
     def positive(self, s: Statement, values) -> None:

@@ -1,0 +1,139 @@
+"""Checking what a user hands in, where it enters: numbers, tolerances, iteration and step
+limits, output times and the memory of a run's output.
+
+Every refusal is an :class:`~flexmbd.errors.ArgumentError` that names the argument and
+says what would work, so that a setting that cannot work fails at once instead of
+after minutes of computing (or never).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+import numpy as np
+
+from .errors import ArgumentError
+
+EPS = float(np.finfo(float).eps)
+#: Newton converges in a handful of iterations or not at all: more than this cannot help
+LARGEST_ITERATIONS = 1000
+#: integration steps beyond this would run for hours (each takes microseconds at best)
+LARGEST_STEPS = 10**9
+#: a run's output may take at most this share of the memory available when it starts
+MEMORY_SHARE = 0.5
+#: integrator tolerances: below ``SMALLEST_RTOL`` round-off dominates (scipy clips there);
+#: above ``LARGEST_RTOL`` no digit of the result is controlled
+SMALLEST_RTOL, LARGEST_RTOL = 100 * EPS, 0.1
+
+
+def real(value, name: str) -> float:
+    """``value`` as a finite float, or an error naming ``name``."""
+    if isinstance(value, (bool, str, bytes)) or value is None:
+        raise ArgumentError(name, f"must be a number, got {value!r}")
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise ArgumentError(name, f"must be a number, got {value!r}") from None
+    if not math.isfinite(number):
+        raise ArgumentError(name, f"must be finite, got {value!r}")
+    return number
+
+
+def whole(value, name: str, low: int, high: int) -> int:
+    """``value`` as an int in ``[low, high]``, or an error naming ``name``."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise ArgumentError(name, f"must be a whole number, got {value!r}")
+    if not low <= value <= high:
+        raise ArgumentError(name, f"must lie in {low} .. {high}, got {value}")
+    return int(value)
+
+
+def position_tolerance(tolerance, length: float, size: float) -> float:
+    """Newton tolerance of the position solve [m, rad] for a model of characteristic
+    length ``length`` and largest coordinate ``size`` [m]: above round-off of the
+    coordinates, and small against the model."""
+    tolerance = real(tolerance, "tolerance")
+    smallest = 8 * EPS * max(length, size)
+    if tolerance < smallest:
+        raise ArgumentError("tolerance", f"{tolerance:g} is below the round-off of the "
+                            f"coordinates ({smallest:.1g} for a model of size "
+                            f"{max(length, size):.3g} m): Newton could never meet it")
+    if tolerance > 1e-2 * length:
+        raise ArgumentError("tolerance", f"{tolerance:g} is not small against the model's "
+                            f"size {length:.3g} m: the configurations would be wrong by "
+                            f"that much; use at most {1e-2 * length:.1g}, typically "
+                            f"{1e-10 * length:.1g}")
+    return tolerance
+
+
+def iteration_limit(value) -> int:
+    """Newton iterations of a position solve before giving up."""
+    return whole(value, "max_iterations", 1, LARGEST_ITERATIONS)
+
+
+def integrator_tolerances(rtol, atol, length: float) -> tuple[float, float]:
+    """``rtol`` and ``atol`` of an integrator for a model of characteristic length
+    ``length`` [m]: ``rtol`` between round-off and 0.1, ``atol`` positive and small
+    against the model."""
+    rtol, atol = real(rtol, "rtol"), real(atol, "atol")
+    if not SMALLEST_RTOL <= rtol <= LARGEST_RTOL:
+        raise ArgumentError("rtol", f"{rtol:g} must lie in {SMALLEST_RTOL:.1g} .. "
+                            f"{LARGEST_RTOL:g}: below, round-off makes the steps shrink "
+                            f"without end; above, no digit is controlled")
+    if not 0 < atol <= 0.1 * length:
+        raise ArgumentError("atol", f"{atol:g} must be positive and small against the "
+                            f"model's size {length:.3g} m (at most {0.1 * length:.2g})")
+    return rtol, atol
+
+
+def time_grid(times, name: str = "times") -> np.ndarray:
+    """Output times as a float array ``(nt,)``: one-dimensional, finite, increasing."""
+    try:
+        grid = np.asarray(times, dtype=float)
+    except (TypeError, ValueError):
+        raise ArgumentError(name, "must be a sequence of numbers [s]") from None
+    if grid.ndim != 1:
+        raise ArgumentError(name, f"must be one-dimensional, got shape {grid.shape}")
+    if grid.size == 0 or not np.all(np.isfinite(grid)):
+        raise ArgumentError(name, "must be a non-empty sequence of finite times [s]")
+    if np.any(np.diff(grid) <= 0):
+        k = int(np.flatnonzero(np.diff(grid) <= 0)[0])
+        raise ArgumentError(name, f"must increase strictly; entry {k + 1} ({grid[k + 1]:g}) "
+                            f"does not exceed entry {k} ({grid[k]:g})")
+    return grid
+
+
+def step_count(span: float, step: float, name: str) -> int:
+    """Steps of size ``step`` over ``span`` [s], refused beyond :data:`LARGEST_STEPS`."""
+    steps = span / step
+    if steps > LARGEST_STEPS:
+        raise ArgumentError(name, f"{step:g} s over {span:g} s makes {steps:.3g} steps, more "
+                            f"than {LARGEST_STEPS:.0e} (hours of computing); take a larger "
+                            f"step")
+    return math.ceil(steps)
+
+
+def available_memory() -> int:
+    """Bytes of memory available to a new allocation (MemAvailable on Linux)."""
+    try:
+        with open("/proc/meminfo") as info:
+            for line in info:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (ValueError, OSError, AttributeError):
+        return 2**63  # unknown: do not refuse
+
+
+def output_memory(rows: int, values_per_row: int, name: str = "times") -> None:
+    """Refuse an output of ``rows`` times ``values_per_row`` doubles that cannot fit."""
+    need = 8.0 * rows * values_per_row
+    have = available_memory()
+    if need > MEMORY_SHARE * have:
+        raise ArgumentError(name, f"{rows} output times of {values_per_row} values need "
+                            f"{need / 2**30:.3g} GiB, more than half of the "
+                            f"{have / 2**30:.3g} GiB available; ask for fewer output times")
