@@ -16,7 +16,7 @@ from typing import Literal
 
 import numpy as np
 
-from .diagnosis import diagnose_rank
+from .diagnosis import diagnose_rank, negative_mass_problem
 from .elements import ROTATIONAL, TRANSLATIONAL, Beam, ElementType, Hinge, RigidBeam, Truss
 from .engine import dense_jacobian
 from .errors import ModelError, Problem
@@ -293,6 +293,9 @@ class ModelBuilder:
         problems += check_solvability(model)
         if problems:
             raise ModelError(problems)
+        negative = negative_mass_problem(model)
+        if negative:
+            raise ModelError([Problem(negative[0], *(("nodal mass", n) for n in negative[1]))])
         return model
 
     def _node_kinds(self, problems: list[str]) -> dict[int, str]:

@@ -13,7 +13,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .model import Model
+from .errors import FlexmbdError
+from .model import CoordinateClass, Model
 
 
 def _largest(vector: np.ndarray, share: float = 0.1) -> np.ndarray:
@@ -84,3 +85,79 @@ def singular_message(model: Model, D_c: np.ndarray, time: float | None, what: st
     return (f"singular configuration {at_time(time)}: {what}; {weakest_direction(model, D_c)}; "
             f"the mechanism is at a dead point or at the end of its range of motion, where "
             f"the inputs cannot drive it further")
+
+
+# --- mass --------------------------------------------------------------------------------
+#: masses farther apart than this ratio cannot be resolved together in double precision
+MASS_SPAN = 1e14
+
+
+def mass_sources(model: Model) -> list[tuple[str, float]]:
+    """``(what, mass)`` for every element [kg] and node [kg or kg m^2] that carries mass."""
+    sources = [(f"element {number} ({model.elements[number].type.name})",
+                props.mass_per_length * model.elements[number].reference[0])
+               for number, props in model.element_properties.items() if props.mass_per_length]
+    sources += [(f"node {node}", mass) for node, mass in model.nodal_masses.items() if mass]
+    return sources
+
+
+def massless_message(model: Model, x: np.ndarray, time: float | None) -> str:
+    """Why the reduced mass matrix of the dynamic degrees of freedom is singular at the
+    configuration ``x`` ``(nx,)``: no mass moving with some of them, a mass matrix that
+    is not finite or not positive definite, or masses too far apart to be resolved."""
+    from .dynamics import reduced_mass_matrix
+
+    dynamic = np.flatnonzero(~np.asarray(model.q_is_input))
+    where = at_time(time)
+    try:
+        reduced = reduced_mass_matrix(model, x)[np.ix_(dynamic, dynamic)]
+    except FlexmbdError:  # e.g. D_c singular there too: the matrix is not known
+        reduced = np.full((len(dynamic), len(dynamic)), np.nan)
+    if not np.all(np.isfinite(reduced)):
+        return (f"the mass matrix is not finite {where}: the masses or the configuration "
+                f"overflow")
+    diagonal = np.diag(reduced)
+    empty = dynamic[diagonal <= 1e-14 * np.abs(diagonal).max(initial=0.0)]
+    if len(empty):
+        return (f"no mass moves with {_names(model.describe_q, empty)} {where}: give them mass "
+                f"(mass per length on their elements, point masses or rotary inertia on "
+                f"their nodes)")
+    smallest = float(np.linalg.eigvalsh(reduced)[0])
+    if smallest <= 0:
+        return (f"the reduced mass matrix is not positive definite {where} (smallest "
+                f"eigenvalue {smallest:.3g}): negative masses outweigh the others")
+    sources = sorted(mass_sources(model), key=lambda s: abs(s[1]))
+    heavy, light = sources[-1], next(s for s in sources if s[1] != 0)
+    if abs(heavy[1]) > MASS_SPAN * abs(light[1]):
+        return (f"the masses span {heavy[1]:.3g} ({heavy[0]}) to {light[1]:.3g} ({light[0]}), "
+                f"more than double precision resolves together ({MASS_SPAN:.0e}); check "
+                f"their units")
+    return (f"the reduced mass matrix of {_names(model.describe_q, dynamic)} is singular "
+            f"{where}")
+
+
+def negative_mass_problem(model: Model) -> tuple[str, list[int]] | None:
+    """A negative point mass or rotary inertia (a correction of a body modelled by point
+    masses) is allowed while it cannot make a kinetic energy negative: the mass matrix of
+    the coordinates that are not fixed must be positive semidefinite (checked in the
+    initial configuration; element mass matrices only turn with their elements). Returns
+    the problem in words and the nodes whose negative masses break it, or ``None``."""
+    negative = {node for node, mass in model.nodal_masses.items() if mass < 0}
+    if not negative:
+        return None
+    from .dynamics import mass_matrix
+
+    moving = np.flatnonzero(np.asarray(model.coordinate_class) != CoordinateClass.FIXED)
+    M = mass_matrix(model, np.asarray(model.x0))[np.ix_(moving, moving)]
+    values, vectors = np.linalg.eigh(M)
+    if values[0] >= -1e-12 * max(abs(values[-1]), 1e-300):
+        return None
+    direction = moving[_largest(vectors[:, 0], share=1e-6)]
+    nodes = sorted(node for node in negative
+                   if set(model.nodes[node].coordinates) & set(direction)) or sorted(negative)
+    elements = sorted(number for number, element in model.elements.items()
+                      if set(element.nodes) & set(nodes))
+    return (f"the negative mass of node(s) {', '.join(map(str, nodes))} outweighs the mass of "
+            f"element(s) {', '.join(map(str, elements)) or 'none'} there: a motion of "
+            f"{_names(model.describe_coordinate, moving[_largest(vectors[:, 0])])} would have "
+            f"negative kinetic energy (mass matrix eigenvalue {values[0]:.3g})", nodes)

@@ -26,7 +26,7 @@ from collections.abc import Callable, Mapping
 import numpy as np
 
 from . import checks
-from .diagnosis import at_time, singular_message
+from .diagnosis import at_time, massless_message, singular_message
 from .elements import ELEMENT_TYPES, TRANSLATIONAL
 from .errors import (
     ConvergenceError,
@@ -559,11 +559,10 @@ class Engine:
             return SingularConfigurationError(singular_message(model, D_c, time_or_none, what),
                                               time_or_none)
         if code == _core.MASSLESS:
-            dofs = ", ".join(model.describe_q(j) for j in np.flatnonzero(~model.q_is_input))
-            return SingularConfigurationError(
-                f"the reduced mass matrix of the dynamic degrees of freedom ({dofs}) is "
-                f"singular {at_time(time_or_none)}: give every dynamic degree of freedom "
-                f"mass or inertia", time_or_none)
+            x = np.empty(model.n_coordinates)
+            self.core.configuration(x)
+            return SingularConfigurationError(massless_message(model, x, time_or_none),
+                                              time_or_none)
         if code == _core.NOT_FINITE:
             worst = int(status["worst"])
             what = (f"the law of {model.describe_q(worst)}" if worst >= 0 else

@@ -15,8 +15,8 @@ class FlexmbdError(Exception):
 class Problem(str):
     """One problem of a model, in words, and what it is about.
 
-    ``about`` holds ``("node", number)``, ``("element", number)``,
-    ``("coordinate", label)`` or ``("deformation", label)`` pairs, so that a reader
+    ``about`` holds ``("node", number)``, ``("nodal mass", number)``, ``("element",
+    number)``, ``("coordinate", label)`` or ``("deformation", label)`` pairs, so that a reader
     of an input file can point at the lines that made those entities.
     """
 

@@ -132,12 +132,18 @@ def _integrate_scipy(fun, y0, t_eval, method, rtol, atol, max_step, progress, on
                      **options) -> IntegrationResult:
     import scipy.integrate
 
-    solver = getattr(scipy.integrate, method)(fun, t_eval[0], y0, t_eval[-1], rtol=rtol,
-                                              atol=atol, max_step=max_step, **options)
-    ys = [y0]
-    if on_output is not None:
-        on_output(0, t_eval[0], y0)
+    ys: list[np.ndarray] = []
     k, nsteps, error, message = 1, 0, None, "completed"
+    try:  # the start evaluates the state: a failure there is a run of no (or one) output
+        if on_output is not None:
+            on_output(0, t_eval[0], y0)
+        ys.append(y0)
+        solver = getattr(scipy.integrate, method)(fun, t_eval[0], y0, t_eval[-1], rtol=rtol,
+                                                  atol=atol, max_step=max_step, **options)
+    except (SimulationError, KeyboardInterrupt) as err:
+        return IntegrationResult(t_eval[:len(ys)], np.array(ys).reshape(len(ys), len(y0)),
+                                 False, str(err) or "interrupted", err,
+                                 {"nfev": 1, "njev": 0, "nlu": 0, "nsteps": 0})
     bar = nullcontext(progress) if callable(progress) else \
         progress_bar(t_eval, f"simulating ({method})", progress)
     with bar as advance:

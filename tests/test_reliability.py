@@ -10,6 +10,7 @@ import pytest
 import flexmbd as fm
 from flexmbd import checks, outputs, progress
 from flexmbd.cli import main as cli
+from flexmbd.dat import dat_from_text
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 FLEX = str(EXAMPLES / "slider_crank_flex.dat")
@@ -173,3 +174,65 @@ def test_simulation_settings_that_cannot_work_are_refused(options, argument):
     with pytest.raises(fm.ArgumentError) as info:
         fm.simulate(model, np.linspace(0, 0.1, 5), **options)
     assert argument in str(info.value)
+
+
+def _flex_with(replacements: dict[str, str]) -> fm.Model:
+    text = Path(FLEX).read_text()
+    for old, new in replacements.items():
+        assert old in text
+        text = text.replace(old, new)
+    return dat_from_text(text, "flex.dat").model
+
+
+ROD_MASS = "EM       2  0.22253333333333333"
+SLIDER_MASS = "XM       5  0.03338"
+ROD_STIFFNESS = "ESTIFF   2  5654866.776461628 12.72"
+
+
+@pytest.mark.parametrize("factor", [1e-8, 1e12, 1e40])
+def test_the_motion_does_not_depend_on_the_unit_of_mass(factor):
+    """Masses and stiffnesses scaled together leave the motion unchanged (the equations of
+    motion are homogeneous in them): tonnes or grams, the run must give the same answer."""
+    times = np.linspace(0.0, 0.01, 11)
+    reference = fm.simulate(_flex_with({}), times, rtol=1e-8, atol=1e-12)
+    scaled = _flex_with({ROD_MASS: f"EM 2 {0.22253333333333333 * factor!r}",
+                         SLIDER_MASS: f"XM 5 {0.03338 * factor!r}",
+                         ROD_STIFFNESS: f"ESTIFF 2 {5654866.776461628 * factor!r} "
+                                        f"{12.72 * factor!r}"})
+    result = fm.simulate(scaled, times, rtol=1e-8, atol=1e-12)
+    np.testing.assert_allclose(result.e, reference.e, rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("replacements, words", [
+    ({ROD_MASS: "EM 2 0"}, "no mass moves with e2.2 (beam 2, bending at p), e2.3"),
+    ({SLIDER_MASS: "XM 5 1e300"}, "the masses span 1e+300 (node 5) to 0.0668 (element 2"),
+])
+def test_a_singular_mass_matrix_says_why(replacements, words):
+    with pytest.raises(fm.SingularConfigurationError, match=r"at t = 0 s|span") as info:
+        fm.simulate(_flex_with(replacements), np.linspace(0, 0.01, 3))
+    assert words in str(info.value)
+
+
+def test_negative_masses_are_refused_where_they_make_the_kinetic_energy_negative():
+    # a small negative rotary inertia corrects a body modelled by point masses: allowed
+    corrected = _flex_with({SLIDER_MASS: f"{SLIDER_MASS}\nXM 6 -1e-6"})
+    assert corrected.nodal_masses[6] == -1e-6
+    with pytest.raises(fm.InputFileError) as info:  # a slider of -1 kg is not
+        _flex_with({SLIDER_MASS: "XM 5 -1"})
+    assert info.value.line == 22 and "XM: the negative mass of node(s) 5 outweighs the mass " \
+        "of element(s) 2" in str(info.value)
+    b = fm.ModelBuilder("pendulum")
+    b.add_node(1, 0.0, 0.0).add_node(2, 1.0, 0.0).add_rigid_beam(1, 1, 3, 2).fix(1)
+    b.dynamic_coordinate(3).set_mass(1, 1.0).add_point_mass(2, -2.0)
+    with pytest.raises(fm.ModelError, match=r"negative mass of node\(s\) 2 outweighs"):
+        b.build()
+
+
+def test_a_load_that_is_not_finite_is_named_and_the_run_returned():
+    result = fm.simulate(_flex_with({}), np.linspace(0, 0.01, 5), on_failure="return",
+                         forces=lambda t, x, xd: {"x5.1": np.nan if t > 0.004 else 0.0})
+    assert not result.success and 2 <= len(result.t) < 5
+    assert "the applied load on x5.1 (node 5, x) is not finite at t = 0.00" in result.message
+    result = fm.simulate(_flex_with({}), np.linspace(0, 0.01, 5), on_failure="return",
+                         forces=lambda t, x, xd: {"x5.1": np.nan})
+    assert len(result.t) == 0 and "is not finite at t = 0 s" in result.message

@@ -676,10 +676,11 @@ static int mech_output(void *context, int k, double t, const double *q, const do
     fm_state_copy(s, &c->eval, &c->m);
     if ((code = compose(c, s, t, q, v, NULL)))
         return code;
-    code = c->level ? fm_kinematics(&c->m, s, t, c->eval.x, c->m.tolerance,
-                                    c->eval.has_factor, 0, &c->error)
-                    : fm_positions(&c->m, s, t, c->eval.x, c->m.tolerance, c->eval.has_factor,
-                                   -1, &c->error);
+    /* from the last evaluation, or before any from the run's start (its branch) */
+    const double *guess = c->have_last ? c->eval.x : c->start;
+    const int factored = c->have_last && c->eval.has_factor;
+    code = c->level ? fm_kinematics(&c->m, s, t, guess, c->m.tolerance, factored, 0, &c->error)
+                    : fm_positions(&c->m, s, t, guess, c->m.tolerance, factored, -1, &c->error);
     if (code || c->level < 2) {
         if (!code)
             store(c, k, s);

@@ -548,15 +548,25 @@ int fm_saddle(const FmModel *m, FmState *s, Band *sd, double c_q, double c_v, Fm
         sd->ab[m->sd_a_dst[e]] += blocks[m->sd_a_src[e]];
     for (int e = 0; e < m->nsd_m; e++)
         sd->ab[m->sd_m_dst[e]] += m->nodal_mass[m->sd_m_coord[e]];
-    double biggest = 0.0;
-    for (int e = 0; e < m->nsd_c; e++) {
-        const double v = s->J[m->sd_c_src[e]];
-        sd->ab[m->sd_c_dst[e]] = v;
-        sd->ab[m->sd_c_dstt[e]] = v;
-    }
+    /* The constraint rows C are scaled to the size of A: only z is used, so the scale of the
+     * multipliers does not matter, and the pivot test below then judges the system in the
+     * same way whatever the units of mass (kg or tonnes) and length. */
+    double biggest = 0.0, biggest_c = 0.0;
     for (size_t a = 0; a < (size_t)sd->ldab * sd->n; a++)
         if (fabs(sd->ab[a]) > biggest)
             biggest = fabs(sd->ab[a]);
+    for (int e = 0; e < m->nsd_c; e++)
+        if (fabs(s->J[m->sd_c_src[e]]) > biggest_c)
+            biggest_c = fabs(s->J[m->sd_c_src[e]]);
+    const double scale = biggest > 0.0 && biggest_c > 0.0 && isfinite(biggest / biggest_c)
+                         ? biggest / biggest_c : 1.0;
+    for (int e = 0; e < m->nsd_c; e++) {
+        const double v = scale * s->J[m->sd_c_src[e]];
+        sd->ab[m->sd_c_dst[e]] = v;
+        sd->ab[m->sd_c_dstt[e]] = v;
+    }
+    if (!(biggest > 0.0))
+        biggest = scale * biggest_c;
     if (band_factor(sd) || !(band_min_pivot(sd) > 1e-14 * biggest))
         return fail(err, FM_MASSLESS, s->t, 0, 0.0, -1);
     return FM_OK;

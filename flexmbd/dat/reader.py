@@ -100,6 +100,7 @@ class _Reader:
         self.initial: dict[str, tuple[tuple[float, float], Statement]] = {}
         self.classified: dict[str, list[int]] = {}  # label -> lines that classified it
         self.setting_statements: dict[str, Statement] = {}
+        self.nodal_masses: dict[int, int] = {}  # node -> line of its last XM
         self.by_line = {s.line: s for s in (*text.kinematics, *text.dynamics)}
 
     def fail(self, statement: Statement, message: str):
@@ -132,12 +133,15 @@ class _Reader:
 
     def line_of(self, kind: str, key) -> int | None:
         """The line of the statement that made node, element, coordinate or deformation
-        ``key``; for a coordinate or deformation the last that classified it."""
+        ``key``; for a coordinate or deformation the last that classified it, for a
+        nodal mass the last XM of the node."""
         if kind in ("coordinate", "deformation"):
             if self.classified.get(key):
                 return self.classified[key][-1]
             number = int(key[1:].split(".")[0])
             return self.line_of("node" if kind == "coordinate" else "element", number)
+        if kind == "nodal mass":
+            return self.nodal_masses.get(key) or self.line_of("node", key)
         if kind == "element":
             return self.elements[key][2] if key in self.elements else None
         if key in self.positions:
@@ -343,8 +347,7 @@ class _Reader:
     def _xm(self, s: Statement) -> None:
         node, mass = s.values
         self.kind(s, node)
-        if mass < 0:
-            self.fail(s, f"mass {mass:g} is negative")
+        self.nodal_masses[node] = s.line
         self.builder.add_point_mass(node, mass)
 
     def _xf(self, s: Statement) -> None:
