@@ -80,11 +80,22 @@ def at_time(time: float | None) -> str:
     return "in the given configuration" if time is None else f"at t = {time:.6g} s"
 
 
-def singular_message(model: Model, D_c: np.ndarray, time: float | None, what: str) -> str:
-    """The message of a singular ``D_c`` at ``time``, naming what no longer holds."""
+def singular_message(model: Model, D_c: np.ndarray, time: float | None, what: str,
+                     integrated: bool = False) -> str:
+    """The message of a singular ``D_c`` at ``time``, naming what no longer holds and the
+    likely cause: for a motion prescribed by inputs a dead point or the end of the range of
+    motion; for an integrated motion also a state that left the physical range."""
+    if integrated:
+        cause = ("the simulated motion reached a configuration where the constraints become "
+                 "dependent: a dead point, the end of the range of motion, or an integration "
+                 "that left the physical range")
+    elif np.any(model.q_is_input):
+        cause = ("the mechanism is at a dead point or at the end of its range of motion, "
+                 "where the inputs cannot drive it further")
+    else:
+        cause = "the constraints do not determine the configuration there"
     return (f"singular configuration {at_time(time)}: {what}; {weakest_direction(model, D_c)}; "
-            f"the mechanism is at a dead point or at the end of its range of motion, where "
-            f"the inputs cannot drive it further")
+            f"{cause}")
 
 
 # --- mass --------------------------------------------------------------------------------

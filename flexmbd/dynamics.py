@@ -23,7 +23,7 @@ import numpy as np
 
 from . import checks
 from .engine import Engine, Forces, initial_q, q_index, resolve_laws
-from .errors import ArgumentError, ModelError
+from .errors import ArgumentError, ModelError, SimulationError
 from .integrate import AlphaOptions, check_method, integrate
 from .model import Model
 from .motion import Law
@@ -81,6 +81,11 @@ def initial_state(model: Model, initial: Mapping[str, tuple[float, float]] | Non
             raise ModelError(f"initial value of {label} is not finite: {pair!r}")
     return q0[d], qd0[d]
 
+
+#: scipy's explicit methods, and the steps per output beyond which a failure of theirs is
+#: reported as the likely result of stiffness
+EXPLICIT = ("RK45", "RK23", "DOP853")
+STIFF_STEPS = 10
 
 #: the columns of :func:`simulate`'s ``outputs`` settings
 RECORDED = {"positions": ("x", "e", "q"), "velocities": ("x", "e", "q", "xd", "ed", "qd"),
@@ -195,8 +200,8 @@ def simulate(
             done, error = status["reached"], engine.error(status)
             stats = {name: int(status[name]) for name in ("nfev", "njev", "nlu", "nsteps")}
         else:
-            done, error, stats = _scipy_run(engine, times, q0, qd0, method, rtol, atol,
-                                            max_step, advance)
+            done, error, stats = _scipy_run(engine, laws, times, q0, qd0, method, rtol,
+                                            atol, max_step, advance)
     if not with_reactions:
         arrays.pop("reactions", None)
     result = SimulationResult(model, times[:done], **{k: v[:done] for k, v in arrays.items()})
@@ -206,7 +211,7 @@ def simulate(
                     f"({stats['nsteps']} steps, {stats['nfev']} evaluations)")
 
 
-def _scipy_run(engine: Engine, times, q0, qd0, method, rtol, atol, max_step, advance):
+def _scipy_run(engine: Engine, laws, times, q0, qd0, method, rtol, atol, max_step, advance):
     """A scipy integrator over the core's accelerations; each output evaluated as soon as
     it is reached, from the solution of the evaluation before it."""
     core, n = engine.core, len(q0)
@@ -219,14 +224,21 @@ def _scipy_run(engine: Engine, times, q0, qd0, method, rtol, atol, max_step, adv
     def output(k, t, y):
         engine.call(core.output, k, float(t), np.ascontiguousarray(y))
 
+    def restart(t, y):  # after a rejected trial step: continue from the state it left
+        engine.start(laws, t, y[:n])
+
     run = integrate(fun, np.concatenate([q0, qd0]), times, method=method, rtol=rtol,
                     atol=atol, max_step=max_step, progress=advance or False,
-                    on_output=output)
+                    on_output=output, on_reject=restart)
     error = run.error
     if error is None and not run.success:
-        from .errors import SimulationError
-
         error = SimulationError(run.message, float(run.t[-1]) if len(run.t) else None)
+    if isinstance(error, SimulationError) and method in EXPLICIT and \
+            run.stats["nsteps"] > STIFF_STEPS * max(len(run.t), 1):
+        error.args = (f"{error.args[0]}; {method} took {run.stats['nsteps']} steps for "
+                      f"{len(run.t)} outputs: the model is stiff for an explicit method "
+                      f"(fast modes such as flexible elongations), try "
+                      f"method='GeneralizedAlpha' (flexmbd run --method GeneralizedAlpha)",)
     return len(run.t), error, run.stats
 
 

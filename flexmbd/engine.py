@@ -459,6 +459,7 @@ class Engine:
         self.regularity_limit = 10.0 * float(np.sqrt(
             self.tolerance / model.characteristic_length)) * min(1.0, reference)
         self.arrays: dict[str, np.ndarray] = {}
+        self.integrated = False  #: whether the run integrates dynamic degrees of freedom
         self.core.settings(self.tolerance, self.max_iterations, self.regularity_limit)
 
     # --- preparing a run ------------------------------------------------------------------
@@ -470,6 +471,7 @@ class Engine:
         entries come from the integrator instead), loads and output arrays to the core.
         Returns the output arrays ``{name: (n_outputs, size)}`` the run fills."""
         model = self.model
+        self.integrated = integrated
         nq = model.n_dof
         kind = np.zeros(nq, dtype=np.int32)
         coef = np.zeros((nq, 3))
@@ -556,8 +558,8 @@ class Engine:
             self.core.configuration(x)
             D_x = dense_jacobian(model, x)
             D_c = D_x[np.ix_(model.constrained, model.dependent)]
-            return SingularConfigurationError(singular_message(model, D_c, time_or_none, what),
-                                              time_or_none)
+            return SingularConfigurationError(
+                singular_message(model, D_c, time_or_none, what, self.integrated), time_or_none)
         if code == _core.MASSLESS:
             x = np.empty(model.n_coordinates)
             self.core.configuration(x)

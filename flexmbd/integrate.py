@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import checks
-from .errors import ArgumentError, SimulationError
+from .errors import ArgumentError, ConvergenceError, SimulationError
 from .progress import progress_bar
 
 #: integration methods by name (the course's ode45 is RK45, the default); all but
@@ -90,16 +90,20 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarray,
               t_eval: np.ndarray, *, method: str = "RK45", rtol: float = 1e-6,
               atol: float = 1e-9, max_step: float = np.inf, progress: bool | None = None,
               on_output: Callable[[int, float, np.ndarray], None] | None = None,
+              on_reject: Callable[[float, np.ndarray], None] | None = None,
               **options) -> IntegrationResult:
     """Integrate ``y' = fun(t, y)`` from ``t_eval[0]`` to ``t_eval[-1]`` with one of scipy's
     methods, output at ``t_eval``.
 
     ``on_output(k, t, y)``, when given, is called as soon as output ``k`` is reached (right
     after the step that passes it); a :class:`SimulationError` it raises ends the run
-    there. Other ``options`` go to scipy's solver.
+    there. ``on_reject(t, y)`` is called when an explicit Runge-Kutta step from ``(t, y)``
+    is retried smaller because ``fun`` raised a :class:`ConvergenceError`. Other
+    ``options`` go to scipy's solver. An interrupt (Ctrl-C) ends the run like a failure:
+    the outputs so far are returned, with the ``KeyboardInterrupt`` as ``error``.
 
     Raises:
-        ValueError: an unknown ``method`` (GeneralizedAlpha integrates models only, with
+        ArgumentError: an unknown ``method`` (GeneralizedAlpha integrates models only, with
             :func:`flexmbd.simulate`) or bad ``t_eval``.
     """
     check_method(method)
@@ -108,7 +112,29 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarray,
                                       "core: use flexmbd.simulate(model, ..., "
                                       "method='GeneralizedAlpha')")
     return _integrate_scipy(fun, np.array(y0, dtype=float), _check_grid(t_eval), method, rtol,
-                            atol, max_step, progress, on_output, **options)
+                            atol, max_step, progress, on_output, on_reject, **options)
+
+
+#: times an explicit Runge-Kutta step is retried smaller before the run gives up
+STEP_RETRIES = 40
+
+
+def _step(solver, on_reject) -> str | None:
+    """One step of ``solver``. An explicit Runge-Kutta trial step whose stages leave the
+    reach of the position solve (a :class:`ConvergenceError`, common at the first, guessed
+    step of a stiff model) is a rejected step: ``on_reject(t, y)`` is told the state the
+    step started from, and the step is retried at a quarter of its size. Such a failure
+    leaves scipy's Runge-Kutta state as it was before the step."""
+    from scipy.integrate._ivp.rk import RungeKutta
+
+    for _ in range(STEP_RETRIES if isinstance(solver, RungeKutta) else 0):
+        try:
+            return solver.step()
+        except ConvergenceError:
+            if on_reject is not None:
+                on_reject(solver.t, solver.y)
+            solver.h_abs *= 0.25
+    return solver.step()
 
 
 def _outputs(solver, t_eval, k: int, ys: list, on_output) -> int:
@@ -129,6 +155,7 @@ def _outputs(solver, t_eval, k: int, ys: list, on_output) -> int:
 
 
 def _integrate_scipy(fun, y0, t_eval, method, rtol, atol, max_step, progress, on_output,
+                     on_reject,
                      **options) -> IntegrationResult:
     import scipy.integrate
 
@@ -149,7 +176,7 @@ def _integrate_scipy(fun, y0, t_eval, method, rtol, atol, max_step, progress, on
     with bar as advance:
         while solver.status == "running":
             try:
-                step_message = solver.step()
+                step_message = _step(solver, on_reject)
                 nsteps += 1
                 if solver.status == "failed":
                     message = (f"the {method} integrator failed at t = {solver.t:.6g} s: "

@@ -236,3 +236,29 @@ def test_a_load_that_is_not_finite_is_named_and_the_run_returned():
     result = fm.simulate(_flex_with({}), np.linspace(0, 0.01, 5), on_failure="return",
                          forces=lambda t, x, xd: {"x5.1": np.nan})
     assert len(result.t) == 0 and "is not finite at t = 0 s" in result.message
+
+
+def test_a_stiff_rod_under_rk45_gets_past_its_first_guessed_step():
+    """The first step RK45 guesses for a rod of 16 beams with flexible elongations takes its
+    stages beyond the reach of the position solve: the step is retried smaller instead of
+    ending the run, and the motion agrees with generalized-alpha's."""
+    from flexmbd.examples.slider_crank_flex import build_model, midpoint_deflection, turn_time
+
+    model = build_model(16, eps1flex=True)
+    times = np.linspace(0.0, turn_time(0.05), 6)
+    explicit = fm.simulate(model, times, method="RK45", outputs="positions")
+    implicit = fm.simulate(model, times, method="GeneralizedAlpha", step=turn_time(1) / 4000,
+                           rho_inf=1.0, outputs="positions")
+    np.testing.assert_allclose(midpoint_deflection(model, explicit.x),
+                               midpoint_deflection(model, implicit.x), rtol=0, atol=2e-5)
+
+
+def test_a_failure_of_an_explicit_method_on_a_stiff_model_suggests_generalized_alpha():
+    from flexmbd.examples.slider_crank_flex import build_model, turn_time
+
+    result = fm.simulate(build_model(8, eps1flex=True), np.linspace(0, turn_time(0.25), 91),
+                         method="RK45", rtol=1e-2, atol=1e-5, on_failure="return")
+    assert not result.success
+    assert "stiff for an explicit method" in result.message
+    assert "try method='GeneralizedAlpha'" in result.message
+    assert "inputs cannot drive it" not in result.message
