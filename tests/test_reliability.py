@@ -262,3 +262,45 @@ def test_a_failure_of_an_explicit_method_on_a_stiff_model_suggests_generalized_a
     assert "stiff for an explicit method" in result.message
     assert "try method='GeneralizedAlpha'" in result.message
     assert "inputs cannot drive it" not in result.message
+
+
+def flexible_rotor() -> fm.Model:
+    """Two beams pinned at one end, spinning freely in the plane: no gravity, no damping,
+    so ``T + U`` is constant. EI = 50 N m^2, rhoA = 1 kg/m, length 1 m."""
+    b = fm.ModelBuilder("flexible rotor")
+    b.add_node(1, 0.0, 0.0).add_node(3, 0.5, 0.0).add_node(5, 1.0, 0.0)
+    for element, (p, phi_p, q, phi_q) in ((1, (1, 2, 3, 4)), (2, (3, 4, 5, 6))):
+        b.add_beam(element, p, phi_p, q, phi_q).set_mass(element, 1.0)
+        b.set_stiffness(element, axial=1e7, bending=50.0).dynamic_deformation(element, 2, 3)
+    return b.fix(1).dynamic_coordinate(2).build()
+
+
+ROTOR_START = {"x2.1": (0.0, 5.0), "e1.2": (0.0, 1.0), "e1.3": (0.0, -1.0)}
+ROTOR_PERIOD = 0.02786  # s, of its first bending mode (zero crossings of e1.2 under DOP853)
+
+
+def _energy(result) -> tuple[np.ndarray, float]:
+    """``T + U`` over the run, and the largest kinetic energy ``T``."""
+    M = fm.mass_matrix(result.model, result.x)
+    kinetic = 0.5 * np.einsum("ti,tij,tj->t", result.xd, M, result.xd)
+    return kinetic + 0.5 * np.sum(result.sigma * result.e, axis=1), float(kinetic.max())
+
+
+@pytest.mark.parametrize("options", [{}, {"method": "GeneralizedAlpha"}])
+def test_default_settings_keep_the_energy_of_a_conservative_flexible_system(options):
+    """Energy drift <= 1e-4 of the kinetic energy over 100 periods of the lowest mode."""
+    times = np.linspace(0.0, 100 * ROTOR_PERIOD, 100 * 40 + 1)
+    result = fm.simulate(flexible_rotor(), times, initial=ROTOR_START, **options)
+    energy, kinetic = _energy(result)
+    assert np.max(np.abs(energy - energy[0])) <= 1e-4 * kinetic
+
+
+def test_numerical_damping_is_asked_for_and_dissipates():
+    times = np.linspace(0.0, 100 * ROTOR_PERIOD, 100 * 40 + 1)
+    result = fm.simulate(flexible_rotor(), times, initial=ROTOR_START,
+                         method="GeneralizedAlpha", rho_inf=0.8)
+    energy, kinetic = _energy(result)
+    assert energy[-1] < energy[0] - 1e-4 * kinetic  # damped, as documented
+    with pytest.raises(fm.ArgumentError, match="rho_inf: 1 with iterations=1: a fixed"):
+        fm.simulate(flexible_rotor(), times, method="GeneralizedAlpha", iterations=1,
+                    rho_inf=1.0)
