@@ -12,9 +12,11 @@ from .dynamics import inverse_dynamics, mass_matrix, reduced_mass_matrix, simula
 from .elements import Beam, Hinge, RigidBeam, SpringDamper, Truss
 from .errors import (
     ArgumentError,
+    ColumnError,
     ConvergenceError,
     FlexmbdError,
     InputFileError,
+    LabelError,
     ModelError,
     SimulationError,
     SingularConfigurationError,
@@ -36,7 +38,7 @@ from .kinematics import (
     velocities,
 )
 from .model import CoordinateClass, DeformationClass, Model
-from .motion import Custom, Polynomial
+from .motion import Custom, Expression, Polynomial
 from .results import KinematicResult, SimulationResult
 from .settings import RunSettings
 
@@ -58,14 +60,17 @@ def __dir__() -> list[str]:
 __all__ = [
     "ArgumentError",
     "Beam",
+    "ColumnError",
     "ConvergenceError",
     "CoordinateClass",
     "Custom",
     "DeformationClass",
+    "Expression",
     "FlexmbdError",
     "Hinge",
     "InputFileError",
     "KinematicResult",
+    "LabelError",
     "Model",
     "ModelBuilder",
     "ModelError",

@@ -17,9 +17,18 @@ from typing import Literal
 import numpy as np
 
 from .diagnosis import diagnose_rank, negative_mass_problem
-from .elements import ROTATIONAL, TRANSLATIONAL, Beam, ElementType, Hinge, RigidBeam, Truss
+from .elements import (
+    ELEMENT_TYPES,
+    ROTATIONAL,
+    TRANSLATIONAL,
+    Beam,
+    ElementType,
+    Hinge,
+    RigidBeam,
+    Truss,
+)
 from .engine import dense_jacobian
-from .errors import ModelError, Problem
+from .errors import ArgumentError, ModelError, Problem
 from .model import (
     DIRECTION_NAMES,
     CoordinateClass,
@@ -31,7 +40,7 @@ from .model import (
     direction_number,
     frozen_array,
 )
-from .motion import Law
+from .motion import Law, as_law
 
 _ZERO_LENGTH = 1e-12  # relative to the size of the nodes' positions
 #: positions farther from the origin [m] are refused: squared lengths would overflow
@@ -44,6 +53,18 @@ def _finite_number(value) -> bool:
         return math.isfinite(float(value)) and not isinstance(value, bool)
     except (TypeError, ValueError):
         return False
+
+
+def _element_type(given) -> type[ElementType] | None:
+    """An element type from its class, name or SPACAR keyword; ``None`` if it is none."""
+    if isinstance(given, type) and issubclass(given, ElementType):
+        return given
+    if isinstance(given, str):
+        wanted = " ".join(given.lower().replace("_", " ").split())
+        for keyword, etype in ELEMENT_TYPES.items():
+            if wanted in (keyword.lower(), etype.name.lower()):
+                return etype
+    return None
 
 
 @dataclass(frozen=True)
@@ -111,9 +132,23 @@ class ModelBuilder:
         self._positions[number] = position
         return self
 
-    def add_element(self, number: int, element_type: type[ElementType], nodes) -> ModelBuilder:
-        """Element ``number`` of ``element_type`` on ``nodes`` (in the type's node order)."""
-        nodes = tuple(nodes)
+    def add_element(self, number: int, element_type: type[ElementType] | str, nodes
+                    ) -> ModelBuilder:
+        """Element ``number`` of ``element_type`` on ``nodes`` (in the type's node order).
+        The type is a class (:class:`~flexmbd.Truss`, ...) or its name or SPACAR keyword
+        (``"truss"``, ``"PLTRUSS"``, ``"rigid beam"``)."""
+        element_type = _element_type(element_type)
+        if element_type is None:
+            known = ", ".join(f"{t.name!r}" for t in ELEMENT_TYPES.values())
+            self._problems.append(f"add_element {number}: the element type must be one of "
+                                  f"{known} (or its class or keyword)")
+            return self
+        try:
+            nodes = tuple(nodes)
+        except TypeError:
+            self._problems.append(f"add_element {number}: nodes must be a sequence of node "
+                                  f"numbers, got {nodes!r}")
+            return self
         if len(nodes) != len(element_type.roles):
             roles = ", ".join(r.name for r in element_type.roles)
             self._problems.append(
@@ -141,7 +176,21 @@ class ModelBuilder:
         return self.add_element(number, Hinge, (phi_p, phi_q))
 
     # --- classification -----------------------------------------------------------
+    def _law(self, law, command: str, number: int):
+        """A law as given, an expression in t made a law; a bad one is a problem."""
+        try:
+            law = as_law(law)
+        except ArgumentError as error:
+            self._problems.append(f"{command} {number}: {error}")
+            return None
+        if law is not None and not callable(law):
+            self._problems.append(f"{command} {number}: law {law!r} is not a law (Polynomial, "
+                                  f"Custom, a function of t or an expression in t)")
+            return None
+        return law
+
     def _coordinates(self, what, node, directions, law=None, command=""):
+        law = self._law(law, command, node)
         if law is not None and len(directions) > 1:
             self._problems.append(
                 f"{command} node {node}: a law needs exactly one direction, got {len(directions)}"
@@ -152,6 +201,7 @@ class ModelBuilder:
         return self
 
     def _deformations(self, what, element, ks, law=None, command=""):
+        law = self._law(law, command, element)
         if law is not None and len(ks) > 1:
             self._problems.append(
                 f"{command} element {element}: a law needs exactly one deformation, got {len(ks)}"

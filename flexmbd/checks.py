@@ -137,3 +137,30 @@ def output_memory(rows: int, values_per_row: int, name: str = "times") -> None:
         raise ArgumentError(name, f"{rows} output times of {values_per_row} values need "
                             f"{need / 2**30:.3g} GiB, more than half of the "
                             f"{have / 2**30:.3g} GiB available; ask for fewer output times")
+
+
+def vector(value, size: int, name: str, what: str) -> np.ndarray:
+    """``value`` as a finite float array of shape ``(size,)`` (``what`` says what its entries
+    are, for the message), or an error naming ``name``."""
+    try:
+        array = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ArgumentError(name, f"must be an array of {size} numbers ({what})") from None
+    if array.shape != (size,):
+        raise ArgumentError(name, f"must have shape ({size},) ({what}), got shape "
+                            f"{array.shape}")
+    if not np.all(np.isfinite(array)):
+        k = int(np.flatnonzero(~np.isfinite(array))[0])
+        raise ArgumentError(name, f"entry {k} is {array[k]} ({what}); every entry must be "
+                            f"finite")
+    return array
+
+
+def flag(value, name: str, allow_none: bool = False) -> bool | None:
+    """``value`` as a bool (``None`` too with ``allow_none``), or an error naming ``name``."""
+    if value is None and allow_none:
+        return None
+    if not isinstance(value, (bool, np.bool_)):
+        raise ArgumentError(name, f"must be True or False{' or None' if allow_none else ''}, "
+                            f"got {value!r}")
+    return bool(value)

@@ -25,6 +25,7 @@ from . import checks
 from .engine import Engine, Forces, initial_q, q_index, resolve_laws
 from .errors import ArgumentError, ModelError, SimulationError
 from .integrate import AlphaOptions, check_method, integrate
+from .kinematics import coordinates, first_order_transfer
 from .model import Model
 from .motion import Law
 from .progress import progress_bar
@@ -42,10 +43,16 @@ def mass_matrix(model: Model, x: np.ndarray) -> np.ndarray:
     """The system mass matrix ``M(x)`` [kg, kg m, kg m^2] (THEORY 5): the inertia force is
     ``M xddot + h``. ``x`` is one configuration ``(nx,)`` (gives ``(nx, nx)``) or a batch
     ``(nt, nx)`` (gives ``(nt, nx, nx)``)."""
-    x = np.asarray(x, dtype=float)
+    try:
+        x = np.asarray(x, dtype=float)
+    except (TypeError, ValueError):
+        raise ArgumentError("x", "must be an array of coordinates") from None
     engine = Engine(model)
     if x.ndim == 1:
-        return engine.mass(x)[0]
+        return engine.mass(coordinates(model, x))[0]
+    if x.ndim != 2 or x.shape[1] != model.n_coordinates or not np.all(np.isfinite(x)):
+        raise ArgumentError("x", f"must be finite, of shape ({model.n_coordinates},) or "
+                                 f"(nt, {model.n_coordinates}), got shape {x.shape}")
     batch = np.empty((len(x), model.n_coordinates, model.n_coordinates))
     for row, M in zip(x, batch, strict=True):
         engine.mass(row, out=M)
@@ -55,8 +62,7 @@ def mass_matrix(model: Model, x: np.ndarray) -> np.ndarray:
 def reduced_mass_matrix(model: Model, x: np.ndarray) -> np.ndarray:
     """``Mbar = F_q^T M F_q`` ``(nq, nq)`` at the configuration ``x`` (THEORY 7): the mass
     matrix of the generalized coordinates ``q = [x(m); e(m)]``."""
-    from .kinematics import first_order_transfer
-
+    x = coordinates(model, x)
     F_q = first_order_transfer(model, x)
     return F_q.T @ mass_matrix(model, x) @ F_q
 
@@ -65,10 +71,13 @@ def initial_state(model: Model, initial: Mapping[str, tuple[float, float]] | Non
                   ) -> tuple[np.ndarray, np.ndarray]:
     """``q_d(0), qdot_d(0)`` of the dynamic entries: the initial configuration at rest
     unless ``initial`` says otherwise (``{"e2.2": (value, rate)}`` [m or rad, per s])."""
+    if initial is not None and not isinstance(initial, Mapping):
+        raise ArgumentError("initial", f"must map labels to (value, rate), e.g. {{'e2.2': "
+                                       f"(0.01, 0.0)}}, got {type(initial).__name__}")
     d = ~model.q_is_input
     q0, qd0 = initial_q(model), np.zeros(model.n_dof)
     for label, pair in (initial or {}).items():
-        j = q_index(model, label)
+        j = q_index(model, label, "initial")
         if not d[j]:
             raise ModelError(f"initial value given for {label}, which is prescribed, not "
                              f"dynamic; its law sets its value")
@@ -162,6 +171,9 @@ def simulate(
         :class:`~flexmbd.results.SimulationResult` with ``stats`` of the integrator.
     """
     times = check_times(times)
+    if len(times) < 2:
+        raise ArgumentError("times", "a simulation needs at least two times (a start and an "
+                                     "end)")
     check_on_failure(on_failure)
     if not np.any(~model.q_is_input):
         raise ModelError("the model has no dynamic degree of freedom to simulate; use "
@@ -170,20 +182,23 @@ def simulate(
         raise ModelError("the model has no mass: give elements set_mass() or nodes "
                          "add_point_mass() before simulating")
     check_method(method)
-    if outputs not in RECORDED:
+    if not isinstance(outputs, str) or outputs not in RECORDED:
         raise ArgumentError("outputs", f"must be one of {', '.join(map(repr, RECORDED))}, "
                                        f"not {outputs!r}")
-    if with_reactions and outputs != "all":
+    if checks.flag(with_reactions, "with_reactions") and outputs != "all":
         raise ArgumentError("with_reactions", "needs outputs='all' (reactions come with the "
                                               "accelerations)")
     rtol, atol = checks.integrator_tolerances(rtol, atol, model.characteristic_length)
-    if not (max_step == np.inf or checks.real(max_step, "max_step") > 0):
+    if not (isinstance(max_step, float) and max_step == np.inf) and \
+            not checks.real(max_step, "max_step") > 0:
         raise ArgumentError("max_step", f"must be positive, got {max_step!r}")
     span = float(times[-1] - times[0])
     alpha = None
     if method == "GeneralizedAlpha":
-        interval = float(np.diff(times).min()) if len(times) > 1 else float(max_step)
-        alpha = AlphaOptions(min(interval if step is None else step, max_step),
+        interval = float(np.diff(times).min())
+        if step is not None and not checks.real(step, "step") > 0:
+            raise ArgumentError("step", f"must be positive, got {step!r}")
+        alpha = AlphaOptions(min(interval if step is None else float(step), float(max_step)),
                              _rho_inf(rho_inf, iterations), rtol, atol, iterations,
                              renew_every)
         checks.step_count(span, alpha.step, "step")
@@ -309,6 +324,7 @@ def inverse_dynamics(
     if not model.has_mass:
         raise ModelError("the model has no mass: give elements set_mass() or nodes "
                          "add_point_mass() before inverse dynamics")
+    checks.flag(with_reactions, "with_reactions")
     laws = resolve_laws(model, inputs)
     engine = Engine(model, tolerance)
     with progress_bar(times, "inverse dynamics", progress) as advance:

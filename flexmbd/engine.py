@@ -29,13 +29,15 @@ from . import checks
 from .diagnosis import at_time, massless_message, singular_message
 from .elements import ELEMENT_TYPES, TRANSLATIONAL
 from .errors import (
+    ArgumentError,
     ConvergenceError,
+    FlexmbdError,
     ModelError,
     SimulationError,
     SingularConfigurationError,
 )
 from .model import CoordinateClass, DeformationClass, Model
-from .motion import Law, Polynomial
+from .motion import Law, Polynomial, as_law
 
 try:
     from . import _core
@@ -335,19 +337,20 @@ def _coordinate_kinds(model: Model) -> dict[int, tuple[str, int]]:
 
 
 # --- laws ---------------------------------------------------------------------------------
-def q_index(model: Model, label: str) -> int:
-    """Position in ``q`` of an independent coordinate (``"x2.1"``) or deformation (``"e3.2"``)."""
+def q_index(model: Model, label: str, argument: str = "label") -> int:
+    """Position in ``q`` of an independent coordinate (``"x2.1"``) or deformation (``"e3.2"``);
+    an error names the ``argument`` the label came from."""
     labels = model.q_labels
     try:
-        if label.strip().lower().startswith("e"):
+        if str(label).strip().lower().startswith("e"):
             wanted = model.deformation_labels[model.deformation_index(label)]
         else:
             wanted = model.coordinate_labels[model.coordinate_index(label)]
     except KeyError as err:
-        raise ModelError(str(err.args[0])) from None
+        raise ArgumentError(argument, str(err)) from None
     if wanted not in labels:
-        raise ModelError(f"{label} is not an input or dynamic degree of freedom of the model "
-                         f"(those are: {', '.join(labels) or 'none'})")
+        raise ArgumentError(argument, f"{label} is not an input or dynamic degree of freedom of "
+                                      f"the model (those are: {', '.join(labels) or 'none'})")
     return labels.index(wanted)
 
 
@@ -367,11 +370,20 @@ def resolve_laws(model: Model, inputs: Mapping[str, Law] | None = None) -> list[
         ModelError: an unknown label, or an input without any law.
     """
     laws: list[Law | None] = [None] * model.n_dof
+    if inputs is not None and not isinstance(inputs, Mapping):
+        raise ArgumentError("inputs", f"must map labels to laws, e.g. {{'x2.1': "
+                                      f"Polynomial(0, 150)}}, got {type(inputs).__name__}")
     for source in (model.input_laws, inputs or {}):
         for label, law in source.items():
+            try:
+                law = as_law(law)
+            except ArgumentError as error:
+                raise ArgumentError("inputs", f"the motion given for {label}: {error}") from None
             if not callable(law):
-                raise ModelError(f"the motion given for {label} is not callable: {law!r}")
-            laws[q_index(model, label)] = law
+                raise ArgumentError("inputs", f"the motion given for {label} is not a law "
+                                              f"(Polynomial, Custom, a function of t or an "
+                                              f"expression in t): {law!r}")
+            laws[q_index(model, label, "inputs")] = law
     q0 = initial_q(model)
     missing = []
     for j, (law, is_input) in enumerate(zip(laws, model.q_is_input, strict=True)):
@@ -497,12 +509,22 @@ class Engine:
         options = {}
         if python:
             options.update(law_callback=fill_laws, law_values=values)
+        if forces is not None and not callable(forces):
+            raise ArgumentError("forces", f"must be a function forces(t, x, xdot), got "
+                                          f"{forces!r}")
         if forces is not None:
             x, xd, f = np.zeros(model.n_coordinates), np.zeros(model.n_coordinates), \
                 np.zeros(model.n_coordinates)
 
             def apply_forces(t):
-                f[:] = load_vector(model, forces(t, x.copy(), xd.copy()))
+                try:
+                    given = forces(t, x.copy(), xd.copy())
+                except FlexmbdError:
+                    raise
+                except Exception as error:  # the user's function: named, not lost
+                    raise SimulationError(f"forces raised {type(error).__name__}: {error} "
+                                          f"{at_time(t)}", t) from error
+                f[:] = load_vector(model, given)
 
             options.update(forces=apply_forces, force_x=x, force_xd=xd, force_f=f)
         if progress is not None:
@@ -660,7 +682,14 @@ class Engine:
 
 def _law_values(law: Law, t: float, what: str) -> tuple[float, float, float]:
     try:
-        values = tuple(float(v) for v in law(t))
+        given = law(t)
+    except FlexmbdError:
+        raise
+    except Exception as error:  # the user's function: its failure is named, not lost
+        raise SimulationError(f"the law of {what} raised {type(error).__name__}: {error} "
+                              f"{at_time(t)}", t) from error
+    try:
+        values = tuple(float(v) for v in given)
     except (TypeError, ValueError) as error:
         raise ModelError(f"the law of {what} must return (value, rate, acceleration) as "
                          f"numbers: {error}") from None

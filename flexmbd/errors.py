@@ -96,6 +96,18 @@ class ArgumentError(FlexmbdError, ValueError):
         self.argument = argument
 
 
+class LabelError(FlexmbdError, KeyError):
+    """No coordinate, deformation or result column has that label; a ``KeyError``, so that
+    look-ups behave like those of a mapping."""
+
+    def __str__(self) -> str:  # KeyError would show the message in quotes
+        return str(self.args[0]) if self.args else ""
+
+
+class ColumnError(LabelError):
+    """A result has no column of that name, or did not record it."""
+
+
 class OptionalDependencyError(FlexmbdError, ImportError):
     """A feature needs an optional extra that is not installed; names the pip command."""
 

@@ -29,7 +29,7 @@ METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA", "GeneralizedAlpha"
 
 def check_method(method: str) -> None:
     """Raise ``ValueError`` for a ``method`` that is not in :data:`METHODS`."""
-    if method not in METHODS:
+    if not isinstance(method, str) or method not in METHODS:
         raise ArgumentError("method", f"unknown method {method!r}; choose from "
                                       f"{', '.join(METHODS)}")
 

@@ -24,6 +24,7 @@ from typing import Literal
 
 import numpy as np
 
+from . import checks
 from . import engine as _engine
 from .engine import Engine, dense_hessian, dense_jacobian, initial_q, resolve_laws
 from .errors import SingularConfigurationError
@@ -39,24 +40,36 @@ __all__ = ["accelerations", "deformation_transfer", "deformations", "first_order
 
 
 # --- element values --------------------------------------------------------------------
+def coordinates(model: Model, x, name: str = "x") -> np.ndarray:
+    """``x`` checked to be the model's coordinates: finite, shape ``(nx,)``."""
+    return checks.vector(x, model.n_coordinates, name, f"the coordinates {name[0]}<node>.<k> "
+                         f"of {model.name!r}")
+
+
+def generalized(model: Model, q, name: str = "q") -> np.ndarray:
+    """``q`` (or a rate of it) checked: finite, shape ``(nq,)``."""
+    return checks.vector(q, model.n_dof, name, f"one per entry of q: "
+                         f"{', '.join(model.q_labels[:6])}{', ...' if model.n_dof > 6 else ''}")
+
+
 def deformations(model: Model, x: np.ndarray) -> np.ndarray:
     """Deformation parameters ``e = D(x)``, shape ``(ne,)``."""
-    return _engine.deformations_and_jacobian(model, x)[0]
+    return _engine.deformations_and_jacobian(model, coordinates(model, x))[0]
 
 
 def jacobian(model: Model, x: np.ndarray) -> np.ndarray:
     """``D_x = dD/dx``, shape ``(ne, nx)`` (dense)."""
-    return dense_jacobian(model, x)
+    return dense_jacobian(model, coordinates(model, x))
 
 
 def hessian(model: Model, x: np.ndarray) -> np.ndarray:
     """``D_xx``, shape ``(ne, nx, nx)`` (dense; meant for small models and checks)."""
-    return dense_hessian(model, x)
+    return dense_hessian(model, coordinates(model, x))
 
 
 def quadratic_velocity(model: Model, x: np.ndarray, xd: np.ndarray) -> np.ndarray:
     """``(D_xx xdot) xdot`` per deformation, shape ``(ne,)`` (THEORY section 2)."""
-    return _engine.quadratic_velocity(model, x, xd)
+    return _engine.quadratic_velocity(model, coordinates(model, x), coordinates(model, xd, "xd"))
 
 
 # --- positions -------------------------------------------------------------------------
@@ -133,7 +146,7 @@ def partition_jacobian(model: Model, x: np.ndarray, time: float | None = None
     Raises:
         SingularConfigurationError: ``D_c`` is singular at ``x``.
     """
-    return _partition(Engine(model), x, time)
+    return _partition(Engine(model), coordinates(model, x), time)
 
 
 def _partition(engine: Engine, x: np.ndarray, time: float | None) -> PartitionedJacobian:
@@ -156,7 +169,8 @@ def position_analysis(model: Model, q: np.ndarray, x_guess: np.ndarray | None = 
                       max_iterations: int = _engine.MAX_ITERATIONS) -> PositionSolution:
     """:func:`solve_position` that also returns the partitioned Jacobian at the solution."""
     engine = Engine(model, tolerance, max_iterations)
-    x = engine.positions(np.asarray(q, dtype=float), x_guess, time)
+    guess = None if x_guess is None else coordinates(model, x_guess, "x_guess")
+    x = engine.positions(generalized(model, q), guess, time)
     return PositionSolution(x, _partition(engine, x, time))
 
 
@@ -177,23 +191,24 @@ def _rates(model: Model, x: np.ndarray, qd: np.ndarray, qdd: np.ndarray
 def velocities(model: Model, x: np.ndarray, qd: np.ndarray) -> np.ndarray:
     """``xdot`` ``(nx,)`` from ``qdot = [xdot(m); edot(m)]`` by the partitioned solve
     ``D_c xdot(c) = [0; edot(m)] - [de(o)/dx(m); de(m)/dx(m)] xdot(m)`` (THEORY 4)."""
-    qd = np.asarray(qd, dtype=float)
-    return _rates(model, x, qd, np.zeros(model.n_dof))["xd"]
+    qd = generalized(model, qd, "qd")
+    return _rates(model, coordinates(model, x), qd, np.zeros(model.n_dof))["xd"]
 
 
 def accelerations(model: Model, x: np.ndarray, xd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
     """``xddot`` ``(nx,)`` from ``qddot`` with the quadratic velocity terms of the velocities
     ``xd`` (THEORY 4)."""
-    xd = np.asarray(xd, dtype=float)
+    x, xd = coordinates(model, x), coordinates(model, xd, "xd")
     e_rates = jacobian(model, x) @ xd
     qd = np.concatenate([xd[model.independent_coordinates],
                          e_rates[model.independent_deformations]])
-    return _rates(model, x, qd, np.asarray(qdd, dtype=float))["xdd"]
+    return _rates(model, x, qd, generalized(model, qdd, "qdd"))["xdd"]
 
 
 def first_order_transfer(model: Model, x: np.ndarray) -> np.ndarray:
     """``F_q = dx/dq`` ``(nx, nq)``: ``xdot = F_q qdot``; column ``j`` is the velocity for
     a unit rate of ``q_j`` (THEORY 4)."""
+    x = coordinates(model, x)
     engine, q = Engine(model), _q_at(model, x)
     zero = np.zeros(model.n_dof)
     columns = [engine.state(q, unit, zero, x)["xd"] for unit in np.eye(model.n_dof)]
@@ -203,6 +218,7 @@ def first_order_transfer(model: Model, x: np.ndarray) -> np.ndarray:
 def deformation_transfer(model: Model, x: np.ndarray, F_q: np.ndarray | None = None
                          ) -> np.ndarray:
     """``E_q = D_x F_q`` ``(ne, nq)``: ``edot = E_q qdot``."""
+    x = coordinates(model, x)
     if F_q is None:
         F_q = first_order_transfer(model, x)
     return jacobian(model, x) @ F_q
@@ -216,6 +232,7 @@ def second_order_transfer(model: Model, x: np.ndarray) -> tuple[np.ndarray, np.n
     by polarization, ``B(u, v) = (Q(u + v) - Q(u - v)) / 4``. Meant for inspection and
     small models: the analyses use the quadratic velocity terms directly.
     """
+    x = coordinates(model, x)
     engine, q, nq = Engine(model), _q_at(model, x), model.n_dof
     zero = np.zeros(nq)
     F_qq = np.zeros((model.n_coordinates, nq, nq))

@@ -22,6 +22,7 @@ from enum import IntEnum
 import numpy as np
 
 from .elements import ROTATIONAL, ElementType
+from .errors import LabelError
 from .motion import Law
 
 
@@ -230,21 +231,21 @@ class Model:
         """Global index of a coordinate given as ``"x3.2"``, ``(3, 2)`` or ``(3, "y")``."""
         node, k = _parse_label(label, "x")
         if node not in self.nodes:
-            raise KeyError(f"{_label_text(label)}: node {node} is not in the model")
+            raise LabelError(f"{_label_text(label)}: node {node} is not in the model")
         coords = self.nodes[node].coordinates
         k = direction_number(self.nodes[node].kind, k)
         if k is None or not 1 <= k <= len(coords):
-            raise KeyError(f"{_label_text(label)}: node {node} has no coordinate {k}")
+            raise LabelError(f"{_label_text(label)}: node {node} has no coordinate {k}")
         return coords[k - 1]
 
     def deformation_index(self, label: str | tuple[int, int]) -> int:
         """Global index of a deformation given as ``"e2.1"`` or ``(2, 1)``."""
         elem, k = _parse_label(label, "e")
         if elem not in self.elements:
-            raise KeyError(f"{_label_text(label)}: element {elem} is not in the model")
+            raise LabelError(f"{_label_text(label)}: element {elem} is not in the model")
         defs = self.elements[elem].deformations
         if not isinstance(k, int) or not 1 <= k <= len(defs):
-            raise KeyError(f"{_label_text(label)}: element {elem} has no deformation {k}")
+            raise LabelError(f"{_label_text(label)}: element {elem} has no deformation {k}")
         return defs[k - 1]
 
     def describe_coordinate(self, i: int) -> str:
@@ -302,7 +303,7 @@ def _parse_label(label, prefix: str) -> tuple[int, int | str]:
         match = _LABEL.match(label)
         if not match or match.group(1).lower() != prefix:
             what = "coordinate" if prefix == "x" else "deformation"
-            raise KeyError(f"{label!r} is not a {what} label like '{prefix}3.1'")
+            raise LabelError(f"{label!r} is not a {what} label like '{prefix}3.1'")
         return int(match.group(2)), int(match.group(3) or 1)
     number, k = label
     return int(number), k

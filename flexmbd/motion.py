@@ -8,8 +8,11 @@ translational input the coordinate itself [m].
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+
+from .errors import ArgumentError
 
 
 @dataclass(frozen=True)
@@ -25,6 +28,17 @@ class Polynomial:
     x0: float
     v0: float = 0.0
     a0: float = 0.0
+
+    def __post_init__(self):
+        for name in ("x0", "v0", "a0"):
+            value = getattr(self, name)
+            try:
+                number = float(value)
+            except (TypeError, ValueError):
+                number = math.nan
+            if isinstance(value, (bool, str)) or not math.isfinite(number):
+                raise ArgumentError(f"Polynomial {name}", f"must be a finite number, got "
+                                                          f"{value!r}")
 
     def __call__(self, t: float) -> tuple[float, float, float]:
         return (self.x0 + self.v0 * t + 0.5 * self.a0 * t * t, self.v0 + self.a0 * t, self.a0)
@@ -47,5 +61,44 @@ class Custom:
         return (float(self.value(t)), float(self.rate(t)), float(self.acceleration(t)))
 
 
+@dataclass(frozen=True)
+class Expression:
+    """A law from one expression in ``t`` [s]: a string such as ``"0.5 * sin(3 * t)"`` or a
+    SymPy expression; its rate and second derivative are derived symbolically (SymPy, on
+    first use). The string is read by SymPy, so give only text you trust.
+    """
+
+    expression: object
+    _functions: tuple = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        import sympy
+
+        t = sympy.Symbol("t", real=True)
+        try:
+            value = sympy.sympify(self.expression, locals={"t": t})
+        except (sympy.SympifyError, SyntaxError, TypeError, ValueError) as error:
+            raise ArgumentError("law", f"{self.expression!r} is not an expression in t: "
+                                       f"{error}") from None
+        value = value.subs({s: t for s in value.free_symbols if s.name == "t"})
+        others = sorted(s.name for s in value.free_symbols if s != t)
+        if others:
+            raise ArgumentError("law", f"{self.expression!r} may depend on t only, not on "
+                                       f"{', '.join(others)}")
+        derivatives = (value, sympy.diff(value, t), sympy.diff(value, t, 2))
+        object.__setattr__(self, "_functions",
+                           tuple(sympy.lambdify(t, d, modules="math") for d in derivatives))
+
+    def __call__(self, t: float) -> tuple[float, float, float]:
+        return tuple(float(f(t)) for f in self._functions)  # type: ignore[return-value]
+
+
 #: anything that maps time to (value, rate, second derivative)
 Law = Callable[[float], tuple[float, float, float]]
+
+
+def as_law(law) -> Law:
+    """A law as given, or :class:`Expression` of a string or SymPy expression."""
+    if isinstance(law, str) or type(law).__module__.startswith("sympy"):
+        return Expression(law)
+    return law

@@ -9,6 +9,8 @@ from contextlib import contextmanager
 
 import numpy as np
 
+from .checks import flag
+
 #: runs of at least this many output points or steps show a bar when ``progress=None``
 AUTO_THRESHOLD = 2000
 #: seconds between the progress lines written when stderr is not a terminal (a log file)
@@ -27,6 +29,7 @@ def progress_bar(times: np.ndarray, description: str, enabled: bool | None = Non
     every run: a bar on a terminal; where stderr is not a terminal (a log file) a
     line every :data:`LOG_INTERVAL` seconds, so a long run never looks like a hang.
     """
+    enabled = flag(enabled, "progress", allow_none=True)
     terminal = sys.stderr.isatty()
     if enabled is None:
         enabled = max(work or 0, len(times)) >= AUTO_THRESHOLD and terminal

@@ -13,7 +13,13 @@ from pathlib import Path
 import numpy as np
 
 from . import checks
-from .errors import ArgumentError, OptionalDependencyError, OutputError, SimulationError
+from .errors import (
+    ArgumentError,
+    ColumnError,
+    OptionalDependencyError,
+    OutputError,
+    SimulationError,
+)
 from .model import Model
 
 _COLUMN = re.compile(r"^(xdd|xd|x|edd|ed|e)(\d+)(?:\.(\d+))?$")
@@ -55,7 +61,8 @@ class KinematicResult:
             return self.t
         match = _COLUMN.match(name.strip())
         if not match:
-            raise KeyError(f"{name!r} is not a result column (e.g. 't', 'x3.1', 'xd3.1', 'e2.1')")
+            raise ColumnError(f"{name!r} is not a result column (e.g. 't', 'x3.1', 'xd3.1', "
+                              f"'e2.1')")
         prefix, number, k = match.group(1), match.group(2), match.group(3) or "1"
         if prefix.startswith("x"):
             index = self.model.coordinate_index(f"x{number}.{k}")
@@ -66,7 +73,7 @@ class KinematicResult:
     def _recorded(self, attribute: str, name: str) -> np.ndarray:
         values = getattr(self, attribute)
         if values is None:
-            raise KeyError(f"{name!r} was not recorded: simulate(..., outputs='all') "
+            raise ColumnError(f"{name!r} was not recorded: simulate(..., outputs='all') "
                            f"records every column")
         return values
 
@@ -242,5 +249,5 @@ def conclude(result: KinematicResult, error: BaseException | None, on_failure: s
 
 def check_on_failure(on_failure: str) -> None:
     """Reject a bad ``on_failure`` before a run does any work."""
-    if on_failure not in ("raise", "return"):
+    if not isinstance(on_failure, str) or on_failure not in ("raise", "return"):
         raise ArgumentError("on_failure", f"must be 'raise' or 'return', not {on_failure!r}")

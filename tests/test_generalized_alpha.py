@@ -151,8 +151,9 @@ def test_a_python_error_in_the_loads_is_not_swallowed():
             raise KeyError("a bug in the user's code")
         return np.zeros(len(x))
 
-    with pytest.raises(KeyError, match="a bug") as info:
+    with pytest.raises(fm.SimulationError, match=r"forces raised KeyError: .a bug") as info:
         fm.simulate(oscillator(), np.linspace(0, 1, 11), initial={"x2.1": (1.1, 0.0)},
                     method="GeneralizedAlpha", forces=loads)
+    assert isinstance(info.value.__cause__, KeyError)  # the user's own error, kept
     partial = info.value.partial_result
     assert not partial.success and 0 < len(partial.t) < 11 and partial.t[-1] <= 0.3 + 0.1

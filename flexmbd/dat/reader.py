@@ -28,6 +28,7 @@ Readings chosen where the format leaves room (documented in the README):
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 from types import MappingProxyType
 from typing import NamedTuple
@@ -63,6 +64,8 @@ def read_dat(path: str | Path) -> DatFile:
     Raises:
         InputFileError: naming the file, the line and the reason.
     """
+    if not isinstance(path, (str, os.PathLike)):
+        raise InputFileError(f"the file name must be a str or a path, got {path!r}")
     path = Path(path)
     try:
         with open(path, "rb") as file:  # bounded: /dev/zero or a disk image is not read whole

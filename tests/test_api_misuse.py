@@ -1,0 +1,107 @@
+"""Misuse of the Python API ends in flexmbd's own errors, which name the argument, and in
+bounded time; laws may be given as expressions in t."""
+
+import math
+import os
+import time
+
+import numpy as np
+import pytest
+import sympy
+from flexmbd.examples.slider_crank_flex import build_model
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import flexmbd as fm
+
+MODEL = build_model(1)
+TIMES = np.linspace(0.0, 0.004, 5)
+REST = np.zeros(MODEL.n_dof)
+#: no single call may take longer than this [s]
+BOUND = 10.0
+
+BAD = [None, True, "x", "tight", -1, 0, 0.5, 2.5, 10**9, -1e-300, math.nan, math.inf, 1e300,
+       [], [1.0, 2.0], np.zeros((2, 2)), {}, {"x9.1": 1.0}, {"e2.2": (math.nan, 0.0)},
+       {"e2.2": "a"}, (1, 2, 3), lambda *a: None, lambda *a: 1 / 0, object()]
+
+#: the analyses and the arguments that a user may get wrong, with what the message names
+CALLS = {
+    "simulate": (lambda **kw: fm.simulate(MODEL, TIMES, **kw),
+                 ["rtol", "atol", "max_step", "method", "tolerance", "outputs", "initial",
+                  "inputs", "forces", "on_failure", "progress", "with_reactions"]),
+    "simulate_alpha": (lambda **kw: fm.simulate(MODEL, TIMES, method="GeneralizedAlpha", **kw),
+                       ["step", "iterations", "renew_every", "rho_inf", "rtol", "atol"]),
+    "kinematic_analysis": (lambda **kw: fm.kinematic_analysis(MODEL, TIMES, **kw),
+                           ["tolerance", "max_iterations", "inputs", "on_failure"]),
+    "inverse_dynamics": (lambda **kw: fm.inverse_dynamics(MODEL, TIMES, **kw),
+                         ["tolerance", "inputs", "forces", "on_failure"]),
+    "times": (lambda times: fm.simulate(MODEL, times), ["times"]),
+    "velocities": (lambda x=MODEL.x0, qd=REST: fm.velocities(MODEL, x, qd), ["x", "qd"]),
+    "solve_position": (lambda q=REST, x_guess=None: fm.solve_position(MODEL, q, x_guess),
+                       ["q", "x_guess"]),
+    "mass_matrix": (lambda x: fm.mass_matrix(MODEL, x), ["x"]),
+}
+
+
+def _names_its_source(error: fm.FlexmbdError, argument: str) -> bool:
+    """The message names the argument, a label of the model, or the time of a failure."""
+    text = str(error)
+    failed_run = isinstance(error, fm.SimulationError) and error.time is not None
+    labels = (*MODEL.coordinate_labels, *MODEL.q_labels)
+    return argument in text or failed_run or any(label in text for label in labels)
+
+
+@settings(max_examples=300 if os.environ.get("CI") else 150, deadline=None,
+          derandomize=bool(os.environ.get("CI")), suppress_health_check=[HealthCheck.too_slow])
+@given(st.sampled_from(sorted(CALLS)), st.data())
+def test_misuse_raises_only_flexmbd_errors_naming_the_argument(call, data):
+    function, arguments = CALLS[call]
+    argument = data.draw(st.sampled_from(arguments))
+    value = data.draw(st.sampled_from(BAD))
+    start = time.perf_counter()
+    try:
+        function(**{argument: value})
+    except fm.FlexmbdError as error:
+        assert _names_its_source(error, argument), (call, argument, value, str(error))
+    except Exception as error:  # anything else is what the test is about
+        pytest.fail(f"{call}({argument}={value!r}) raised {type(error).__name__}: {error}")
+    assert time.perf_counter() - start < BOUND
+
+
+@pytest.mark.parametrize("element_type", ["truss", "PLTRUSS", fm.Truss])
+def test_element_types_by_name_or_keyword(element_type):
+    b = fm.ModelBuilder("bar").add_node(1, 0.0, 0.0).add_node(2, 1.0, 0.0)
+    b.add_element(1, element_type, (1, 2)).fix(1).fix(2, "y").dynamic_deformation(1)
+    model = b.set_mass(1, 1.0).set_stiffness(1, axial=1.0).build()
+    assert model.elements[1].type is fm.Truss
+    with pytest.raises(fm.ModelError, match="the element type must be one of 'truss'"):
+        fm.ModelBuilder("bar").add_element(1, "girder", (1, 2)).build()
+
+
+def test_a_law_given_as_an_expression_in_t_has_its_derivatives():
+    """``"0.5 + 150 t"`` is the polynomial law; a SymPy ``sin`` has the exact rate and
+    acceleration (checked against ``cos`` and ``-sin``)."""
+    by_text = fm.kinematic_analysis(MODEL, TIMES, inputs={"x2.1": "0.5 + 150*t"})
+    by_law = fm.kinematic_analysis(MODEL, TIMES, inputs={"x2.1": fm.Polynomial(0.5, 150.0)})
+    np.testing.assert_array_equal(by_text.x, by_law.x)
+    t = sympy.Symbol("t")
+    wave = fm.Expression(0.3 * sympy.sin(40 * t))
+    for s in (0.0, 0.01, 0.02):
+        assert wave(s) == pytest.approx((0.3 * math.sin(40 * s), 12 * math.cos(40 * s),
+                                         -480 * math.sin(40 * s)), rel=1e-14, abs=1e-14)
+    with pytest.raises(fm.ArgumentError, match="may depend on t only, not on omega"):
+        fm.Expression("omega*t")
+    with pytest.raises(fm.ModelError, match="is not an expression in t"):
+        fm.ModelBuilder("x").add_node(1, 0, 0).input_coordinate(1, "x", law="t +* 2").build()
+
+
+def test_a_failing_user_function_is_named_and_keeps_the_run():
+    def law(t):
+        if t > 0.002:
+            raise ZeroDivisionError("division by zero")
+        return (150 * t, 150.0, 0.0)
+
+    result = fm.kinematic_analysis(MODEL, TIMES, inputs={"x2.1": law}, on_failure="return")
+    assert not result.success and len(result.t) == 3
+    assert "the law of x2.1 (node 2, phi) raised ZeroDivisionError" in result.message
+    assert isinstance(result.error.__cause__, ZeroDivisionError)
