@@ -309,6 +309,7 @@ def compile_model(model: Model) -> dict[str, object]:
         "elastic_def": ints(elastic_def), "nodal_mass": nodal_mass, "f_const": f_const,
         "gravity": gravity, "x0": np.asarray(model.x0, dtype=float),
         "coord_scale": np.asarray(model.coordinate_scale, dtype=float),
+        "move_scale": _move_scale(model),
         "dc_src": ints(dc_src), "dc_row": ints(dc_row), "dc_col": ints(dc_col),
         "dc_rowband": dc_rowband, "dc_colband": dc_colband,
         "dc_colscale": np.asarray(model.coordinate_scale, dtype=float)[dep],
@@ -328,6 +329,16 @@ def _collect(lists: tuple[list, list, list], src: np.ndarray, rows: np.ndarray,
     keep = (rows >= 0) & (cols >= 0)
     for target, values in zip(lists, (src, rows + row_offset, cols), strict=True):
         target.append(values[keep])
+
+
+def _move_scale(model: Model) -> np.ndarray:
+    """Per coordinate, what a predicted move between position solves is measured against:
+    the model size for a translation, 1 rad for an angle."""
+    scale = np.ones(model.n_coordinates)
+    for node in model.nodes.values():
+        if node.kind == TRANSLATIONAL:
+            scale[list(node.coordinates)] = model.characteristic_length
+    return scale
 
 
 def _coordinate_kinds(model: Model) -> dict[int, tuple[str, int]]:

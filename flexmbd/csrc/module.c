@@ -93,7 +93,7 @@ static const char *OUT_NAMES[N_OUT] = {"x", "xd", "xdd", "e", "ed", "edd", "q", 
 typedef struct {
     PyObject_HEAD
     FmModel m;
-    double *x0, *coord_scale, *lumped_diag;
+    double *x0, *coord_scale, *move_scale, *lumped_diag;
     int *consistent;
     FmState eval, out;             /* the integrator's evaluations; outputs and single states */
     FmState *failed;               /* the state of the last failure */
@@ -146,6 +146,7 @@ static void Core_dealloc(Core *c)
                    m->dc_colband, m->dc_w, m->dc_colscale, m->dc_rowscale, m->sd_band,
                    m->sd_a_src, m->sd_a_dst, m->sd_c_src, m->sd_c_dst, m->sd_c_dstt,
                    m->sd_m_coord, m->sd_m_dst, m->mult_of_def, c->x0, c->coord_scale,
+                   c->move_scale,
                    c->lumped_diag, c->consistent, c->op_J, c->law_kind, c->law_coef,
                    c->last_x, c->last_xd, c->last_xdd, c->last_q, c->last_qd, c->last_qdd,
                    c->guess, c->start};
@@ -298,6 +299,7 @@ static int Core_init(Core *c, PyObject *args, PyObject *kwds)
         {"sd_m_coord", (void **)&m->sd_m_coord, 'i', 0},
         {"mult_of_def", (void **)&m->mult_of_def, 'i', 0}, {"x0", (void **)&c->x0, 'd', 0},
         {"coord_scale", (void **)&c->coord_scale, 'd', 0},
+        {"move_scale", (void **)&c->move_scale, 'd', 0},
         {"lumped_diag", (void **)&c->lumped_diag, 'd', 0},
         {"consistent", (void **)&c->consistent, 'i', 0},
         {"fixed", (void **)&m->fixed, 'i', &nfixed},
@@ -517,6 +519,38 @@ static int dynamics_of(Core *c, FmState *s, int k, int free_dynamic, int solve)
 }
 
 /* --- the kinematic and inverse runs ---------------------------------------------------------- */
+/* Largest move of one coordinate the first-order predictor may make between two position
+ * solves: an angle in rad, a translation relative to the model's size. From farther away
+ * Newton can converge to another solution (a rod angle 2 pi off, a mirrored linkage), and
+ * the answer would depend on the output grid the user asked for. */
+#define MAX_PREDICTED_MOVE 0.1
+#define MAX_INTERNAL_STEPS 1000000
+
+/* Internal position solves from the solution `s` at t0 towards t, where the predictor would
+ * move a coordinate by more than MAX_PREDICTED_MOVE; `s` ends at the last of them. */
+static int approach(Core *c, FmState *s, double t0, double t)
+{
+    const FmModel *m = &c->m;
+    double move = 0.0;
+    for (int i = 0; i < m->nx; i++) {
+        const double step = fabs((t - t0) * s->xd[i]) / c->move_scale[i];
+        move = step > move ? step : move;
+    }
+    if (!(move > MAX_PREDICTED_MOVE))
+        return isfinite(move) ? FM_OK : FM_NOT_FINITE;
+    const double wanted = ceil(move / MAX_PREDICTED_MOVE);
+    const int steps = wanted < MAX_INTERNAL_STEPS ? (int)wanted : MAX_INTERNAL_STEPS;
+    for (int j = 1; j < steps; j++) {
+        const double tj = t0 + (t - t0) * j / steps;
+        int code = compose(c, s, tj, NULL, NULL, NULL);
+        for (int i = 0; i < m->nx && !code; i++)
+            c->guess[i] = s->x[i] + (tj - s->t) * s->xd[i];
+        if (code || (code = fm_kinematics(m, s, tj, c->guess, m->tolerance, 0, 1, &c->error)))
+            return code;
+    }
+    return FM_OK;
+}
+
 static PyObject *Core_kinematic_run(Core *c, PyObject *args)
 {
     PyObject *times_object;
@@ -534,10 +568,12 @@ static PyObject *Core_kinematic_run(Core *c, PyObject *args)
     c->failed = s;
     for (k = 0; k < n && !code; k++) {
         const double t = times[k];
+        if (k && (code = approach(c, s, times[k - 1], t)))
+            break;
         if ((code = compose(c, s, t, NULL, NULL, NULL)))
             break;
         for (int i = 0; i < m->nx; i++)  /* first-order predictor, x + F_q dq (THEORY 3) */
-            c->guess[i] = k ? s->x[i] + (t - times[k - 1]) * s->xd[i] : c->start[i];
+            c->guess[i] = k ? s->x[i] + (t - s->t) * s->xd[i] : c->start[i];
         if ((code = fm_kinematics(m, s, t, c->guess, m->tolerance, 0, 1, &c->error)))
             break;
         if (c->dynamics)
