@@ -227,18 +227,44 @@ def _unit(model: Model, columns: list[str]) -> str:
     return units.pop() if len(units) == 1 else ""
 
 
+def column_unit(model: Model, name: str) -> str:
+    """The unit of a result column: ``"m/s"`` for ``"xd5.1"`` of a translational node,
+    ``"N m"`` for the stress ``"sig2.2"`` of a bending deformation, ``"s"`` for ``"t"``."""
+    name = name.strip()
+    if name == "t":
+        return "s"
+    prefix = next(p for p in ("sig", "xdd", "xd", "x", "edd", "ed", "e", "f")
+                  if name.startswith(p))
+    number, _, k = name[len(prefix):].partition(".")
+    k = int(k or 1)
+    if prefix in ("sig", "e", "ed", "edd"):
+        element = model.elements[int(number)]
+        base = element.type.deformation_units[k - 1]
+    else:
+        base = "rad" if model.nodes[int(number)].kind == "rotational" else "m"
+    if prefix in ("sig", "f"):
+        return "N m" if base == "rad" else "N"
+    return base + {"": "", "d": "/s", "dd": "/s^2"}[prefix[1:]]
+
+
 def plot_columns(result: KinematicResult, columns: list[str], against: str = "t", *,
                  labels: list[str] | None = None, title: str | None = None,
                  filename: str | Path | None = None, ylabel: str | None = None,
                  window: bool = False):
     """Plot result columns (``"x5.1"``, ``"xd5.1"``, ...) against time or another column.
+    The axes are labelled with the columns' units unless ``ylabel`` is given.
 
     Returns the ``matplotlib.figure.Figure``; saved to ``filename`` when given.
     """
+    model = result.model
     curves = {labels[k] if labels else name: result[name] for k, name in enumerate(columns)}
-    return plot_curves(result[against], curves, xlabel="t [s]" if against == "t" else against,
-                       ylabel=ylabel, title=title or result.model.name, filename=filename,
-                       window=window)
+    if ylabel is None:
+        units = {column_unit(model, name) for name in columns}
+        ylabel = (f"{', '.join(columns[:3])}{', ...' if len(columns) > 3 else ''} "
+                  f"[{', '.join(sorted(units))}]")
+    return plot_curves(result[against], curves,
+                       xlabel=f"{against} [{column_unit(model, against)}]", ylabel=ylabel,
+                       title=title or model.name, filename=filename, window=window)
 
 
 def plot_curves(x: np.ndarray, curves: dict[str, np.ndarray], *, xlabel: str,

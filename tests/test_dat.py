@@ -347,4 +347,4 @@ def test_results_export_and_plot(tmp_path):
     with pytest.raises(fm.FlexmbdError, match="cannot write"):
         result.to_csv(tmp_path / "missing" / "r.csv")
     figure = result.plot(["x2.2"], against="x1.1", filename=tmp_path / "r.png")
-    assert figure.axes[0].get_xlabel() == "x1.1" and (tmp_path / "r.png").stat().st_size > 5000
+    assert figure.axes[0].get_xlabel() == "x1.1 [m]" and (tmp_path / "r.png").stat().st_size > 5000

@@ -318,3 +318,23 @@ def test_the_output_grid_does_not_change_the_answer(times):
                                rtol=0, atol=1e-12)
     fine = fm.inverse_dynamics(model, np.linspace(0.0, times[-1], 2001))
     assert coarse["f2.1"][-1] == pytest.approx(fine["f2.1"][-1], rel=1e-9)
+
+
+def test_plots_of_a_run_label_their_axes_with_units(tmp_path):
+    from flexmbd.elements import ELEMENT_TYPES
+    from flexmbd.plot import column_unit, plot_columns
+
+    for etype in ELEMENT_TYPES.values():  # every element type declares them
+        assert len(etype.deformation_units) == etype.n_deformations()
+        assert set(etype.deformation_units) <= {"m", "rad"}
+    model = _flex_with({})
+    units = {name: column_unit(model, name) for name in
+             ("t", "x5.1", "xd5.1", "xdd2.1", "e2.1", "ed2.2", "sig2.1", "sig2.3", "f2.1",
+              "f1.2")}
+    assert units == {"t": "s", "x5.1": "m", "xd5.1": "m/s", "xdd2.1": "rad/s^2", "e2.1": "m",
+                     "ed2.2": "rad/s", "sig2.1": "N", "sig2.3": "N m", "f2.1": "N m",
+                     "f1.2": "N"}
+    result = fm.simulate(model, np.linspace(0, 0.01, 5))
+    figure = plot_columns(result, ["e2.2", "e2.3"], "x2.1")
+    axes = figure.axes[0]
+    assert axes.get_ylabel() == "e2.2, e2.3 [rad]" and axes.get_xlabel() == "x2.1 [rad]"

@@ -81,6 +81,8 @@ class ElementType:
         keyword: the SPACAR input-file keyword (``"PLTRUSS"``).
         roles: the nodes in connection order.
         deformation_names: one name per deformation parameter.
+        deformation_units: the SI unit of each (``"m"`` or ``"rad"``); a stress of a
+            length is a force [N], of an angle a moment [N m].
         reference: how many of :data:`REFERENCE_NAMES` the definition uses (0 to 2).
         stiffness_values, damping_values: the values of ``ESTIFF`` and ``EDAMP``, in
             their order in a ``.dat`` line.
@@ -93,6 +95,7 @@ class ElementType:
     keyword: ClassVar[str]
     roles: ClassVar[tuple[Role, ...]]
     deformation_names: ClassVar[tuple[str, ...]]
+    deformation_units: ClassVar[tuple[str, ...]]
     reference: ClassVar[int] = 2
     stiffness_values: ClassVar[tuple[Value, ...]] = ()
     damping_values: ClassVar[tuple[Value, ...]] = ()

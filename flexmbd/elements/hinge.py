@@ -17,6 +17,7 @@ class Hinge(ElementType):
     keyword = "PLHINGE"
     roles = (rotational("phi_p"), rotational("phi_q"))
     deformation_names = ("relative rotation",)
+    deformation_units = ("rad",)
     reference = 0
     stiffness_values = (Value("hinge", "k", "N m/rad"),)
     damping_values = (Value("hinge", "c", "N m s/rad"),)

@@ -31,6 +31,7 @@ class RigidBeam(ElementType):
     keyword = "PLRBEAM"
     roles = (translational("p"), rotational("phi_p"), translational("q"))
     deformation_names = ("elongation", "normal offset")
+    deformation_units = ("m", "m")
     stiffness_values = (AXIAL_STIFFNESS,)
     damping_values = (AXIAL_DAMPING,)
     has_mass = True

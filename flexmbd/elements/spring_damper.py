@@ -26,6 +26,7 @@ class SpringDamper(ElementType):
     keyword = "PLSPRING"
     roles = (translational("p"), translational("q"))
     deformation_names = ("elongation",)
+    deformation_units = ("m",)
     reference = 1
     stiffness_values = (Value("spring", "k", "N/m"),)
     damping_values = (Value("spring", "c", "N s/m"),)

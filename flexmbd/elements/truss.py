@@ -33,6 +33,7 @@ class Truss(ElementType):
     keyword = "PLTRUSS"
     roles = (translational("p"), translational("q"))
     deformation_names = ("elongation",)
+    deformation_units = ("m",)
     reference = 1
     stiffness_values = (AXIAL_STIFFNESS,)
     damping_values = (AXIAL_DAMPING,)
