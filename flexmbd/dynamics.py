@@ -24,7 +24,7 @@ import numpy as np
 from . import checks
 from .engine import Engine, Forces, initial_q, q_index, resolve_laws
 from .errors import ArgumentError, ModelError, SimulationError
-from .integrate import AlphaOptions, check_method, integrate
+from .integrate import AlphaOptions, StepsCollapsedError, check_method, integrate
 from .kinematics import coordinates, first_order_transfer
 from .model import Model
 from .motion import Law
@@ -278,8 +278,8 @@ def _scipy_run(engine: Engine, laws, times, q0, qd0, method, rtol, atol, max_ste
     error = run.error
     if error is None and not run.success:
         error = SimulationError(run.message, float(run.t[-1]) if len(run.t) else None)
-    if isinstance(error, SimulationError) and method in EXPLICIT and \
-            run.stats["nsteps"] > STIFF_STEPS * max(len(run.t), 1):
+    if isinstance(error, SimulationError) and not isinstance(error, StepsCollapsedError) \
+            and method in EXPLICIT and run.stats["nsteps"] > STIFF_STEPS * max(len(run.t), 1):
         error.args = (f"{error.args[0]}; {method} took {run.stats['nsteps']} steps for "
                       f"{len(run.t)} outputs: the model is stiff for an explicit method "
                       f"(fast modes such as flexible elongations), try "

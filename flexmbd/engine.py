@@ -495,6 +495,13 @@ class Engine:
         Returns the output arrays ``{name: (n_outputs, size)}`` the run fills."""
         model = self.model
         self.integrated = integrated
+        # A simulation's position solves start from the extrapolated last solution and keep
+        # converging quadratically through configurations where redundant but consistent
+        # constraints make D_c nearly singular (a parallelogram whose bars align): the
+        # dynamics carry the mechanism through, so the dead-point test of driven runs is
+        # off. A real dead end still stops the run: Newton fails, or D_c is singular.
+        self.core.settings(self.tolerance, self.max_iterations,
+                           0.0 if integrated else self.regularity_limit)
         nq = model.n_dof
         kind = np.zeros(nq, dtype=np.int32)
         coef = np.zeros((nq, 3))

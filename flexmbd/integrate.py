@@ -137,6 +137,32 @@ def _step(solver, on_reject) -> str | None:
     return solver.step()
 
 
+class StepsCollapsedError(SimulationError):
+    """An error-controlled integrator's steps shrank to nothing (see :class:`_Crawl`)."""
+
+
+class _Crawl:
+    """Ends a run whose steps have shrunk to nothing: more than :data:`CRAWL_STEPS` steps
+    in a row each shorter than :data:`CRAWL_SHARE` of the run would take hours to get
+    anywhere (scipy gives up only at the spacing of floating-point numbers)."""
+
+    def __init__(self, span: float):
+        self.smallest, self.count = CRAWL_SHARE * span, 0
+
+    def check(self, solver, method: str) -> None:
+        self.count = self.count + 1 if solver.step_size < self.smallest else 0
+        if self.count > CRAWL_STEPS:
+            raise StepsCollapsedError(
+                f"the {method} integrator's steps shrank to {solver.step_size:.2g} s at "
+                f"t = {solver.t:.6g} s: the motion is not smooth enough there for its "
+                f"tolerance (near a singular configuration round-off grows); loosen rtol "
+                f"or use method='GeneralizedAlpha'", float(solver.t))
+
+
+#: a run stops when this many steps in a row each cover less than this share of it
+CRAWL_STEPS, CRAWL_SHARE = 1000, 1e-10
+
+
 def _outputs(solver, t_eval, k: int, ys: list, on_output) -> int:
     """Append the outputs from ``t_eval[k]`` that the solver's last step passed; returns the
     next ``k``. An output whose ``on_output`` raises is not kept."""
@@ -173,6 +199,7 @@ def _integrate_scipy(fun, y0, t_eval, method, rtol, atol, max_step, progress, on
                                  {"nfev": 1, "njev": 0, "nlu": 0, "nsteps": 0})
     bar = nullcontext(progress) if callable(progress) else \
         progress_bar(t_eval, f"simulating ({method})", progress)
+    crawl = _Crawl(t_eval[-1] - t_eval[0])
     with bar as advance:
         while solver.status == "running":
             try:
@@ -182,6 +209,7 @@ def _integrate_scipy(fun, y0, t_eval, method, rtol, atol, max_step, progress, on
                     message = (f"the {method} integrator failed at t = {solver.t:.6g} s: "
                                f"{step_message}")
                     break
+                crawl.check(solver, method)
                 k = _outputs(solver, t_eval, k, ys, on_output)
                 if advance is not None:
                     advance(solver.t)
