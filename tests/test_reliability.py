@@ -341,11 +341,11 @@ def test_plots_of_a_run_label_their_axes_with_units(tmp_path):
 
 
 # --- redundant constraints: a chain of parallelograms whose bars align --------------------
-BAR, SPACING, BAR_MASS, LINK_MASS, GRAVITY = 0.5, 1.0, 1.0, 0.5, 9.81
+BAR_LENGTH, SPACING, BAR_MASS, LINK_MASS, GRAVITY = 0.5, 1.0, 1.0, 0.5, 9.81
 
 
 def parallelograms(loops: int) -> fm.Model:
-    """``loops + 1`` equal bars (rigid beams of ``BAR`` m, ``BAR_MASS`` kg) pinned at
+    """``loops + 1`` equal bars (rigid beams of ``BAR_LENGTH`` m, ``BAR_MASS`` kg) pinned at
     ``x = 0, 1, 2 ...`` m and hanging straight down, their tips joined by trusses
     (``LINK_MASS`` kg): ``loops`` parallelograms moved by the first bar's angle. When the
     bars are horizontal, every bar, link and the ground line up: the constraints become
@@ -353,8 +353,8 @@ def parallelograms(loops: int) -> fm.Model:
     b = fm.ModelBuilder(f"{loops}-loop parallelogram")
     for k in range(loops + 1):
         base, angle, tip = 10 * k + 1, 10 * k + 2, 10 * k + 3
-        b.add_node(base, SPACING * k, 0.0).add_node(tip, SPACING * k, -BAR).fix(base)
-        b.add_rigid_beam(k + 1, base, angle, tip).set_mass(k + 1, BAR_MASS / BAR)
+        b.add_node(base, SPACING * k, 0.0).add_node(tip, SPACING * k, -BAR_LENGTH).fix(base)
+        b.add_rigid_beam(k + 1, base, angle, tip).set_mass(k + 1, BAR_MASS / BAR_LENGTH)
         if k:
             b.add_truss(100 + k, tip - 10, tip).set_mass(100 + k, LINK_MASS / SPACING)
     return b.dynamic_coordinate(2).set_gravity(0.0, -GRAVITY).build()
@@ -368,8 +368,8 @@ def test_a_simulation_goes_through_the_aligned_positions_of_redundant_loops():
     from scipy.integrate import solve_ivp
 
     loops, spin = 3, 11.0  # rad/s at the bottom: enough to go over the top
-    inertia = (loops + 1) * BAR_MASS * BAR**2 / 3 + loops * LINK_MASS * BAR**2
-    moment = GRAVITY * ((loops + 1) * BAR_MASS * BAR / 2 + loops * LINK_MASS * BAR)
+    inertia = (loops + 1) * BAR_MASS * BAR_LENGTH**2 / 3 + loops * LINK_MASS * BAR_LENGTH**2
+    moment = GRAVITY * ((loops + 1) * BAR_MASS * BAR_LENGTH / 2 + loops * LINK_MASS * BAR_LENGTH)
     times = np.linspace(0.0, 10.0, 2001)
     one_dof = solve_ivp(lambda t, y: [y[1], -moment * np.cos(y[0]) / inertia],
                         (0.0, 10.0), [-np.pi / 2, spin], t_eval=times, method="DOP853",
@@ -378,9 +378,9 @@ def test_a_simulation_goes_through_the_aligned_positions_of_redundant_loops():
     result = fm.simulate(model, times, initial={"x2.1": (0.0, spin)}, rtol=1e-10, atol=1e-12)
     for k in range(loops + 1):
         tip = 10 * k + 3
-        np.testing.assert_allclose(result[f"x{tip}.1"], SPACING * k + BAR * np.cos(one_dof),
+        np.testing.assert_allclose(result[f"x{tip}.1"], SPACING * k + BAR_LENGTH * np.cos(one_dof),
                                    rtol=0, atol=1e-6)
-        np.testing.assert_allclose(result[f"x{tip}.2"], BAR * np.sin(one_dof), rtol=0,
+        np.testing.assert_allclose(result[f"x{tip}.2"], BAR_LENGTH * np.sin(one_dof), rtol=0,
                                    atol=1e-6)
     assert np.max(np.abs(np.cos(one_dof))) > 0.999999  # it did pass the aligned positions
     kinetic = 0.5 * np.einsum("ti,tij,tj->t", result.xd, fm.mass_matrix(model, result.x),
