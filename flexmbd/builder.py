@@ -617,8 +617,8 @@ def check_solvability(model: Model) -> list[Problem]:
         return []
     if rows and cols:
         D_x = dense_jacobian(model, np.asarray(model.x0))
-        diagnosis = diagnose_rank(model, D_x[np.ix_(model.constrained, model.dependent)])
-        text, free, redundant = diagnosis
+        text, free, redundant = diagnose_rank(model, D_x[np.ix_(model.constrained,
+                                                                model.dependent)])
     elif rows:
         free, redundant = [], model.constrained
         names = ", ".join(model.describe_deformation(i) for i in model.constrained)
