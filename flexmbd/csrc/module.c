@@ -352,7 +352,7 @@ static int Core_init(Core *c, PyObject *args, PyObject *kwds)
         memcpy(c->start, c->x0, sizeof(double) * m->nx);
     }
     void *temporary[] = {dc_row, dc_col, sa_u, sa_v, sm_u, sc_u, sc_v, gravity};
-    for (int k = 0; k < 8; k++)
+    for (size_t k = 0; k < sizeof(temporary) / sizeof(temporary[0]); k++)
         free(temporary[k]);
     return failed ? (PyErr_NoMemory(), -1) : 0;
 }
@@ -712,11 +712,15 @@ static int mech_output(void *context, int k, double t, const double *q, const do
     fm_state_copy(s, &c->eval, &c->m);
     if ((code = compose(c, s, t, q, v, NULL)))
         return code;
-    /* from the last evaluation, or before any from the run's start (its branch) */
-    const double *guess = c->have_last ? c->eval.x : c->start;
+    /* from the last evaluation extrapolated to t (before any, the run's start): near a
+     * configuration where branches of solutions meet, only a prediction this close keeps
+     * the output on the branch the integration follows */
+    predict(c, s, t);
     const int factored = c->have_last && c->eval.has_factor;
-    code = c->level ? fm_kinematics(&c->m, s, t, guess, c->m.tolerance, factored, 0, &c->error)
-                    : fm_positions(&c->m, s, t, guess, c->m.tolerance, factored, -1, &c->error);
+    code = c->level ? fm_kinematics(&c->m, s, t, c->guess, c->m.tolerance, factored, 0,
+                                    &c->error)
+                    : fm_positions(&c->m, s, t, c->guess, c->m.tolerance, factored, -1,
+                                   &c->error);
     if (code || c->level < 2) {
         if (!code)
             store(c, k, s);
