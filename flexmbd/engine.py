@@ -479,11 +479,13 @@ class Engine:
         #: reference configuration's conditioning where that is below 1: a long chain of
         #: beams is regular but less well conditioned than one link.
         reference = self.core.factor(np.asarray(model.x0, dtype=float))
+        self.reference_conditioning = min(1.0, reference)
         self.regularity_limit = 10.0 * float(np.sqrt(
-            self.tolerance / model.characteristic_length)) * min(1.0, reference)
+            self.tolerance / model.characteristic_length)) * self.reference_conditioning
         self.arrays: dict[str, np.ndarray] = {}
         self.integrated = False  #: whether the run integrates dynamic degrees of freedom
-        self.core.settings(self.tolerance, self.max_iterations, self.regularity_limit)
+        self.core.settings(self.tolerance, self.max_iterations, self.regularity_limit,
+                           self.reference_conditioning)
 
     # --- preparing a run ------------------------------------------------------------------
     def prepare(self, laws: list[Law], n_outputs: int, *, integrated: bool = False,
@@ -501,7 +503,8 @@ class Engine:
         # dynamics carry the mechanism through, so the dead-point test of driven runs is
         # off. A real dead end still stops the run: Newton fails, or D_c is singular.
         self.core.settings(self.tolerance, self.max_iterations,
-                           0.0 if integrated else self.regularity_limit)
+                           0.0 if integrated else self.regularity_limit,
+                           self.reference_conditioning)
         nq = model.n_dof
         kind = np.zeros(nq, dtype=np.int32)
         coef = np.zeros((nq, 3))

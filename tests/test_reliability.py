@@ -398,3 +398,19 @@ def test_outputs_between_steps_stay_on_the_branch_of_the_integration():
     for k in range(1, 5):  # every bar parallel to the first, every link horizontal
         np.testing.assert_allclose(result[f"x{10 * k + 3}.2"], result["x3.2"], rtol=0,
                                    atol=1e-8)
+
+
+def test_generalized_alpha_keeps_the_branch_through_aligned_bars():
+    """GeneralizedAlpha solves positions loosely (to its truncation error) where D_c is well
+    conditioned; near aligned bars D_c magnifies that looseness into velocities of the
+    crossed branch, so there the positions are solved tighter. Before, one output of this
+    run gained 80 % energy and the run kept 0.5 % of it; now the energy holds to 1e-4."""
+    model = parallelograms(2)
+    result = fm.simulate(model, np.linspace(0.0, 10.0, 10001), initial={"x2.1": (0.0, 11.0)},
+                         method="GeneralizedAlpha")
+    moment = GRAVITY * (3 * BAR_MASS * BAR_LENGTH / 2 + 2 * LINK_MASS * BAR_LENGTH)
+    kinetic = 0.5 * np.einsum("ti,tij,tj->t", result.xd, fm.mass_matrix(model, result.x),
+                              result.xd)
+    energy = kinetic + moment * np.sin(-np.pi / 2 + result["x2.1"])
+    assert np.max(np.abs(energy - energy[0])) <= 1e-4 * kinetic.max()
+    np.testing.assert_allclose(result["xd22.1"], result["xd2.1"], rtol=0, atol=1e-3)

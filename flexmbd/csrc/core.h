@@ -123,6 +123,7 @@ typedef struct {
     double tolerance;
     int max_iterations;
     double regularity_limit;
+    double reference_conditioning;       /* of D_c in the reference configuration, <= 1 */
     double length;                       /* characteristic length */
     int total_j, total_b;                /* sizes of the Jacobian and block storage */
 } FmModel;

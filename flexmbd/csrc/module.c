@@ -328,6 +328,7 @@ static int Core_init(Core *c, PyObject *args, PyObject *kwds)
     m->tolerance = 1e-10;
     m->max_iterations = 25;
     m->regularity_limit = 1e-4;
+    m->reference_conditioning = 1.0;
     m->varying = calloc(m->nel ? m->nel : 1, sizeof(int));
     m->mconst = calloc(m->total_b ? m->total_b : 1, sizeof(double));
     m->dc_rowscale = malloc(sizeof(double) * (m->nr ? m->nr : 1));
@@ -991,8 +992,8 @@ static PyObject *Core_bands(Core *c, PyObject *unused)
 /* settings(tolerance, max_iterations, regularity_limit) of the position solve */
 static PyObject *Core_settings(Core *c, PyObject *args)
 {
-    if (!PyArg_ParseTuple(args, "did", &c->m.tolerance, &c->m.max_iterations,
-                          &c->m.regularity_limit))
+    if (!PyArg_ParseTuple(args, "didd", &c->m.tolerance, &c->m.max_iterations,
+                          &c->m.regularity_limit, &c->m.reference_conditioning))
         return NULL;
     Py_RETURN_NONE;
 }
@@ -1095,7 +1096,8 @@ static PyMethodDef Core_methods[] = {
      "Prepare a run: laws, loads, output arrays."},
     {"release", (PyCFunction)Core_release, METH_NOARGS, "Let go of the prepared run's arrays."},
     {"settings", (PyCFunction)Core_settings, METH_VARARGS,
-     "settings(tolerance, max_iterations, regularity_limit) of the position solve."},
+     "settings(tolerance, max_iterations, regularity_limit, reference_conditioning) of the "
+     "position solve."},
     {"kinematic_run", (PyCFunction)Core_kinematic_run, METH_VARARGS,
      "Kinematics (and with dynamics, stresses and reactions) at every time of a grid."},
     {"alpha_run", (PyCFunction)(void (*)(void))Core_alpha_run, METH_VARARGS | METH_KEYWORDS,

@@ -398,12 +398,29 @@ static void quadratic_pass(const FmModel *m, FmState *s)
     }
 }
 
+/* conditioning of D_c, relative to the reference configuration's, below which positions
+ * are solved tighter than asked (fm_kinematics) */
+#define TIGHTEN_BELOW 1e-2
+
 int fm_kinematics(const FmModel *m, FmState *s, double t, const double *guess, double near,
                   int use_factor, int refresh, FmError *err)
 {
     int code = fm_positions(m, s, t, guess, near, use_factor, refresh, err);
     if (code)
         return code;
+    /* The rates come from D_c, which magnifies an error of the positions by one over its
+     * conditioning: where redundant constraints make it nearly singular (a parallelogram
+     * whose bars align), a position loose to `near` would give velocities of the other
+     * branch. There the positions are solved to near times the conditioning. */
+    const double conditioning = near > m->tolerance ? fm_conditioning(m, s) : 1.0;
+    if (conditioning < TIGHTEN_BELOW * m->reference_conditioning) {
+        double *start = s->w6;
+        memcpy(start, s->x, sizeof(double) * m->nx);
+        const double tight = near * conditioning > m->tolerance ? near * conditioning
+                                                                 : m->tolerance;
+        if ((code = fm_positions(m, s, t, start, tight, 1, refresh, err)))
+            return code;
+    }
     memset(s->xd, 0, sizeof(double) * m->nx);
     memset(s->xdd, 0, sizeof(double) * m->nx);
     for (int k = 0; k < m->nxm; k++) {
