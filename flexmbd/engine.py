@@ -309,7 +309,7 @@ def compile_model(model: Model) -> dict[str, object]:
         "elastic_def": ints(elastic_def), "nodal_mass": nodal_mass, "f_const": f_const,
         "gravity": gravity, "x0": np.asarray(model.x0, dtype=float),
         "coord_scale": np.asarray(model.coordinate_scale, dtype=float),
-        "move_scale": _move_scale(model),
+        "move_scale": _coordinate_size(model),
         "dc_src": ints(dc_src), "dc_row": ints(dc_row), "dc_col": ints(dc_col),
         "dc_rowband": dc_rowband, "dc_colband": dc_colband,
         "dc_colscale": np.asarray(model.coordinate_scale, dtype=float)[dep],
@@ -331,9 +331,9 @@ def _collect(lists: tuple[list, list, list], src: np.ndarray, rows: np.ndarray,
         target.append(values[keep])
 
 
-def _move_scale(model: Model) -> np.ndarray:
-    """Per coordinate, what a predicted move between position solves is measured against:
-    the model size for a translation, 1 rad for an angle."""
+def _coordinate_size(model: Model) -> np.ndarray:
+    """Per coordinate the size a change of it is measured against (a predicted move, a
+    continuation step): the model size for a translation, 1 rad for an angle."""
     scale = np.ones(model.n_coordinates)
     for node in model.nodes.values():
         if node.kind == TRANSLATIONAL:
@@ -413,10 +413,7 @@ def resolve_laws(model: Model, inputs: Mapping[str, Law] | None = None) -> list[
 def _q_scale(model: Model) -> np.ndarray:
     """Per entry of ``q``: 1 for angles, one over the model size for lengths."""
     length = model.characteristic_length
-    coordinates = [1.0 / length if c in model.nodes[n].coordinates and
-                   model.nodes[n].kind == TRANSLATIONAL else 1.0
-                   for c in model.independent_coordinates for n in model.nodes
-                   if c in model.nodes[n].coordinates]
+    coordinates = list(1.0 / _coordinate_size(model)[model.independent_coordinates])
     deformations = []
     for d in model.independent_deformations:
         etype = next(e.type for e in model.elements.values() if d in e.deformations)
@@ -450,6 +447,12 @@ def load_vector(model: Model, value) -> np.ndarray:
 OUTPUTS = {"x": "nx", "xd": "nx", "xdd": "nx", "e": "ne", "ed": "ne", "edd": "ne",
            "q": "nq", "qd": "nq", "qdd": "nq", "sigma": "ne", "reactions": "nx",
            "driving": "nq"}
+
+
+def output_sizes(model: Model) -> dict[str, int]:
+    """Values per output time of each column group of :data:`OUTPUTS`."""
+    counts = {"nx": model.n_coordinates, "ne": model.n_deformations, "nq": model.n_dof}
+    return {name: counts[size] for name, size in OUTPUTS.items()}
 
 
 class Engine:
@@ -523,10 +526,10 @@ class Engine:
             for j in python:
                 values[j] = _law_values(laws[j], t, model.describe_q(j))
 
-        sizes = {"nx": model.n_coordinates, "ne": model.n_deformations, "nq": nq}
+        sizes = output_sizes(model)
         wanted = columns or tuple(OUTPUTS)
-        checks.output_memory(n_outputs, sum(sizes[OUTPUTS[name]] for name in wanted))
-        self.arrays = {name: np.zeros((n_outputs, sizes[OUTPUTS[name]])) for name in wanted}
+        checks.output_memory(n_outputs, sum(sizes[name] for name in wanted))
+        self.arrays = {name: np.zeros((n_outputs, sizes[name])) for name in wanted}
         options = {}
         if python:
             options.update(law_callback=fill_laws, law_values=values)

@@ -11,7 +11,7 @@ from . import checks
 from .dat import read_dat
 from .dat.syntax import LARGEST_INTEGER
 from .dynamics import inverse_dynamics, simulate
-from .engine import OUTPUTS
+from .engine import output_sizes
 from .errors import ArgumentError
 from .integrate import METHODS
 from .kinematics import kinematic_analysis
@@ -94,8 +94,7 @@ def analyse(model: Model, settings: RunSettings, mode: str, times: np.ndarray,
 
 def empty_result(model: Model, mode: str) -> KinematicResult:
     """A result of ``mode`` with no rows: the columns a run will have, known before it."""
-    sizes = {"nx": model.n_coordinates, "ne": model.n_deformations, "nq": model.n_dof}
-    arrays = {name: np.zeros((0, sizes[size])) for name, size in OUTPUTS.items()}
+    arrays = {name: np.zeros((0, size)) for name, size in output_sizes(model).items()}
     if mode == "kinematic":
         return KinematicResult(model, np.zeros(0), **{k: arrays[k] for k in
                                                       ("x", "xd", "xdd", "e", "ed", "edd")})
