@@ -527,6 +527,19 @@ static int dynamics_of(Core *c, FmState *s, int k, int free_dynamic, int solve)
 #define MAX_PREDICTED_MOVE 0.1
 #define MAX_INTERNAL_STEPS 1000000
 
+/* The state at t of the run's laws, its positions solved from the run's start (`first`) or
+ * from the solution in `s` by the first-order predictor x + F_q dq (THEORY 3). */
+static int solve_at(Core *c, FmState *s, double t, int first)
+{
+    const FmModel *m = &c->m;
+    int code = compose(c, s, t, NULL, NULL, NULL);
+    if (code)
+        return code;
+    for (int i = 0; i < m->nx; i++)
+        c->guess[i] = first ? c->start[i] : s->x[i] + (t - s->t) * s->xd[i];
+    return fm_kinematics(m, s, t, c->guess, m->tolerance, 0, 1, &c->error);
+}
+
 /* Internal position solves from the solution `s` at t0 towards t, where the predictor would
  * move a coordinate by more than MAX_PREDICTED_MOVE; `s` ends at the last of them. */
 static int approach(Core *c, FmState *s, double t0, double t)
@@ -542,11 +555,8 @@ static int approach(Core *c, FmState *s, double t0, double t)
     const double wanted = ceil(move / MAX_PREDICTED_MOVE);
     const int steps = wanted < MAX_INTERNAL_STEPS ? (int)wanted : MAX_INTERNAL_STEPS;
     for (int j = 1; j < steps; j++) {
-        const double tj = t0 + (t - t0) * j / steps;
-        int code = compose(c, s, tj, NULL, NULL, NULL);
-        for (int i = 0; i < m->nx && !code; i++)
-            c->guess[i] = s->x[i] + (tj - s->t) * s->xd[i];
-        if (code || (code = fm_kinematics(m, s, tj, c->guess, m->tolerance, 0, 1, &c->error)))
+        const int code = solve_at(c, s, t0 + (t - t0) * j / steps, 0);
+        if (code)
             return code;
     }
     return FM_OK;
@@ -558,7 +568,6 @@ static PyObject *Core_kinematic_run(Core *c, PyObject *args)
     Views v = {.n = 0};
     if (!PyArg_ParseTuple(args, "O", &times_object))
         return NULL;
-    const FmModel *m = &c->m;
     const double *times = array(&v, times_object, 0, 0, "times");
     if (!times)
         return NULL;
@@ -571,11 +580,7 @@ static PyObject *Core_kinematic_run(Core *c, PyObject *args)
         const double t = times[k];
         if (k && (code = approach(c, s, times[k - 1], t)))
             break;
-        if ((code = compose(c, s, t, NULL, NULL, NULL)))
-            break;
-        for (int i = 0; i < m->nx; i++)  /* first-order predictor, x + F_q dq (THEORY 3) */
-            c->guess[i] = k ? s->x[i] + (t - s->t) * s->xd[i] : c->start[i];
-        if ((code = fm_kinematics(m, s, t, c->guess, m->tolerance, 0, 1, &c->error)))
+        if ((code = solve_at(c, s, t, k == 0)))
             break;
         if (c->dynamics)
             code = dynamics_of(c, s, k, 0, 0);
