@@ -8,10 +8,10 @@ translational input the coordinate itself [m].
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+from . import checks
 from .errors import ArgumentError
 
 
@@ -31,14 +31,7 @@ class Polynomial:
 
     def __post_init__(self):
         for name in ("x0", "v0", "a0"):
-            value = getattr(self, name)
-            try:
-                number = float(value)
-            except (TypeError, ValueError):
-                number = math.nan
-            if isinstance(value, (bool, str)) or not math.isfinite(number):
-                raise ArgumentError(f"Polynomial {name}", f"must be a finite number, got "
-                                                          f"{value!r}")
+            checks.real(getattr(self, name), f"Polynomial {name}")
 
     def __call__(self, t: float) -> tuple[float, float, float]:
         return (self.x0 + self.v0 * t + 0.5 * self.a0 * t * t, self.v0 + self.a0 * t, self.a0)
