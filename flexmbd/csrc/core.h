@@ -171,6 +171,7 @@ void fm_reduced_residual(const FmModel *m, FmState *s, double *r);
 void fm_equilibrium(const FmModel *m, FmState *s, int free_dynamic, double *reactions,
                     double *driving);
 double fm_conditioning(const FmModel *m, FmState *s);
+int fm_nearly_singular(const FmModel *m, FmState *s);   /* D_c ill-conditioned for its model */
 int fm_factor_at(const FmModel *m, FmState *s, const double *x);
 void fm_solve_dc(const FmModel *m, FmState *s, double *r, int transposed);
 void fm_jacobian_times(const FmModel *m, const double *J, const double *v, double *out);

@@ -120,6 +120,8 @@ typedef struct {
     int have_last;
     double *start;                 /* the first guess of a run (the reference pose continued) */
     double last_t, *last_x, *last_xd, *last_xdd, *last_q, *last_qd, *last_qdd, *guess;
+    double *path;                  /* 2 nq: q and its rate along a path from the last solution */
+    double *found;                 /* nx: a solution to compare with (keep_branch) */
     long nfev;
 } Core;
 
@@ -149,7 +151,7 @@ static void Core_dealloc(Core *c)
                    c->move_scale,
                    c->lumped_diag, c->consistent, c->op_J, c->law_kind, c->law_coef,
                    c->last_x, c->last_xd, c->last_xdd, c->last_q, c->last_qd, c->last_qdd,
-                   c->guess, c->start};
+                   c->guess, c->start, c->path, c->found};
     for (size_t k = 0; k < sizeof(all) / sizeof(all[0]); k++)
         free(all[k]);
     if (c->eval.q) {
@@ -334,15 +336,16 @@ static int Core_init(Core *c, PyObject *args, PyObject *kwds)
     m->dc_rowscale = malloc(sizeof(double) * (m->nr ? m->nr : 1));
     const int nq = m->nq > 0 ? m->nq : 1, nx = m->nx > 0 ? m->nx : 1;
     double **vectors[] = {&c->last_x, &c->last_xd, &c->last_xdd, &c->guess, &c->start,
-                          &c->last_q, &c->last_qd, &c->last_qdd};
-    for (int k = 0; k < 8; k++)
-        *vectors[k] = calloc(k < 5 ? nx : nq, sizeof(double));
+                          &c->found, &c->last_q, &c->last_qd, &c->last_qdd, &c->path};
+    for (int k = 0; k < 10; k++)
+        *vectors[k] = calloc(k < 6 ? nx : k < 9 ? nq : 2 * nq, sizeof(double));
     c->op_J = calloc(m->total_j > 0 ? m->total_j : 1, sizeof(double));
     c->law_kind = calloc(nq, sizeof(int));
     c->law_coef = calloc(3 * nq, sizeof(double));
     int failed = build_maps(m, dc_row, dc_col, (int)ndc, sa_u, sa_v, (int)nsa, sm_u, sc_u, sc_v)
                  || !m->varying || !m->mconst || !m->dc_rowscale || !c->op_J || !c->law_kind
-                 || !c->law_coef || !c->last_qdd || fm_state_init(&c->eval, m)
+                 || !c->law_coef || !c->last_qdd || !c->path || !c->found
+                 || fm_state_init(&c->eval, m)
                  || fm_state_init(&c->out, m) || band_init(&c->sd, m->ns, m->sd_kl, m->sd_ku)
                  || band_init(&c->sd_acc, m->ns, m->sd_kl, m->sd_ku);
     if (!failed) {
@@ -637,6 +640,92 @@ static void predict(Core *c, FmState *s, double t)
                       + change[i];
 }
 
+/* Near redundant constraints (D_c nearly singular: a parallelogram whose bars align) two
+ * branches of solutions cross, as close to each other as the configuration is to the
+ * crossing. A solution from a predicted guess that is farther off than that may lie on
+ * either, and the velocities of the other branch differ from the motion's by as much as
+ * the motion itself: a solution whose dependent velocities are off the last ones continued
+ * to its time by more than OFF_BRANCH of their size has left the branch of the motion. */
+#define OFF_BRANCH 0.5
+#define SAME_SOLUTION 1e3      /* two solutions this many tolerances apart are one */
+static int off_branch(Core *c, FmState *s)
+{
+    const FmModel *m = &c->m;
+    if (!c->have_last || !m->nr)
+        return 0;
+    const double dt = s->t - c->last_t;
+    double gap = 0.0, speed = 0.0;
+    for (int j = 0; j < m->nr; j++) {
+        const int i = m->dep[j];
+        const double continued = c->last_xd[i] + dt * c->last_xdd[i];
+        const double off = fabs(s->xd[i] - continued) / c->move_scale[i];
+        const double size = fabs(continued) / c->move_scale[i];
+        gap = off > gap ? off : gap;
+        speed = size > speed ? size : speed;
+    }
+    return gap > OFF_BRANCH * speed;
+}
+
+/* The state of `s` at t (integrated entries q_d, qd_d, qdd_d) solved again by continuation
+ * from the last solution along the straight path in q to it, in `steps` exact solves each
+ * from the one before by the path's tangent: close steps keep the branch the last solution
+ * lies on, whose tangent leads through the crossing. */
+static int along_path(Core *c, FmState *s, double t, const double *q_d, const double *qd_d,
+                      const double *qdd_d, int steps)
+{
+    const FmModel *m = &c->m;
+    const double span = t - c->last_t;
+    double *at = c->path, *rate = c->path + m->nq;
+    int code;
+    if (!(span != 0.0))
+        return FM_OK;
+    for (int j = 0; j < m->nd_dyn; j++)
+        rate[j] = (q_d[j] - c->last_q[m->q_dyn[j]]) / span;
+    memcpy(s->x, c->last_x, sizeof(double) * m->nx);
+    memcpy(s->xd, c->last_xd, sizeof(double) * m->nx);
+    s->t = c->last_t;
+    for (int k = 1; k <= steps; k++) {
+        const double tk = k < steps ? c->last_t + span * k / steps : t;
+        for (int j = 0; j < m->nd_dyn; j++)
+            at[j] = c->last_q[m->q_dyn[j]] + rate[j] * (tk - c->last_t);
+        if ((code = compose(c, s, tk, k < steps ? at : q_d, k < steps ? rate : qd_d,
+                            k < steps ? NULL : qdd_d)))
+            return code;
+        for (int i = 0; i < m->nx; i++)
+            c->guess[i] = s->x[i] + (tk - s->t) * s->xd[i];
+        if ((code = fm_kinematics(m, s, tk, c->guess, m->tolerance, 0, 1, &c->error)))
+            return code;
+    }
+    return FM_OK;
+}
+
+/* Keep the solution in `s` on the branch of the motion (see off_branch): when it seems to
+ * have left it, solve it again along the path from the last solution in ever closer steps,
+ * until two agree (the velocities may simply have changed fast). A path that cannot be
+ * followed leaves the solution as it was found. */
+static int keep_branch(Core *c, FmState *s, double t, const double *q_d, const double *qd_d,
+                       const double *qdd_d)
+{
+    const FmModel *m = &c->m;
+    int code = FM_OK;
+    for (int steps = 8; steps <= 512 && off_branch(c, s); steps *= 8) {
+        memcpy(c->found, s->x, sizeof(double) * m->nx);
+        if ((code = along_path(c, s, t, q_d, qd_d, qdd_d, steps))) {
+            if (code != FM_PYTHON && !(code = compose(c, s, t, q_d, qd_d, qdd_d)))
+                code = fm_kinematics(m, s, t, c->found, m->tolerance, 0, 1, &c->error);
+            break;
+        }
+        double change = 0.0;
+        for (int i = 0; i < m->nx; i++) {
+            const double d = fabs(s->x[i] - c->found[i]);
+            change = d > change ? d : change;
+        }
+        if (change <= SAME_SOLUTION * m->tolerance)
+            break;
+    }
+    return code;
+}
+
 static int mech_accelerations(void *context, double t, const double *q, const double *v,
                               double *a)
 {
@@ -650,11 +739,14 @@ static int mech_accelerations(void *context, double t, const double *q, const do
         return code;
     predict(c, s, t);
     if ((code = fm_kinematics(&c->m, s, t, c->guess, c->near, 0, 0, &c->error))
+        || (code = keep_branch(c, s, t, q, v, NULL))
         || (code = user_loads(c, s, &loads)))
         return code;
-    remember(c, s, 1);                       /* extrapolate linearly: xdd lacks qdd_d */
+    remember(c, s, 1);                       /* xdd lacks qdd_d until the accelerations */
     if ((code = fm_accelerations(&c->m, s, &c->sd_acc, loads, &c->error)))
         return code;
+    memcpy(c->last_xdd, s->xdd, sizeof(double) * c->m.nx);
+    memcpy(c->last_qdd, s->qdd, sizeof(double) * c->m.nq);
     for (int j = 0; j < c->m.nd_dyn; j++)
         a[j] = s->qdd[c->m.q_dyn[j]];
     return FM_OK;
@@ -672,7 +764,8 @@ static int mech_residual(void *context, double t, const double *q, const double 
     if ((code = compose(c, s, t, q, v, a)))
         return code;
     predict(c, s, t);
-    if ((code = fm_kinematics(&c->m, s, t, c->guess, c->near, 0, 0, &c->error))) {
+    if ((code = fm_kinematics(&c->m, s, t, c->guess, c->near, 0, 0, &c->error))
+        || (code = keep_branch(c, s, t, q, v, a))) {
         c->trial = code != FM_PYTHON;        /* a smaller step may get past it */
         return code;
     }
@@ -727,6 +820,8 @@ static int mech_output(void *context, int k, double t, const double *q, const do
                                     &c->error)
                     : fm_positions(&c->m, s, t, c->guess, c->m.tolerance, factored, -1,
                                    &c->error);
+    if (!code && c->level)
+        code = keep_branch(c, s, t, q, v, NULL);
     if (code || c->level < 2) {
         if (!code)
             store(c, k, s);

@@ -16,6 +16,7 @@
 #define SINGULAR_RCOND 1e-13   /* scaled D_c: 1 / ||inverse||_1 below this is singular */
 #define ROUND_OFF 1e-6         /* residuals below this share of the tolerance are round-off */
 #define SLOW_CHORD 0.1         /* a chord step that reduces less than this gets a new D_c */
+#define LARGEST_STEP 0.1       /* an integrator's Newton step, relative to coordinate sizes */
 #define MAX_NC 16              /* largest element: coordinates */
 
 static double *alloc(int n) { return calloc(n > 0 ? n : 1, sizeof(double)); }
@@ -267,6 +268,17 @@ static int fail(FmError *err, int code, double t, int iterations, double residua
     return code;
 }
 
+/* The largest change of a dependent coordinate in r, relative to the coordinate's size. */
+static double largest_move(const FmModel *m, const double *r)
+{
+    double move = 0.0;
+    for (int j = 0; j < m->nr; j++) {
+        const double v = fabs(r[j] / m->dc_colscale[j]);
+        move = v > move ? v : move;
+    }
+    return move;
+}
+
 int fm_positions(const FmModel *m, FmState *s, double t, const double *guess, double near,
                  int use_factor, int refresh, FmError *err)
 {
@@ -302,9 +314,23 @@ int fm_positions(const FmModel *m, FmState *s, double t, const double *guess, do
             goto done;
         }
         solve_dc(m, s, r, work);
+        /* An integrator's step beyond LARGEST_STEP of a coordinate's size is D_c's near-null
+         * direction magnified (nearly redundant constraints): from a kept D_c, Newton goes
+         * on with a fresh one; a fresh one's step is cut to that size. */
+        const double move = refresh <= 0 ? largest_move(m, r) : 0.0;
+        if (move > LARGEST_STEP && !fresh) {
+            element_pass(m, s, 1);
+            fresh = 1;
+            previous = -1.0;
+            if ((code = factor_dc(m, s, 0)))
+                goto done;
+            continue;
+        }
+        const double cut = move > LARGEST_STEP ? LARGEST_STEP / move : 1.0;
         for (int j = 0; j < nr; j++)
-            s->x[m->dep[j]] -= r[j];
-        const int slow = refresh > 0 || (previous >= 0.0 && norm > SLOW_CHORD * previous);
+            s->x[m->dep[j]] -= cut * r[j];
+        const int slow = refresh > 0 || cut < 1.0
+                         || (previous >= 0.0 && norm > SLOW_CHORD * previous);
         fresh = slow;
         previous = slow ? -1.0 : norm;
         element_pass(m, s, slow);
@@ -398,9 +424,15 @@ static void quadratic_pass(const FmModel *m, FmState *s)
     }
 }
 
-/* conditioning of D_c, relative to the reference configuration's, below which positions
- * are solved tighter than asked (fm_kinematics) */
+/* conditioning of D_c, relative to the reference configuration's, below which it is nearly
+ * singular: positions are solved tighter than asked (fm_kinematics), and an integrator's
+ * solutions are checked for the branch they lie on (module.c) */
 #define TIGHTEN_BELOW 1e-2
+
+int fm_nearly_singular(const FmModel *m, FmState *s)
+{
+    return fm_conditioning(m, s) < TIGHTEN_BELOW * m->reference_conditioning;
+}
 
 int fm_kinematics(const FmModel *m, FmState *s, double t, const double *guess, double near,
                   int use_factor, int refresh, FmError *err)
@@ -412,8 +444,8 @@ int fm_kinematics(const FmModel *m, FmState *s, double t, const double *guess, d
      * conditioning: where redundant constraints make it nearly singular (a parallelogram
      * whose bars align), a position loose to `near` would give velocities of the other
      * branch. There the positions are solved to near times the conditioning. */
-    const double conditioning = near > m->tolerance ? fm_conditioning(m, s) : 1.0;
-    if (conditioning < TIGHTEN_BELOW * m->reference_conditioning) {
+    if (near > m->tolerance && fm_nearly_singular(m, s)) {
+        const double conditioning = fm_conditioning(m, s);
         double *start = s->w6;
         memcpy(start, s->x, sizeof(double) * m->nx);
         const double tight = near * conditioning > m->tolerance ? near * conditioning
