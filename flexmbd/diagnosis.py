@@ -88,7 +88,10 @@ def singular_message(model: Model, D_c: np.ndarray, time: float | None, what: st
     if integrated:
         cause = ("the simulated motion reached a configuration where the constraints become "
                  "dependent: a dead point, the end of the range of motion, or an integration "
-                 "that left the physical range")
+                 "that left the physical range; where consistent constraints only line up "
+                 "(aligned parallelogram bars) the motion passes with smaller steps or "
+                 "tighter tolerances, and with GeneralizedAlpha with Newton to convergence "
+                 "(iterations=None, the default)")
     elif np.any(model.q_is_input):
         cause = ("the mechanism is at a dead point or at the end of its range of motion, "
                  "where the inputs cannot drive it further")

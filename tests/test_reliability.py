@@ -427,6 +427,18 @@ def test_default_runs_keep_every_output_on_the_branch_of_the_motion(outputs):
                                    atol=1e-6 * 11.0)
 
 
+def test_a_run_stopped_at_aligned_bars_is_named_a_singular_configuration():
+    """One correction per generalized-alpha step can land a state exactly on the crossing of
+    5 parallelograms, where the constraints are dependent and the saddle-point system has no
+    unique multipliers: that is a singular configuration with what to try, not "the reduced
+    mass matrix is singular" (what the run said before)."""
+    with pytest.raises(fm.SingularConfigurationError, match="iterations=None") as caught:
+        fm.simulate(parallelograms(5), np.linspace(0.0, 10.0, 20001),
+                    initial={"x2.1": (0.0, 11.0)}, method="GeneralizedAlpha", iterations=1)
+    assert "mass" not in str(caught.value)
+    assert len(caught.value.partial_result.t) > 19000
+
+
 def test_generalized_alpha_keeps_the_branch_through_aligned_bars():
     """GeneralizedAlpha solves positions loosely (to its truncation error) where D_c is well
     conditioned; near aligned bars D_c magnifies that looseness into velocities of the

@@ -616,8 +616,10 @@ int fm_saddle(const FmModel *m, FmState *s, Band *sd, double c_q, double c_v, Fm
     }
     if (!(biggest > 0.0))
         biggest = scale * biggest_c;
-    if (band_factor(sd) || !(band_min_pivot(sd) > 1e-14 * biggest))
-        return fail(err, FM_MASSLESS, s->t, 0, 0.0, -1);
+    if (band_factor(sd) || !(band_min_pivot(sd) > 1e-14 * biggest))  /* the constraints */
+        return fail(err, s->has_factor && fm_nearly_singular(m, s) ? FM_SINGULAR  /* dependent */
+                                                                   : FM_MASSLESS,
+                    s->t, 0, 0.0, -1);
     return FM_OK;
 }
 
