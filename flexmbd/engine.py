@@ -309,7 +309,7 @@ def compile_model(model: Model) -> dict[str, object]:
         "elastic_def": ints(elastic_def), "nodal_mass": nodal_mass, "f_const": f_const,
         "gravity": gravity, "x0": np.asarray(model.x0, dtype=float),
         "coord_scale": np.asarray(model.coordinate_scale, dtype=float),
-        "move_scale": _coordinate_size(model),
+        "coord_size": _coordinate_size(model),
         "dc_src": ints(dc_src), "dc_row": ints(dc_row), "dc_col": ints(dc_col),
         "dc_rowband": dc_rowband, "dc_colband": dc_colband,
         "dc_colscale": np.asarray(model.coordinate_scale, dtype=float)[dep],

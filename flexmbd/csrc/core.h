@@ -124,7 +124,8 @@ typedef struct {
     int max_iterations;
     double regularity_limit;
     double reference_conditioning;       /* of D_c in the reference configuration, <= 1 */
-    double length;                       /* characteristic length */
+    double *coord_size;                  /* nx: what a change of a coordinate is measured
+                                            against: the model's size, or 1 rad */
     int total_j, total_b;                /* sizes of the Jacobian and block storage */
 } FmModel;
 

@@ -93,7 +93,7 @@ static const char *OUT_NAMES[N_OUT] = {"x", "xd", "xdd", "e", "ed", "edd", "q", 
 typedef struct {
     PyObject_HEAD
     FmModel m;
-    double *x0, *coord_scale, *move_scale, *lumped_diag;
+    double *x0, *coord_scale, *lumped_diag;
     int *consistent;
     FmState eval, out;             /* the integrator's evaluations; outputs and single states */
     FmState *failed;               /* the state of the last failure */
@@ -148,7 +148,7 @@ static void Core_dealloc(Core *c)
                    m->dc_colband, m->dc_w, m->dc_colscale, m->dc_rowscale, m->sd_band,
                    m->sd_a_src, m->sd_a_dst, m->sd_c_src, m->sd_c_dst, m->sd_c_dstt,
                    m->sd_m_coord, m->sd_m_dst, m->mult_of_def, c->x0, c->coord_scale,
-                   c->move_scale,
+                   m->coord_size,
                    c->lumped_diag, c->consistent, c->op_J, c->law_kind, c->law_coef,
                    c->last_x, c->last_xd, c->last_xdd, c->last_q, c->last_qd, c->last_qdd,
                    c->guess, c->start, c->path, c->found};
@@ -301,7 +301,7 @@ static int Core_init(Core *c, PyObject *args, PyObject *kwds)
         {"sd_m_coord", (void **)&m->sd_m_coord, 'i', 0},
         {"mult_of_def", (void **)&m->mult_of_def, 'i', 0}, {"x0", (void **)&c->x0, 'd', 0},
         {"coord_scale", (void **)&c->coord_scale, 'd', 0},
-        {"move_scale", (void **)&c->move_scale, 'd', 0},
+        {"coord_size", (void **)&m->coord_size, 'd', 0},
         {"lumped_diag", (void **)&c->lumped_diag, 'd', 0},
         {"consistent", (void **)&c->consistent, 'i', 0},
         {"fixed", (void **)&m->fixed, 'i', &nfixed},
@@ -337,15 +337,15 @@ static int Core_init(Core *c, PyObject *args, PyObject *kwds)
     const int nq = m->nq > 0 ? m->nq : 1, nx = m->nx > 0 ? m->nx : 1;
     double **vectors[] = {&c->last_x, &c->last_xd, &c->last_xdd, &c->guess, &c->start,
                           &c->found, &c->last_q, &c->last_qd, &c->last_qdd, &c->path};
+    int missing = 0;
     for (int k = 0; k < 10; k++)
-        *vectors[k] = calloc(k < 6 ? nx : k < 9 ? nq : 2 * nq, sizeof(double));
+        missing |= !(*vectors[k] = calloc(k < 6 ? nx : k < 9 ? nq : 2 * nq, sizeof(double)));
     c->op_J = calloc(m->total_j > 0 ? m->total_j : 1, sizeof(double));
     c->law_kind = calloc(nq, sizeof(int));
     c->law_coef = calloc(3 * nq, sizeof(double));
     int failed = build_maps(m, dc_row, dc_col, (int)ndc, sa_u, sa_v, (int)nsa, sm_u, sc_u, sc_v)
                  || !m->varying || !m->mconst || !m->dc_rowscale || !c->op_J || !c->law_kind
-                 || !c->law_coef || !c->last_qdd || !c->path || !c->found
-                 || fm_state_init(&c->eval, m)
+                 || !c->law_coef || missing || fm_state_init(&c->eval, m)
                  || fm_state_init(&c->out, m) || band_init(&c->sd, m->ns, m->sd_kl, m->sd_ku)
                  || band_init(&c->sd_acc, m->ns, m->sd_kl, m->sd_ku);
     if (!failed) {
@@ -550,7 +550,7 @@ static int approach(Core *c, FmState *s, double t0, double t)
     const FmModel *m = &c->m;
     double move = 0.0;
     for (int i = 0; i < m->nx; i++) {
-        const double step = fabs((t - t0) * s->xd[i]) / c->move_scale[i];
+        const double step = fabs((t - t0) * s->xd[i]) / c->m.coord_size[i];
         move = step > move ? step : move;
     }
     if (!(move > MAX_PREDICTED_MOVE))
@@ -658,8 +658,8 @@ static int off_branch(Core *c, FmState *s)
     for (int j = 0; j < m->nr; j++) {
         const int i = m->dep[j];
         const double continued = c->last_xd[i] + dt * c->last_xdd[i];
-        const double off = fabs(s->xd[i] - continued) / c->move_scale[i];
-        const double size = fabs(continued) / c->move_scale[i];
+        const double off = fabs(s->xd[i] - continued) / c->m.coord_size[i];
+        const double size = fabs(continued) / c->m.coord_size[i];
         gap = off > gap ? off : gap;
         speed = size > speed ? size : speed;
     }

@@ -273,7 +273,7 @@ static double largest_move(const FmModel *m, const double *r)
 {
     double move = 0.0;
     for (int j = 0; j < m->nr; j++) {
-        const double v = fabs(r[j] / m->dc_colscale[j]);
+        const double v = fabs(r[j]) / m->coord_size[m->dep[j]];
         move = v > move ? v : move;
     }
     return move;
@@ -616,10 +616,11 @@ int fm_saddle(const FmModel *m, FmState *s, Band *sd, double c_q, double c_v, Fm
     }
     if (!(biggest > 0.0))
         biggest = scale * biggest_c;
-    if (band_factor(sd) || !(band_min_pivot(sd) > 1e-14 * biggest))  /* the constraints */
-        return fail(err, s->has_factor && fm_nearly_singular(m, s) ? FM_SINGULAR  /* dependent */
-                                                                   : FM_MASSLESS,
-                    s->t, 0, 0.0, -1);
+    if (band_factor(sd) || !(band_min_pivot(sd) > 1e-14 * biggest)) {
+        /* where D_c is nearly singular the constraints are dependent, not the mass missing */
+        const int dependent = s->has_factor && fm_nearly_singular(m, s);
+        return fail(err, dependent ? FM_SINGULAR : FM_MASSLESS, s->t, 0, 0.0, -1);
+    }
     return FM_OK;
 }
 
