@@ -9,7 +9,7 @@ it with the functions below; every analysis runs on the compiled core
 
 from .builder import ModelBuilder
 from .dynamics import inverse_dynamics, mass_matrix, reduced_mass_matrix, simulate
-from .elements import Beam, Hinge, RigidBeam, SpringDamper, Truss
+from .elements import Beam, Hinge, RigidBeam, SecondOrderBeam, SpringDamper, Truss
 from .errors import (
     ArgumentError,
     ColumnError,
@@ -77,6 +77,7 @@ __all__ = [
     "Polynomial",
     "RigidBeam",
     "RunSettings",
+    "SecondOrderBeam",
     "SimulationError",
     "SimulationResult",
     "SingularConfigurationError",

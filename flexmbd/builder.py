@@ -16,6 +16,7 @@ from typing import Literal
 
 import numpy as np
 
+from . import checks
 from .diagnosis import diagnose_rank, negative_mass_problem
 from .elements import (
     ELEMENT_TYPES,
@@ -25,6 +26,7 @@ from .elements import (
     ElementType,
     Hinge,
     RigidBeam,
+    SecondOrderBeam,
     Truss,
 )
 from .engine import dense_jacobian
@@ -163,9 +165,15 @@ class ModelBuilder:
         """Truss between translational nodes ``p`` and ``q`` (PLTRUSS)."""
         return self.add_element(number, Truss, (p, q))
 
-    def add_beam(self, number: int, p: int, phi_p: int, q: int, phi_q: int) -> ModelBuilder:
-        """Beam from ``p`` to ``q`` with rotational nodes ``phi_p``, ``phi_q`` (PLBEAM)."""
-        return self.add_element(number, Beam, (p, phi_p, q, phi_q))
+    def add_beam(self, number: int, p: int, phi_p: int, q: int, phi_q: int, *,
+                 second_order: bool = False) -> ModelBuilder:
+        """Beam from ``p`` to ``q`` with rotational nodes ``phi_p``, ``phi_q`` (PLBEAM).
+
+        With ``second_order`` the elongation includes the arc length of the bending
+        (:class:`~flexmbd.SecondOrderBeam`, PLBEAM2): needed for accurate buckling loads
+        and stiffening by axial load; the chord elongation of the course otherwise."""
+        etype = SecondOrderBeam if checks.flag(second_order, "second_order") else Beam
+        return self.add_element(number, etype, (p, phi_p, q, phi_q))
 
     def add_rigid_beam(self, number: int, p: int, phi_p: int, q: int) -> ModelBuilder:
         """Beam from ``p`` to ``q`` with one rotational node ``phi_p`` at ``p``."""

@@ -9,12 +9,14 @@ from .base import ROTATIONAL, TRANSLATIONAL, ElementType
 from .beam import Beam
 from .hinge import Hinge
 from .rigid_beam import RigidBeam
+from .second_order_beam import SecondOrderBeam
 from .spring_damper import SpringDamper
 from .truss import Truss
 
 #: the element types by SPACAR keyword; the order is the compiled core's type numbers
 ELEMENT_TYPES: dict[str, type[ElementType]] = {
-    cls.keyword: cls for cls in (Truss, Beam, RigidBeam, Hinge, SpringDamper)
+    cls.keyword: cls for cls in (Truss, Beam, RigidBeam, Hinge, SpringDamper,
+                                SecondOrderBeam)
 }
 
 __all__ = [
@@ -25,6 +27,7 @@ __all__ = [
     "ElementType",
     "Hinge",
     "RigidBeam",
+    "SecondOrderBeam",
     "SpringDamper",
     "Truss",
 ]
