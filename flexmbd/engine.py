@@ -475,7 +475,9 @@ class Engine:
                           checks.position_tolerance(tolerance, length,
                                                     float(np.abs(model.x0).max(initial=0))))
         self.max_iterations = checks.iteration_limit(max_iterations)
-        self.core = _core.Core(compile_model(model))
+        #: the model's arrays as the core has them (element laws, index maps, orderings)
+        self.compiled = compile_model(model)
+        self.core = _core.Core(self.compiled)
         #: scaled conditioning of D_c below which a converged position counts as singular:
         #: near a singular root Newton converges only linearly and stops about
         #: sqrt(tolerance) away from it, where D_c still looks regular. Relative to the

@@ -1,0 +1,260 @@
+"""The linearized reduced equations of motion at one state (THEORY 9).
+
+Around a state ``(q, qdot, qddot)`` the reduced equations
+``Mbar qddot - F_q^T (f - h - M (F_qq qdot) qdot) + E_q^T sigma = 0`` linearize to
+
+    M0 dq'' + (C0 + D0) dq' + (K0 + N0 + G0) dq = F_q^T df
+
+over all entries of ``q = [x(m); e(m)]`` (dynamic and prescribed):
+
+* ``M0 = F_q^T M F_q``, the reduced mass matrix;
+* ``K0 = E_q^T S E_q`` and ``D0 = E_q^T C E_q``, the elastic law's stiffness and
+  damping seen by ``q``;
+* ``G0 = F_q^T (sum_i sigma_i D_xx,i) F_q``, the geometric stiffness, with ``sigma`` the
+  stresses of *all* deformations from the nodal equilibrium of the state (THEORY 8: the
+  constraint, actuator and, for the ``e(m)``, the balancing stresses; the elastic
+  law's on released deformations). It equals ``sum_i sigma_i E_qq,i - F_qq^T (f - M
+  xddot - h)`` (the stresses' and the loads' share of the tangent): differentiating
+  ``e(o) = const`` twice along ``q`` turns the loads' ``F_qq`` term into the constraint
+  stresses' ``D_xx``. Away from an equilibrium (the undeformed column under its
+  buckling load) these stresses balance the loads, which keeps the tangent exact;
+* ``N0`` and ``C0``, the derivatives of the reduced inertia forces ``F_q^T (M xddot + h)``
+  with respect to ``q`` and ``qdot`` (``N0`` also holds the damping stresses' change
+  ``E_q^T C dedot/dq``). They vanish at rest; in motion they are taken by central
+  differences of the engine's exact inertia forces, whose error is ``1e-10`` of
+  their size (the third derivatives of the deformation functions they need exist
+  only as those differences).
+
+Everything comes from the engine: ``F_q`` from the factorised ``D_c``, the stresses
+from its nodal equilibrium, ``M``, ``h`` and the Hessians from the element kernels,
+``S`` and ``C`` from the compiled elastic laws. Shapes: ``nq = model.n_dof``; units
+follow ``q`` (m, rad), forces N and N m.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sparse
+
+from .engine import Engine, _kernel, _q_scale, deformations_and_jacobian, load_vector
+from .errors import ArgumentError
+from .kinematics import coordinates, generalized
+from .model import Model
+from .motion import Polynomial
+
+#: central-difference step of N0, relative to a coordinate's size (model size or 1 rad):
+#: the cube root of the rounding error balances truncation (1e-10 relative in all)
+DIFFERENCE_STEP = 5e-6
+
+__all__ = ["Linearization", "linearize"]
+
+
+@dataclass(frozen=True, eq=False)
+class Linearization:
+    """The linearized reduced equations at one state (module docstring).
+
+    Attributes:
+        model: the mechanism.
+        x, xd, xdd: the state's coordinates and their rates ``(nx,)``.
+        e: its deformations ``(ne,)``.
+        q, qd, qdd: ``q = [x(m); e(m)]`` and its rates ``(nq,)``.
+        sigma: stresses of all deformations ``(ne,)`` [N, N m] (elastic law, constraint
+            and actuator stresses).
+        driving: ``tau = Mbar qddot - g`` ``(nq,)``: the load each entry of ``q`` needs to
+            follow the state; zero on dynamic entries at an equilibrium or along a solution.
+        reactions: loads of supports and drives ``(nx,)`` (THEORY 8).
+        F_q: ``dx/dq`` ``(nx, nq)``; E_q: ``de/dq`` ``(ne, nq)``.
+        M0, C0, D0, K0, N0, G0: ``(nq, nq)``, see the module docstring.
+        dynamic: positions in ``q`` of the dynamic degrees of freedom.
+    """
+
+    model: Model
+    x: np.ndarray
+    xd: np.ndarray
+    xdd: np.ndarray
+    e: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    sigma: np.ndarray
+    driving: np.ndarray
+    reactions: np.ndarray
+    F_q: np.ndarray
+    E_q: np.ndarray
+    M0: np.ndarray
+    C0: np.ndarray
+    D0: np.ndarray
+    K0: np.ndarray
+    N0: np.ndarray
+    G0: np.ndarray
+
+    @property
+    def dynamic(self) -> np.ndarray:
+        return np.flatnonzero(~np.asarray(self.model.q_is_input))
+
+    def block(self, name: str, rows: str = "d", columns: str = "d") -> np.ndarray:
+        """A block of one matrix (``"M0"``, ..., or ``"K"`` for ``K0 + N0 + G0``, ``"C"``
+        for ``C0 + D0``) over the dynamic (``"d"``) or prescribed (``"r"``) entries."""
+        matrices = {"K": self.K0 + self.N0 + self.G0, "C": self.C0 + self.D0,
+                    **{k: getattr(self, k) for k in ("M0", "C0", "D0", "K0", "N0", "G0")}}
+        if name not in matrices:
+            raise ArgumentError("name", f"must be one of {', '.join(matrices)}, got {name!r}")
+        given = ~np.asarray(self.model.q_is_input)
+        picks = {"d": np.flatnonzero(given), "r": np.flatnonzero(~given)}
+        if rows not in picks or columns not in picks:
+            raise ArgumentError("rows", "rows and columns are 'd' (dynamic) or 'r' (prescribed)")
+        return matrices[name][np.ix_(picks[rows], picks[columns])]
+
+    def transfer(self, labels) -> np.ndarray:
+        """Rows of ``F_q`` over the dynamic entries for coordinate labels (``"x3.2"``):
+        how those coordinates move with the degrees of freedom ``(len(labels), nd)``."""
+        rows = [self.model.coordinate_index(label) for label in labels]
+        return self.F_q[np.ix_(rows, self.dynamic)]
+
+
+def linearize(model: Model, x=None, qd=None, qdd=None, *, loads=None,
+              tolerance: float | None = None, engine: Engine | None = None
+              ) -> Linearization:
+    """Linearize the reduced equations at the configuration ``x`` with rates ``qd`` and
+    accelerations ``qdd`` of ``q``.
+
+    Args:
+        model: the mechanism.
+        x: coordinates ``(nx,)`` [m, rad]; default the initial configuration. They are
+            solved again for their own ``q``, so a near solution (a result row) is exact.
+        qd, qdd: rates and accelerations of ``q`` ``(nq,)``; default zero (a static state).
+        loads: applied loads ``(nx,)`` [N, N m] or ``{"x3.2": value}``, on top of the
+            model's own (``XF``, gravity); they set the stresses of ``G0``.
+        tolerance: Newton tolerance of the position solve [m, rad].
+        engine: an engine of ``model`` to reuse (repeated calls along a motion).
+
+    Returns:
+        :class:`Linearization`.
+    """
+    engine = engine or Engine(model, tolerance)
+    x = coordinates(model, model.x0 if x is None else x)
+    zero = np.zeros(model.n_dof)
+    qd = zero if qd is None else generalized(model, qd, "qd")
+    qdd = zero if qdd is None else generalized(model, qdd, "qdd")
+    extra = np.zeros(model.n_coordinates) if loads is None else load_vector(model, loads)
+    state = equilibrium_state(engine, x, qd, qdd, extra)
+    x = state["x"]
+    D_x = deformations_and_jacobian(model, x)[1]
+    F_q = transfer(engine, x, D_x)
+    E_q = D_x @ F_q
+    M = engine.mass(x, state["xd"])[0]
+    S, C = elastic_matrices(engine)
+    H = stress_hessian(model, x, state["sigma"])
+    N0, C0 = inertia_derivatives(engine, state, F_q, E_q, C)
+    return Linearization(
+        model=model, x=x, xd=state["xd"], xdd=state["xdd"], e=state["e"], q=state["q"],
+        qd=qd, qdd=qdd, sigma=state["sigma"], driving=state["driving"],
+        reactions=state["reactions"], F_q=F_q, E_q=E_q,
+        M0=F_q.T @ M @ F_q, C0=C0, D0=E_q.T @ (C @ E_q), K0=E_q.T @ (S @ E_q),
+        N0=N0, G0=F_q.T @ (H @ F_q))
+
+
+# --- the pieces ---------------------------------------------------------------------------
+def equilibrium_state(engine: Engine, x: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
+                      loads: np.ndarray) -> dict[str, np.ndarray]:
+    """The engine's inverse dynamics at one state: ``{"x", "xd", "xdd", "q", "sigma",
+    "driving", "reactions", ...}`` (one row each), started from the configuration ``x``."""
+    model = engine.model
+    q = np.concatenate([x[model.independent_coordinates],
+                        deformations_and_jacobian(model, x)[0][model.independent_deformations]])
+    laws = [Polynomial(*values) for values in zip(q, qd, qdd, strict=True)]
+    forces = None if not np.any(loads) else (lambda t, x_, xd_: loads)
+    arrays = engine.prepare(laws, 1, dynamics=True, forces=forces)
+    engine.core.reset(np.ascontiguousarray(x))
+    error = engine.error(engine.core.kinematic_run(np.zeros(1)))
+    if error is not None:
+        raise error
+    return {name: values[0].copy() for name, values in arrays.items()}
+
+
+def transfer(engine: Engine, x: np.ndarray, D_x: np.ndarray) -> np.ndarray:
+    """``F_q = dx/dq`` ``(nx, nq)`` at ``x`` from one factorisation of ``D_c``: the rows of
+    ``x(c)`` solve ``D_c F_c = [0; I_e(m)] - D_x[rows, x(m)]`` column by column (THEORY 4)."""
+    model = engine.model
+    nxm = len(model.independent_coordinates)
+    rows, dependent = np.asarray(model.constrained), np.asarray(model.dependent)
+    F_q = np.zeros((model.n_coordinates, model.n_dof))
+    F_q[model.independent_coordinates, np.arange(nxm)] = 1.0
+    if len(rows):
+        rhs = np.zeros((len(rows), model.n_dof))
+        rhs[:, :nxm] = -D_x[np.ix_(rows, model.independent_coordinates)]
+        position = {d: k for k, d in enumerate(rows)}
+        for j, d in enumerate(model.independent_deformations):
+            rhs[position[d], nxm + j] = 1.0
+        engine.factor(x)
+        F_q[dependent] = engine.solve(rhs)
+    return F_q
+
+
+def elastic_matrices(engine: Engine) -> tuple[sparse.csr_matrix, sparse.csr_matrix]:
+    """The elastic law's ``S`` and ``C`` over all deformations ``(ne, ne)`` (sparse): the
+    compiled element blocks, nonzero on the deformations that carry elastic stress."""
+    spec, ne = engine.compiled, engine.model.n_deformations
+    rows, cols, at = [], [], []
+    for k in range(int(spec["nel"])):
+        defs = spec["d_idx"][spec["d_off"][k]:spec["d_off"][k + 1]]
+        n = len(defs)
+        rows.append(np.repeat(defs, n))
+        cols.append(np.tile(defs, n))
+        at.append(spec["law_off"][k] + np.arange(n * n))
+    rows, cols, at = (np.concatenate(a) if a else np.zeros(0, int) for a in (rows, cols, at))
+    return tuple(sparse.csr_matrix((spec[name][at], (rows, cols)), shape=(ne, ne))
+                 for name in ("S", "C"))
+
+
+def stress_hessian(model: Model, x: np.ndarray, sigma: np.ndarray) -> sparse.csr_matrix:
+    """``sum_i sigma_i D_xx,i`` ``(nx, nx)`` (sparse), from the elements' Hessian kernels."""
+    rows, cols, values = [], [], []
+    for element in model.elements.values():
+        weights = sigma[list(element.deformations)]
+        if not np.any(weights):
+            continue
+        nd, nc = len(element.deformations), len(element.coordinates)
+        hessians = _kernel(element, "hessian", x, nd * nc * nc).reshape(nd, nc, nc)
+        coords = np.asarray(element.coordinates)
+        rows.append(np.repeat(coords, nc))
+        cols.append(np.tile(coords, nc))
+        values.append(np.tensordot(weights, hessians, axes=1).ravel())
+    n = model.n_coordinates
+    if not rows:
+        return sparse.csr_matrix((n, n))
+    return sparse.csr_matrix((np.concatenate(values), (np.concatenate(rows),
+                                                       np.concatenate(cols))), shape=(n, n))
+
+
+def inertia_derivatives(engine: Engine, state: dict[str, np.ndarray], F_q: np.ndarray,
+                        E_q: np.ndarray, C: sparse.csr_matrix) -> tuple[np.ndarray, np.ndarray]:
+    """``N0``, ``C0`` ``(nq, nq)``: central differences of the inertia forces ``M xddot + h``
+    (and of ``edot`` for the damping stresses) along each ``q`` and ``qdot`` at the state;
+    exactly zero at rest, where those forces vanish near the state."""
+    model, nq = engine.model, engine.model.n_dof
+    q, qd, qdd, x = state["q"], state["qd"], state["qdd"], state["x"]
+    N0, C0 = np.zeros((nq, nq)), np.zeros((nq, nq))
+    if not (np.any(qd) or np.any(qdd)):
+        return N0, C0
+
+    def forces(q_, qd_):
+        s = engine.state(q_, qd_, qdd, x)
+        M, h, _ = engine.mass(s["x"], s["xd"])
+        return M @ s["xdd"] + h, s["ed"]
+
+    size = 1.0 / _q_scale(model)
+    for j in range(nq):
+        step = np.zeros(nq)
+        step[j] = DIFFERENCE_STEP * size[j]
+        (g_plus, ed_plus), (g_minus, ed_minus) = forces(q + step, qd), forces(q - step, qd)
+        N0[:, j] = F_q.T @ (g_plus - g_minus) / (2 * step[j]) \
+            + E_q.T @ (C @ (ed_plus - ed_minus)) / (2 * step[j])
+        # the inertia forces are quadratic in qdot: a central difference is exact
+        rate = np.zeros(nq)
+        rate[j] = size[j]
+        (g_plus, _), (g_minus, _) = forces(q, qd + rate), forces(q, qd - rate)
+        C0[:, j] = F_q.T @ (g_plus - g_minus) / (2 * rate[j])
+    return N0, C0

@@ -1,0 +1,215 @@
+"""Eigenfrequencies and mode shapes, buckling load factors and compliance (THEORY 9).
+
+All three are eigen- or linear problems of one :class:`~flexmbd.linearize.Linearization`
+over the dynamic degrees of freedom ``d`` (prescribed entries held):
+
+* vibration: ``(K0 + N0 + G0) phi = omega^2 M0 phi``, shapes mass-normalized
+  (``phi^T M0 phi = 1``); the gyroscopic ``C0`` and the damping are left out, as in
+  SPACAR;
+* buckling: ``(K0 + lambda G0) phi = 0``, the load factors ``lambda`` of the loads that
+  set the stresses of ``G0``;
+* compliance at chosen coordinates: ``F_sel (K0 + G0)^-1 F_sel^T`` with ``F_sel`` the rows
+  of ``F_q`` of those coordinates (SPACAR Light's definition).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg as linalg
+
+from .engine import Engine
+from .errors import ArgumentError, SingularConfigurationError
+from .linearize import Linearization, linearize
+from .progress import progress_bar
+from .results import KinematicResult
+
+__all__ = ["Buckling", "Modes", "ModesAlong", "buckling", "compliance", "modes_along",
+           "vibration_modes"]
+
+#: relative asymmetry below which a stiffness block counts as symmetric (rounding of the
+#: products that make it); above it, as along a motion with N0, the general solver runs
+SYMMETRIC = 1e-9
+
+
+@dataclass(frozen=True, eq=False)
+class Modes:
+    """Vibration modes at one state.
+
+    Attributes:
+        linearization: the state and its matrices.
+        omega2: eigenvalues ``omega^2`` [rad^2/s^2] ``(k,)``, ascending.
+        frequencies: ``sign(omega^2) sqrt(|omega^2|) / (2 pi)`` [Hz] ``(k,)``: a negative
+            value marks an unstable direction (its growth rate in 1/s over ``2 pi``).
+        shapes: mass-normalized shapes over the dynamic entries of ``q`` ``(nd, k)``.
+        motion: the shapes as coordinate motions ``F_q phi`` ``(nx, k)`` [m, rad].
+    """
+
+    linearization: Linearization
+    omega2: np.ndarray
+    frequencies: np.ndarray
+    shapes: np.ndarray
+    motion: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class Buckling:
+    """Buckling load factors of the loads of a state.
+
+    Attributes:
+        linearization: the loaded state.
+        factors: load factors ``lambda`` ``(k,)``, smallest magnitude first; the state's
+            loads times ``lambda`` make ``K0 + lambda G0`` singular.
+        shapes: buckled shapes over the dynamic entries of ``q`` ``(nd, k)``, largest entry 1.
+        motion: the shapes as coordinate motions ``(nx, k)``.
+    """
+
+    linearization: Linearization
+    factors: np.ndarray
+    shapes: np.ndarray
+    motion: np.ndarray
+
+
+def vibration_modes(linearization: Linearization, count: int | None = None) -> Modes:
+    """The ``count`` lowest vibration modes (all by default) of a linearized state.
+
+    Raises:
+        SingularConfigurationError: the reduced mass matrix is not positive definite (a
+            degree of freedom without mass).
+    """
+    lin = linearization
+    K, M = lin.block("K"), lin.block("M0")
+    count = _count(count, len(K))
+    if not len(K):
+        empty = np.zeros(0)
+        return Modes(lin, empty, empty, np.zeros((0, 0)), np.zeros((len(lin.x), 0)))
+    _check_mass(lin, M)
+    asymmetry = np.abs(K - K.T).max() / max(np.abs(K).max(), np.finfo(float).tiny)
+    if asymmetry <= SYMMETRIC:
+        omega2, shapes = linalg.eigh(0.5 * (K + K.T), M, subset_by_index=(0, count - 1))
+    else:
+        values, vectors = linalg.eig(K, M)
+        order = np.argsort(values.real)[:count]
+        omega2, shapes = values.real[order], vectors.real[:, order]
+        shapes = shapes / np.sqrt(np.einsum("ik,ij,jk->k", shapes, M, shapes))
+    frequencies = np.sign(omega2) * np.sqrt(np.abs(omega2)) / (2 * np.pi)
+    return Modes(lin, omega2, frequencies, shapes, lin.F_q[:, lin.dynamic] @ shapes)
+
+
+@dataclass(frozen=True, eq=False)
+class ModesAlong:
+    """Vibration frequencies along a motion, one row per output time.
+
+    Attributes:
+        result: the motion.
+        t: its times [s] ``(nt,)``.
+        frequencies: ``(nt, k)`` [Hz], ascending in each row (negative: unstable, see
+            :class:`Modes`).
+        omega2: ``(nt, k)`` [rad^2/s^2].
+    """
+
+    result: KinematicResult
+    t: np.ndarray
+    frequencies: np.ndarray
+    omega2: np.ndarray
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """``t`` and ``f1 .. fk`` [Hz], for a table or a result file."""
+        return {"t": self.t, **{f"f{k + 1}": self.frequencies[:, k]
+                                for k in range(self.frequencies.shape[1])}}
+
+
+def modes_along(result: KinematicResult, count: int = 6, progress: bool | None = None
+                ) -> ModesAlong:
+    """The ``count`` lowest vibration frequencies at every row of a motion (a simulation,
+    an inverse-dynamics or a kinematic result): the linearization about each state
+    ``(x, qdot, qddot)`` with its inertia terms ``N0`` (SPACAR's linearization along a
+    trajectory)."""
+    if not isinstance(result, KinematicResult):
+        raise ArgumentError("result", f"must be a flexmbd result (simulate, "
+                                      f"kinematic_analysis, ...), got {type(result).__name__}")
+    model = result.model
+    if result.xd is None or result.xdd is None:
+        raise ArgumentError("result", "needs the rates of the motion: simulate(..., "
+                                      "outputs='all')")
+    count = _count(count, int(np.sum(~np.asarray(model.q_is_input))))
+    nxm = model.independent_coordinates
+    emd = model.independent_deformations
+    engine = Engine(model)
+    nt = len(result.t)
+    omega2 = np.full((nt, count), np.nan)
+    with progress_bar(result.t, "modes", progress) as advance:
+        for k in range(nt):
+            qd = np.concatenate([result.xd[k, nxm], result.ed[k, emd]])
+            qdd = np.concatenate([result.xdd[k, nxm], result.edd[k, emd]])
+            lin = linearize(model, result.x[k], qd, qdd, engine=engine)
+            omega2[k] = vibration_modes(lin, count).omega2
+            if advance is not None:
+                advance(result.t[k])
+    frequencies = np.sign(omega2) * np.sqrt(np.abs(omega2)) / (2 * np.pi)
+    return ModesAlong(result, result.t.copy(), frequencies, omega2)
+
+
+def buckling(linearization: Linearization, count: int | None = None) -> Buckling:
+    """Load factors ``lambda`` with ``(K0 + lambda G0) phi = 0`` (``eig(-K0, G0)``): the
+    multiples of the state's loads at which the structure buckles.
+
+    Raises:
+        ArgumentError: the state has no geometric stiffness (no loads, no stresses).
+    """
+    lin = linearization
+    K, G = lin.block("K0"), lin.block("G0")
+    if not len(K) or not np.any(G):
+        raise ArgumentError("loads", "the state carries no stresses, so no load factor makes "
+                                     "it buckle: apply loads (XF, gravity, loads=...)")
+    # eig(G, K) gives 1/lambda, finite for every mode even where G0 vanishes on it
+    inverse, vectors = linalg.eig(G, K)
+    inverse = inverse.real
+    keep = np.abs(inverse) > 1e-12 * np.abs(inverse).max()
+    factors = -1.0 / inverse[keep]
+    order = np.argsort(np.abs(factors))[:_count(count, int(keep.sum()))]
+    shapes = vectors.real[:, keep][:, order]
+    shapes = shapes / shapes[np.abs(shapes).argmax(axis=0), np.arange(shapes.shape[1])]
+    return Buckling(lin, factors[order], shapes, lin.F_q[:, lin.dynamic] @ shapes)
+
+
+def compliance(linearization: Linearization, labels) -> np.ndarray:
+    """The compliance ``F_sel (K0 + G0)^-1 F_sel^T`` ``(k, k)`` [m/N, rad/(N m), ...] seen at
+    the coordinates ``labels`` (``["x5.1", "x5.2"]``): entry ``(i, j)`` is the static
+    displacement of coordinate ``i`` per unit load on coordinate ``j``.
+
+    Raises:
+        SingularConfigurationError: ``K0 + G0`` is singular (a mechanism, or buckling).
+    """
+    lin = linearization
+    F = lin.transfer(labels)
+    K = lin.block("K0") + lin.block("G0")
+    try:
+        factor = linalg.cho_factor(0.5 * (K + K.T))
+    except linalg.LinAlgError:
+        raise SingularConfigurationError(
+            "the stiffness K0 + G0 is not positive definite: the dynamic degrees of freedom "
+            "include a mechanism (no stiffness) or the loads buckle the structure") from None
+    return F @ linalg.cho_solve(factor, F.T)
+
+
+def _count(count: int | None, available: int) -> int:
+    if count is None:
+        return available
+    if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count < 1:
+        raise ArgumentError("count", f"must be a positive whole number, got {count!r}")
+    return min(int(count), available)
+
+
+def _check_mass(lin: Linearization, M: np.ndarray) -> None:
+    try:
+        linalg.cholesky(M)
+    except linalg.LinAlgError:
+        model = lin.model
+        dynamic = lin.dynamic
+        weak = int(dynamic[np.argmin(np.diag(M))])
+        raise SingularConfigurationError(
+            f"the reduced mass matrix M0 is not positive definite: {model.describe_q(weak)} "
+            f"moves without mass; give its elements mass (EM) or its nodes point masses "
+            f"(XM)") from None

@@ -1,0 +1,140 @@
+"""A linear state-space model of a linearized state (SPACAR's INPUTF, OUTX, OUTXP).
+
+With the state ``z = [dq_d; dq_d']`` of the dynamic degrees of freedom (prescribed
+entries held), force inputs ``u`` on chosen coordinates and outputs ``y`` of chosen
+coordinates or their rates:
+
+    z' = A z + B u,   y = C z + D u,
+    A = [[0, I], [-M^-1 K, -M^-1 C]],   B = [[0], [M^-1 F_in^T]],
+
+with ``M = M0``, ``K = K0 + N0 + G0``, ``C = C0 + D0`` (or modal damping), ``F_in`` the
+rows of ``F_q`` of the loaded coordinates; a position output is ``[F_out, 0]``, a rate
+output ``[d(F_out qdot)/dq, F_out]``; ``D = 0``. Its static gain ``-C A^-1 B`` is the
+compliance (:func:`flexmbd.modes.compliance`) and its poles are ``+-i omega`` of the
+vibration modes when undamped.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg as linalg
+
+from .engine import Engine, _q_scale
+from .errors import ArgumentError
+from .linearize import DIFFERENCE_STEP, Linearization
+from .modes import vibration_modes
+
+__all__ = ["StateSpace", "state_space"]
+
+
+@dataclass(frozen=True, eq=False)
+class StateSpace:
+    """``z' = A z + B u``, ``y = C z + D u`` (module docstring).
+
+    Attributes:
+        A ``(2 nd, 2 nd)``, B ``(2 nd, ni)``, C ``(no, 2 nd)``, D ``(no, ni)``.
+        inputs: labels of the loaded coordinates (``"x5.2"``) [N, N m].
+        outputs: labels of the outputs: coordinates (``"x5.2"``) [m, rad] and rates
+            (``"xd5.2"``) [m/s, rad/s].
+        states: labels of the states: the dynamic entries of ``q``, then their rates.
+    """
+
+    A: np.ndarray
+    B: np.ndarray
+    C: np.ndarray
+    D: np.ndarray
+    inputs: tuple[str, ...]
+    outputs: tuple[str, ...]
+    states: tuple[str, ...]
+
+    def to_scipy(self):
+        """The model as ``scipy.signal.StateSpace`` (for ``bode``, ``lsim``, ...)."""
+        from scipy import signal
+
+        return signal.StateSpace(self.A, self.B, self.C, self.D)
+
+    def static_gain(self) -> np.ndarray:
+        """``-C A^-1 B`` ``(no, ni)``: the outputs per unit constant input."""
+        return -self.C @ linalg.solve(self.A, self.B)
+
+
+def state_space(linearization: Linearization, inputs, outputs=(), rate_outputs=(), *,
+                damping_ratio: float | None = None) -> StateSpace:
+    """The state-space model of a linearized state.
+
+    Args:
+        linearization: the state (:func:`flexmbd.linearize.linearize`).
+        inputs: coordinates loaded by the force inputs (``["x5.2"]``, INPUTF).
+        outputs: coordinates given as outputs (OUTX).
+        rate_outputs: coordinates whose rates are outputs (OUTXP).
+        damping_ratio: modal damping ratio ``zeta`` of every mode, replacing ``C0 + D0``
+            by ``M Phi diag(2 zeta omega) Phi^T M``; default the model's damping.
+
+    Returns:
+        :class:`StateSpace`.
+    """
+    lin = linearization
+    model, dynamic = lin.model, lin.dynamic
+    inputs, outputs, rate_outputs = (_labels(v, name) for v, name in
+                                     ((inputs, "inputs"), (outputs, "outputs"),
+                                      (rate_outputs, "rate_outputs")))
+    nd = len(dynamic)
+    M, K = lin.block("M0"), lin.block("K")
+    damping = lin.block("C") if damping_ratio is None else _modal_damping(lin, damping_ratio)
+    A = np.zeros((2 * nd, 2 * nd))
+    A[:nd, nd:] = np.eye(nd)
+    A[nd:, :nd] = -linalg.solve(M, K, assume_a="pos")
+    A[nd:, nd:] = -linalg.solve(M, damping, assume_a="pos")
+    B = np.zeros((2 * nd, len(inputs)))
+    B[nd:] = linalg.solve(M, lin.transfer(inputs).T, assume_a="pos")
+    rows = [np.concatenate([lin.transfer([label])[0], np.zeros(nd)]) for label in outputs]
+    velocity = _rate_transfer(lin) if rate_outputs else None
+    for label in rate_outputs:
+        i = model.coordinate_index(label)
+        rows.append(np.concatenate([velocity[i], lin.transfer([label])[0]]))
+    C = np.array(rows).reshape(len(rows), 2 * nd)
+    names = [model.q_labels[j] for j in dynamic]
+    return StateSpace(A, B, C, np.zeros((len(rows), len(inputs))), tuple(inputs),
+                      tuple(outputs) + tuple("xd" + label.strip()[1:] for label in rate_outputs),
+                      tuple(names + [f"d/dt {n}" for n in names]))
+
+
+def _labels(values, name: str) -> list[str]:
+    if isinstance(values, str):
+        values = [values]
+    labels = [str(v) for v in values]
+    for label in labels:
+        if not label.strip().lower().startswith("x"):
+            raise ArgumentError(name, f"names coordinates such as 'x5.2', got {label!r}")
+    return labels
+
+
+def _modal_damping(lin: Linearization, ratio: float) -> np.ndarray:
+    """``M Phi diag(2 zeta omega) Phi^T M`` over the dynamic entries."""
+    if not (isinstance(ratio, (int, float)) and 0.0 <= ratio < np.inf):
+        raise ArgumentError("damping_ratio", f"must be a number >= 0, got {ratio!r}")
+    modes = vibration_modes(lin)
+    M = lin.block("M0")
+    omega = np.sqrt(np.clip(modes.omega2, 0.0, None))
+    MPhi = M @ modes.shapes
+    return MPhi @ np.diag(2 * ratio * omega) @ MPhi.T
+
+
+def _rate_transfer(lin: Linearization) -> np.ndarray:
+    """``d(F_q qdot)/dq_d`` ``(nx, nd)``: how the velocities change with the position of the
+    degrees of freedom at the state's rates (zero at rest), by central differences."""
+    model, dynamic = lin.model, lin.dynamic
+    out = np.zeros((model.n_coordinates, len(dynamic)))
+    if not np.any(lin.qd):
+        return out
+    engine = Engine(model)
+    size = 1.0 / _q_scale(model)
+    for k, j in enumerate(dynamic):
+        step = np.zeros(model.n_dof)
+        step[j] = DIFFERENCE_STEP * size[j]
+        plus = engine.state(lin.q + step, lin.qd, lin.qdd, lin.x)["xd"]
+        minus = engine.state(lin.q - step, lin.qd, lin.qdd, lin.x)["xd"]
+        out[:, k] = (plus - minus) / (2 * step[j])
+    return out

@@ -1,0 +1,222 @@
+"""Static equilibrium with load steps (SPACAR's static mode, THEORY 9).
+
+The dynamic degrees of freedom ``q_d`` solve ``F_q^T f - E_q^T sigma = 0`` (the driving
+load ``tau_d`` of the engine's inverse dynamics at rest) by Newton's method with the
+tangent ``K0 + G0``, exact for large deflections. As SPACAR does, row 0 is the
+equilibrium under the model's loads (``XF``, gravity) with the inputs at their initial
+values; rows ``k = 1..n`` add ``k/n`` of the load increments (``DELXF``) and the input
+increments (``DELINPX``, ``DELINPE``). Every stretch is first tried in one step and
+halved while Newton fails; row 0 is reached from the unloaded reference configuration
+by the same continuation of its loads.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+import scipy.linalg as linalg
+
+from . import checks
+from .engine import MAX_ITERATIONS, Engine, _q_scale, initial_q, load_vector, q_index
+from .errors import ArgumentError, ConvergenceError, FlexmbdError, SimulationError
+from .linearize import Linearization, linearize
+from .model import Model
+from .results import SimulationResult, check_on_failure, conclude
+
+__all__ = ["StaticResult", "static_equilibrium"]
+
+#: halvings of a load step before a static analysis gives up
+MAX_HALVINGS = 12
+
+
+@dataclass(eq=False)
+class StaticResult(SimulationResult):
+    """Equilibria along load steps: the columns of a :class:`SimulationResult` (rates zero)
+    with the load factor in place of time.
+
+    Additional attributes:
+        applied: loads on top of the model's own at each row ``(n, nx)`` [N, N m].
+    The column ``"load"`` (also ``t``) is the load factor, 0 for the model's loads and 1
+    with the full increments.
+    """
+
+    applied: np.ndarray | None = None
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        return self.t if name.strip() == "load" else super().__getitem__(name)
+
+    def columns(self) -> dict[str, np.ndarray]:
+        out = super().columns()
+        return {("load" if name == "t" else name): values for name, values in out.items()}
+
+    def linearization(self, row: int = -1) -> Linearization:
+        """The linearized equations at one row (default the last): for its vibration
+        modes, buckling loads and compliance (:mod:`flexmbd.modes`)."""
+        if not len(self.t):
+            raise ArgumentError("row", "the static analysis has no converged row")
+        return linearize(self.model, self.x[row], loads=self.applied[row])
+
+
+def static_equilibrium(
+    model: Model,
+    *,
+    loads=None,
+    load_increment=None,
+    input_increment: Mapping[str, float] | None = None,
+    steps: int | None = None,
+    tolerance: float | None = None,
+    max_iterations: int = MAX_ITERATIONS,
+    on_failure: Literal["raise", "return"] = "raise",
+) -> StaticResult:
+    """Static equilibria under the model's loads and load steps.
+
+    Args:
+        model: the mechanism; its dynamic degrees of freedom are solved for.
+        loads: loads on top of the model's ``XF`` and gravity ``(nx,)`` or
+            ``{"x5.2": -10.0}`` [N, N m], applied from row 0.
+        load_increment: the total load increment reached at the last row (``DELXF``).
+        input_increment: total increments of prescribed inputs by label
+            (``{"x2.1": 0.5}``, ``DELINPX``/``DELINPE``) [m, rad].
+        steps: load steps ``n`` (``ITERSTEP``); rows ``0..n``. Default 1 with an
+            increment, 0 without.
+        tolerance: Newton tolerance on the degrees of freedom [m, rad]; default
+            ``1e-10`` of the model size.
+        max_iterations: Newton iterations per attempt before the step is halved.
+        on_failure: ``"raise"`` (with the converged rows as ``error.partial_result``) or
+            ``"return"`` them with ``success=False``.
+
+    Returns:
+        :class:`StaticResult`, one row per load step.
+
+    Raises:
+        ConvergenceError: a step did not converge even after halving; it names the last
+            converged load factor and the degree of freedom with the largest residual.
+    """
+    check_on_failure(on_failure)
+    base = np.zeros(model.n_coordinates) if loads is None else load_vector(model, loads)
+    increment = (np.zeros(model.n_coordinates) if load_increment is None
+                 else load_vector(model, load_increment))
+    inputs = np.zeros(model.n_dof)
+    for label, value in (input_increment or {}).items():
+        j = q_index(model, label, "input_increment")
+        if not model.q_is_input[j]:
+            raise ArgumentError("input_increment", f"{label} is a dynamic degree of freedom, "
+                                                   f"not a prescribed input")
+        inputs[j] = checks.real(value, f"input_increment {label}")
+    given = bool(np.any(increment) or np.any(inputs))
+    steps = (1 if given else 0) if steps is None else steps
+    if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 0:
+        raise ArgumentError("steps", f"must be a whole number >= 0, got {steps!r}")
+    solver = _Solver(model, Engine(model), tolerance, checks.iteration_limit(max_iterations))
+    own = solver.engine.compiled["f_const"]
+    rows: list[dict[str, np.ndarray]] = []
+    factors: list[float] = []
+    applied: list[np.ndarray] = []
+    error: BaseException | None = None
+    try:
+        # row 0: the model's and the given loads, switched on from the unloaded reference
+        solver.follow(lambda s: ((s - 1.0) * own + s * base, initial_q(model)),
+                      lambda s: f"the initial loads (row 0) at {s:.6g} of their value")
+        rows.append(solver.state), factors.append(0.0), applied.append(base.copy())
+        for k in range(1, steps + 1):
+            def target(s, k=k):
+                factor = (k - 1 + s) / steps
+                return base + factor * increment, initial_q(model) + factor * inputs
+            solver.follow(target, lambda s, k=k: f"load factor {(k - 1 + s) / steps:.6g} "
+                                                 f"(step {k} of {steps})")
+            rows.append(solver.state), factors.append(k / steps)
+            applied.append(base + k / steps * increment)
+    except (FlexmbdError, KeyboardInterrupt) as caught:
+        error = caught
+    done = len(rows)
+    names = ("x", "xd", "xdd", "e", "ed", "edd", "q", "qd", "qdd", "sigma", "reactions",
+             "driving")
+    arrays = {name: (np.array([r[name] for r in rows]) if rows else
+                     np.zeros((0, 0))) for name in names}
+    result = StaticResult(model, np.array(factors), applied=np.array(applied).reshape(
+        done, model.n_coordinates), **arrays)
+    return conclude(result, error, on_failure,
+                    f"converged {done} load step{'s' if done != 1 else ''}")
+
+
+class _Solver:
+    """Newton's method on the dynamic degrees of freedom along a path of loads and inputs,
+    from the last converged state."""
+
+    def __init__(self, model: Model, engine: Engine, tolerance: float | None,
+                 max_iterations: int):
+        self.model, self.engine, self.max_iterations = model, engine, max_iterations
+        self.tolerance = (engine.tolerance if tolerance is None else
+                          checks.position_tolerance(tolerance, model.characteristic_length,
+                                                    float(np.abs(model.x0).max(initial=0))))
+        self.scale = _q_scale(model) * model.characteristic_length
+        self.dynamic = np.flatnonzero(~np.asarray(model.q_is_input))
+        self.x = np.asarray(model.x0, dtype=float)
+        self.state: dict[str, np.ndarray] = {}
+        self.reached = 0.0  #: load factor of the last converged state on the current path
+
+    def follow(self, target, where) -> None:
+        """Converge at ``target(1)`` (loads ``(nx,)``, ``q`` with the prescribed entries)
+        from the state at ``target(0)``, halving the step while Newton fails;
+        ``where(s)`` names the point ``s`` of the path in messages."""
+        s, step, halvings = 0.0, 1.0, 0
+        while s < 1.0:
+            trial = min(1.0, s + step)
+            try:
+                self.solve(*target(trial))
+            except (SimulationError, np.linalg.LinAlgError) as failure:
+                halvings += 1
+                if halvings > MAX_HALVINGS:
+                    raise ConvergenceError(
+                        f"static equilibrium did not converge towards {where(trial)}: "
+                        f"{failure}; last converged: {where(s)} (step halved {MAX_HALVINGS} "
+                        f"times to {step:.3g}); the loads may exceed what the "
+                        f"structure carries (buckling, a limit point), or it is a mechanism "
+                        f"without stiffness in some direction") from None
+                step /= 2
+                continue
+            s = trial
+            step = min(1.0 - s, 2 * step) if s < 1.0 else step
+
+    def solve(self, loads: np.ndarray, q_target: np.ndarray) -> None:
+        """Newton at fixed loads and inputs from the last converged configuration; on
+        success the state becomes the new last one, else it raises and nothing changes."""
+        engine, model = self.engine, self.model
+        q = self.state["q"].copy() if self.state else q_target.copy()
+        inputs = np.asarray(model.q_is_input, dtype=bool)
+        q[inputs] = q_target[inputs]
+        x = engine.positions(q, self.x)
+        residual = np.inf
+        for _ in range(self.max_iterations):
+            lin = linearize(model, x, loads=loads, engine=engine)
+            residual_vector = lin.driving[self.dynamic]
+            K = lin.block("K0") + lin.block("G0")
+            step = -linalg.solve(K, residual_vector, assume_a="sym")
+            if not np.all(np.isfinite(step)):
+                raise np.linalg.LinAlgError("the tangent K0 + G0 is singular")
+            q = lin.q.copy()
+            q[self.dynamic] += step
+            x = engine.positions(q, lin.x)
+            size = np.abs(step) * self.scale[self.dynamic]
+            residual = float(np.max(np.abs(residual_vector), initial=0.0))
+            if np.max(size, initial=0.0) <= self.tolerance:
+                final = linearize(model, x, loads=loads, engine=engine)
+                self.x, self.state = final.x, _row(final)
+                return
+        worst = int(self.dynamic[np.argmax(np.abs(residual_vector))]) if len(self.dynamic) \
+            else 0
+        raise ConvergenceError(f"Newton did not converge in {self.max_iterations} iterations "
+                               f"(residual {residual:.3g} largest on "
+                               f"{model.describe_q(worst)})",
+                               iterations=self.max_iterations, residual=residual)
+
+
+def _row(lin: Linearization) -> dict[str, np.ndarray]:
+    """The columns of a result row from a converged linearized state (rates zero)."""
+    zero_x, zero_e = np.zeros_like(lin.x), np.zeros_like(lin.e)
+    return {"x": lin.x, "xd": zero_x, "xdd": zero_x, "e": lin.e, "ed": zero_e,
+            "edd": zero_e, "q": lin.q, "qd": lin.qd, "qdd": lin.qdd, "sigma": lin.sigma,
+            "reactions": lin.reactions, "driving": lin.driving}

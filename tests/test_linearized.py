@@ -1,0 +1,276 @@
+"""Linearized analyses (THEORY 9) against closed forms, an elastica, a rotating-beam
+Ritz solution, finite differences of the engine's driving loads and a simulation."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.linalg as linalg
+from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
+
+import flexmbd as fm
+from examples.slider_crank_flex import build_model
+from flexmbd.engine import Engine
+from flexmbd.linearize import equilibrium_state, linearize
+from flexmbd.modes import buckling, compliance, modes_along, vibration_modes
+from flexmbd.statespace import state_space
+from flexmbd.statics import static_equilibrium
+
+L, EI, RHO_A = 1.0, 2.0, 0.5
+#: (beta_n L) of the first three bending modes of a clamped-free beam
+CLAMPED_FREE = np.array([1.8751040687119611, 4.6940911329741745, 7.8547574382376126])
+
+
+def beam_line(n, *, ends=("clamped", "free"), deformations=(2, 3), EA=1e6, second_order=False,
+              tip=None, hub=False):
+    """``n`` equal beams along x from 0 to L; node 1 and its angle node 2 at x = 0, the
+    tip at node 2n+1. ``hub``: node 2 is a prescribed angle (a rotor)."""
+    b = fm.ModelBuilder(f"{n} beams")
+    for k in range(n + 1):
+        b.add_node(2 * k + 1, L * k / n, 0.0)
+    for k in range(n):
+        b.add_beam(k + 1, 2 * k + 1, 2 * k + 2, 2 * k + 3, 2 * k + 4, second_order=second_order)
+        b.dynamic_deformation(k + 1, *deformations)
+        b.set_stiffness(k + 1, axial=EA, bending=EI).set_mass(k + 1, RHO_A)
+    b.fix(1)
+    if hub:
+        b.input_coordinate(2)
+    elif ends[0] == "clamped":
+        b.fix(2)
+    if ends[1] == "pinned":
+        b.fix(2 * n + 1)
+    elif ends[1] == "roller":
+        b.fix(2 * n + 1, "y")
+    if tip is not None:
+        b.add_force(2 * n + 1, *tip)
+    return b.build()
+
+
+def frequencies(model, count=3, **state):
+    return np.sqrt(vibration_modes(linearize(model, **state), count).omega2)
+
+
+def test_clamped_free_bending_frequencies_converge_to_the_closed_form():
+    exact = CLAMPED_FREE**2 * np.sqrt(EI / (RHO_A * L**4))
+    error8 = np.abs(frequencies(beam_line(8)) / exact - 1)
+    error16 = np.abs(frequencies(beam_line(16)) / exact - 1)
+    assert error8[0] < 1e-3 and np.all(error8 < 1e-3)
+    assert np.all(error16 < error8 / 8)  # O(n^-4)
+
+
+def test_pinned_pinned_bending_frequencies_converge_to_the_closed_form():
+    exact = (np.pi * np.arange(1, 4)) ** 2 * np.sqrt(EI / (RHO_A * L**4))
+    error8 = np.abs(frequencies(beam_line(8, ends=("pinned", "roller"))) / exact - 1)
+    error16 = np.abs(frequencies(beam_line(16, ends=("pinned", "roller"))) / exact - 1)
+    assert error8[0] < 1e-3
+    assert np.all(error16 < error8 / 8)
+
+
+def axial_bar(n, EA=3e4):
+    """``n`` trusses along x, clamped at node 1, free at the end, moving along x only."""
+    b = fm.ModelBuilder("bar")
+    for k in range(n + 1):
+        b.add_node(k + 1, L * k / n, 0.0)
+    for k in range(n):
+        b.add_truss(k + 1, k + 1, k + 2).dynamic_deformation(k + 1)
+        b.set_stiffness(k + 1, axial=EA).set_mass(k + 1, RHO_A)
+    b.fix(1)
+    for k in range(2, n + 2):
+        b.fix(k, "y")
+    return b.build(), EA
+
+
+def test_axial_frequencies_of_a_free_clamped_bar_converge_to_the_closed_form():
+    errors = []
+    for n in (8, 16, 32):
+        model, EA = axial_bar(n)
+        exact = (2 * np.arange(1, 4) - 1) * np.pi / 2 * np.sqrt(EA / RHO_A) / L
+        errors.append(np.abs(frequencies(model) / exact - 1))
+    assert np.all(errors[1] < errors[0] / 3.5) and np.all(errors[2] < errors[1] / 3.5)  # O(n^-2)
+    assert errors[2][0] < 1e-3
+
+
+@pytest.mark.parametrize("ends, effective_length", [(("clamped", "free"), 2 * L),
+                                                     (("pinned", "roller"), L)])
+def test_euler_buckling_loads_within_a_thousandth_at_eight_beams(ends, effective_length):
+    """Columns of second-order beams under a unit axial load at the tip: the smallest
+    load factor is the Euler load pi^2 EI / (K L)^2."""
+    model = beam_line(8, ends=ends, deformations=(1, 2, 3), second_order=True,
+                      tip=(-1.0, 0.0))
+    factors = buckling(linearize(model), 2).factors
+    assert abs(factors[0] / (np.pi**2 * EI / effective_length**2) - 1) < 1e-3
+
+
+def elastica_tip(k):
+    """Tip of an inextensible cantilever of unit length under a transverse tip load with
+    ``P L^2 / EI = k``: shooting on ``theta'' = -k cos(theta)``, ``theta(0) = 0``,
+    ``theta'(1) = 0``. Returns ``(x, y)`` of the tip, deflected towards +y."""
+    def shoot(curvature0):
+        end = solve_ivp(lambda s, y: [y[1], -k * np.cos(y[0]), np.cos(y[0]), np.sin(y[0])],
+                        (0.0, 1.0), [0.0, curvature0, 0.0, 0.0], rtol=1e-12, atol=1e-12)
+        return end.y[:, -1]
+
+    end = shoot(brentq(lambda c: shoot(c)[1], 0.0, k + 1e-9))
+    return end[2], end[3]
+
+
+@pytest.mark.parametrize("k, n", [(1, 16), (2, 16), (5, 20)])
+def test_large_deflection_cantilever_matches_the_elastica(k, n):
+    """Tip within 1e-3 L. The beam's bending measure (e2 = l sin theta) softens it by
+    (kappa l)^2 / 12, so the error is O(n^-2): at P L^2/EI = 5 it is 1.3e-3 L at 16
+    beams and 0.84e-3 L at 20."""
+    model = beam_line(n, deformations=(1, 2, 3), EA=1e9, tip=(0.0, -k * EI / L**2))
+    result = static_equilibrium(model)
+    x_tip, y_tip = elastica_tip(k)
+    tip = np.array([result[f"x{2 * n + 1}.1"][-1], result[f"x{2 * n + 1}.2"][-1]])
+    assert np.hypot(tip[0] - x_tip, tip[1] + y_tip) < 1e-3 * L
+
+
+def test_load_steps_follow_the_increment_and_give_stresses_in_equilibrium():
+    n = 8
+    model = beam_line(n, deformations=(1, 2, 3), EA=1e9)
+    steps = static_equilibrium(model, load_increment={f"x{2 * n + 1}.2": -2 * EI}, steps=4)
+    assert np.allclose(steps["load"], [0, 0.25, 0.5, 0.75, 1.0])
+    assert steps["x17.2"][0] == pytest.approx(0.0, abs=1e-12)
+    assert np.all(np.diff(steps["x17.2"]) < 0)
+    # the clamp carries the tip load and its moment about the clamp
+    f = steps.reactions[-1, list(model.nodes[1].coordinates)]
+    assert f == pytest.approx([0.0, 2 * EI], abs=1e-6)
+    moment = steps.reactions[-1, model.nodes[2].coordinates[0]]
+    assert moment == pytest.approx(2 * EI * steps["x17.1"][-1], rel=1e-8)
+    # equilibrium to the rounding of EA e1 (EA = 1e9 N: 1e-16 m of position is 1e-7 N)
+    assert np.max(np.abs(steps.driving[-1])) < 1e-6 * 2 * EI
+
+
+def test_a_load_the_structure_cannot_carry_names_the_last_converged_load():
+    """A beam on a free pivot (its angle a dynamic degree of freedom) is a mechanism: no
+    tangent, and the failure says how far the loads got."""
+    b = fm.ModelBuilder("pendulum").add_node(1, 0, 0).add_node(3, 1, 0)
+    b.add_beam(1, 1, 2, 3, 4).dynamic_deformation(1).set_stiffness(1, axial=1e3, bending=EI)
+    model = b.fix(1).dynamic_coordinate(2).add_force(3, 0.0, -1.0).build()
+    with pytest.raises(fm.ConvergenceError, match="last converged: the initial loads"):
+        static_equilibrium(model)
+
+
+def ritz_rotating_cantilever(speed, terms=10):
+    """First in-plane frequency [rad/s] of a cantilever of unit length spinning at
+    ``speed`` about its clamped end: Rayleigh-Ritz with ``x^2 .. x^(terms+1)`` on
+    ``EI w'''' - (T w')' - rhoA speed^2 w = rhoA omega^2 w``, ``T = rhoA speed^2 (L^2 -
+    x^2)/2``."""
+    P = np.polynomial.polynomial
+    basis = [np.r_[np.zeros(k + 2), 1.0] for k in range(terms)]
+
+    def integral(c):
+        antiderivative = P.polyint(c)
+        return P.polyval(L, antiderivative) - P.polyval(0.0, antiderivative)
+
+    tension = RHO_A * speed**2 * np.array([L**2 / 2, 0.0, -0.5])
+    K, M = np.zeros((terms, terms)), np.zeros((terms, terms))
+    for i, a in enumerate(basis):
+        for j, b in enumerate(basis):
+            K[i, j] = (EI * integral(P.polymul(P.polyder(a, 2), P.polyder(b, 2)))
+                       + integral(P.polymul(tension, P.polymul(P.polyder(a), P.polyder(b))))
+                       - RHO_A * speed**2 * integral(P.polymul(a, b)))
+            M[i, j] = RHO_A * integral(P.polymul(a, b))
+    return np.sqrt(linalg.eigh(K, M, eigvals_only=True)[0])
+
+
+def test_centrifugal_stiffening_of_a_rotating_cantilever():
+    model = beam_line(8, hub=True, second_order=True)
+    first = []
+    for speed in (0.0, 5.0, 10.0):
+        qd = np.zeros(model.n_dof)
+        qd[model.q_labels.index("x2.1")] = speed
+        first.append(frequencies(model, 1, qd=qd)[0])
+        assert first[-1] == pytest.approx(ritz_rotating_cantilever(speed), rel=1e-4)
+    assert first[0] < first[1] < first[2]
+
+
+def test_the_linearized_matrices_are_the_tangent_of_the_driving_loads():
+    """K0 + N0 + G0 and C0 + D0 against central differences of the engine's inverse
+    dynamics, at a random moving, accelerating and deformed state of a flexible rotor
+    with damping."""
+    b = fm.ModelBuilder("damped rotor")
+    b.add_node(1, 0, 0).add_node(3, 0.5, 0).add_node(5, 1.0, 0.1)
+    for k in range(2):
+        b.add_beam(k + 1, 2 * k + 1, 2 * k + 2, 2 * k + 3, 2 * k + 4, second_order=True)
+        b.dynamic_deformation(k + 1).set_stiffness(k + 1, axial=50.0, bending=EI)
+        b.set_mass(k + 1, RHO_A).set_damping(k + 1, axial=0.3, bending=0.02)
+    model = b.fix(1).input_coordinate(2).add_point_mass(5, 0.2).build()
+    rng = np.random.default_rng(1)
+    engine = Engine(model)
+    q = np.r_[0.3, rng.normal(scale=0.02, size=model.n_dof - 1)]
+    qd, qdd = rng.normal(size=model.n_dof), rng.normal(size=model.n_dof)
+    x = engine.positions(q)
+    lin = linearize(model, x, qd, qdd)
+
+    def driving(q_, qd_):
+        return equilibrium_state(engine, engine.positions(q_, x), qd_, qdd,
+                                 np.zeros(model.n_coordinates))["driving"]
+
+    unit = np.eye(model.n_dof)
+    h = 1e-6
+    stiffness = np.stack([(driving(q + h * u, qd) - driving(q - h * u, qd)) / (2 * h)
+                          for u in unit], axis=1)
+    damping = np.stack([(driving(q, qd + u) - driving(q, qd - u)) / 2 for u in unit], axis=1)
+    K, C = lin.K0 + lin.N0 + lin.G0, lin.C0 + lin.D0
+    assert np.abs(stiffness - K).max() < 1e-7 * np.abs(K).max()
+    assert np.abs(damping - C).max() < 1e-9 * np.abs(C).max()
+    assert np.abs(lin.N0).max() > 1e-2 * np.abs(K).max()  # the inertia terms were exercised
+
+
+def test_static_states_have_no_inertia_terms():
+    lin = linearize(beam_line(4, tip=(0.0, -1.0)))
+    assert not np.any(lin.N0) and not np.any(lin.C0)
+
+
+def test_slider_crank_rod_frequencies_vary_smoothly_along_a_revolution():
+    model = build_model(4)
+    times = np.linspace(0.0, 2 * np.pi / 150.0, 61)
+    along = modes_along(fm.inverse_dynamics(model, times), 2)
+    first = along.frequencies[:, 0]
+    assert 100.0 < first.min() < first.max() < 160.0
+    assert first.max() - first.min() > 5.0  # the rod's axial load changes it
+    assert np.max(np.abs(np.diff(first, 2))) < 0.05 * (first.max() - first.min())
+    assert first[0] == pytest.approx(first[-1], rel=1e-9)  # the motion is periodic
+
+
+def test_a_frozen_slider_crank_vibrates_at_its_first_eigenfrequency():
+    """Crank held at 1 rad: a free vibration started along the first mode (amplitude 1e-6
+    of the rod length) has the mode's period."""
+    model = build_model(2, omega=0.0)
+    start = fm.Polynomial(1.0)
+    frozen = fm.kinematic_analysis(model, [0.0], inputs={"x2.1": start})
+    lin = linearize(model, frozen.x[0])
+    modes = vibration_modes(lin, 1)
+    omega = np.sqrt(modes.omega2[0])
+    shape = 1e-6 * 0.3 * modes.shapes[:, 0] / np.abs(modes.shapes[:, 0]).max()
+    initial = {model.q_labels[j]: (value, 0.0) for j, value in zip(lin.dynamic, shape,
+                                                                   strict=True)}
+    period = 2 * np.pi / omega
+    times = np.linspace(0.0, 10 * period, 2001)
+    run = fm.simulate(model, times, inputs={"x2.1": start}, initial=initial, rtol=1e-10,
+                      atol=1e-16, method="Radau")
+    signal = run.q[:, lin.dynamic[np.argmax(np.abs(shape))]]
+    signal = signal - signal.mean()
+    crossings = times[:-1][(signal[:-1] < 0) & (signal[1:] >= 0)]
+    measured = np.mean(np.diff(crossings))
+    assert measured == pytest.approx(period, rel=2e-3)
+
+
+def test_state_space_gain_is_the_compliance_and_poles_the_frequencies():
+    model = beam_line(6, deformations=(1, 2, 3), EA=1e4)
+    lin = linearize(model)
+    labels = ["x13.1", "x13.2", "x14.1"]
+    system = state_space(lin, labels, labels)
+    np.testing.assert_allclose(system.static_gain(), compliance(lin, labels), rtol=1e-8,
+                               atol=1e-14)
+    # the tip compliance of a cantilever: L^3/(3 EI) transverse, L/EA axial
+    assert compliance(lin, ["x13.2"])[0, 0] == pytest.approx(L**3 / (3 * EI), rel=1e-9)
+    assert compliance(lin, ["x13.1"])[0, 0] == pytest.approx(L / 1e4, rel=1e-9)
+    poles = np.sort(np.abs(np.linalg.eigvals(system.A).imag))[::2]
+    np.testing.assert_allclose(poles, np.sqrt(vibration_modes(lin).omega2), rtol=1e-8)
+    damped = state_space(lin, labels[:1], rate_outputs=labels[:1], damping_ratio=0.02)
+    real = np.linalg.eigvals(damped.A)
+    np.testing.assert_allclose(-real.real / np.abs(real), 0.02, rtol=1e-6)
