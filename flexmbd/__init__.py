@@ -45,12 +45,25 @@ from .settings import RunSettings
 __version__ = "0.2.0"
 
 
-def __getattr__(name: str):
-    """``read_dat`` and ``write_dat``, whose SPACAR syntax tables load on first use."""
-    if name in ("read_dat", "write_dat"):
-        from . import dat
+#: names loaded on first use, by module: the SPACAR syntax tables, and the linearized
+#: analyses, which need SciPy (``import flexmbd`` loads numpy only)
+_LAZY = {
+    "dat": ("read_dat", "write_dat"),
+    "linearize": ("Linearization", "linearize"),
+    "modes": ("Buckling", "Modes", "ModesAlong", "buckling", "compliance", "modes_along",
+              "vibration_modes"),
+    "statespace": ("StateSpace", "state_space"),
+    "statics": ("StaticResult", "static_equilibrium"),
+}
 
-        return getattr(dat, name)
+
+def __getattr__(name: str):
+    """The names of :data:`_LAZY`, imported from their module on first use."""
+    import importlib
+
+    for module, names in _LAZY.items():
+        if name in names:
+            return getattr(importlib.import_module(f".{module}", __name__), name)
     raise AttributeError(f"module 'flexmbd' has no attribute {name!r}")
 
 
@@ -60,6 +73,7 @@ def __dir__() -> list[str]:
 __all__ = [
     "ArgumentError",
     "Beam",
+    "Buckling",
     "ColumnError",
     "ConvergenceError",
     "CoordinateClass",
@@ -71,9 +85,12 @@ __all__ = [
     "InputFileError",
     "KinematicResult",
     "LabelError",
+    "Linearization",
     "Model",
     "ModelBuilder",
     "ModelError",
+    "Modes",
+    "ModesAlong",
     "Polynomial",
     "RigidBeam",
     "RunSettings",
@@ -82,9 +99,13 @@ __all__ = [
     "SimulationResult",
     "SingularConfigurationError",
     "SpringDamper",
+    "StateSpace",
+    "StaticResult",
     "Truss",
     "__version__",
     "accelerations",
+    "buckling",
+    "compliance",
     "deformation_transfer",
     "deformations",
     "first_order_transfer",
@@ -93,7 +114,9 @@ __all__ = [
     "inverse_dynamics",
     "jacobian",
     "kinematic_analysis",
+    "linearize",
     "mass_matrix",
+    "modes_along",
     "partition_jacobian",
     "position_analysis",
     "quadratic_velocity",
@@ -102,6 +125,9 @@ __all__ = [
     "second_order_transfer",
     "simulate",
     "solve_position",
+    "state_space",
+    "static_equilibrium",
     "velocities",
+    "vibration_modes",
     "write_dat",
 ]

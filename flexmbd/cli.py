@@ -41,6 +41,9 @@ def _parser() -> argparse.ArgumentParser:
     from .run_file import add_arguments
 
     add_arguments(run)
+    from .linear_cli import add_commands
+
+    add_commands(commands)
     return parser
 
 
@@ -93,6 +96,10 @@ def main(argv: list[str] | None = None) -> int:
             return run(args)
         if rest:
             parser.error(f"unrecognized arguments: {' '.join(rest)}")
+        if args.command in ("static", "modes", "buckling", "statespace"):
+            from .linear_cli import run as run_linear
+
+            return run_linear(args)
         parser.print_help()
         return EXIT_USAGE
     except ArgumentError as error:  # an option that cannot work: a usage error

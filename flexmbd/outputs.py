@@ -15,8 +15,9 @@ RESULT_TYPES = (".csv", ".npz", ".h5", ".hdf5")
 PLOT_TYPES = (".png", ".pdf", ".svg", ".jpg")
 MOVIE_TYPES = (".gif", ".mp4")
 TABLE_TYPES = (".csv",)
+MATRIX_TYPES = (".npz",)
 TYPES = {"results": RESULT_TYPES, "plot": PLOT_TYPES, "movie": MOVIE_TYPES,
-         "table": TABLE_TYPES}
+         "table": TABLE_TYPES, "matrices": MATRIX_TYPES}
 _NEEDS = {".h5": ("h5py", "hdf5", "write .csv or .npz"),
           ".hdf5": ("h5py", "hdf5", "write .csv or .npz"),
           ".mp4": ("imageio_ffmpeg", "movie", "save a .gif, which needs nothing extra")}
@@ -24,7 +25,8 @@ _NEEDS = {".h5": ("h5py", "hdf5", "write .csv or .npz"),
 
 def check_output(path: str | os.PathLike, what: str, option: str) -> Path:
     """Refuse an output file ``path`` holding ``what`` (``"results"``, ``"plot"``,
-    ``"movie"``, ``"table"``) that could not be written, naming the ``option`` that gave it.
+    ``"movie"``, ``"table"``, ``"matrices"``) that could not be written, naming the
+    ``option`` that gave it.
 
     Raises:
         ArgumentError: a file type that is not one of :data:`TYPES` ``[what]``, a

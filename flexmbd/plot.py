@@ -233,6 +233,8 @@ def column_unit(model: Model, name: str) -> str:
     name = name.strip()
     if name == "t":
         return "s"
+    if name == "load":  # the load factor of a static analysis
+        return "-"
     prefix = next(p for p in ("sig", "xdd", "xd", "x", "edd", "ed", "e", "f")
                   if name.startswith(p))
     number, _, k = name[len(prefix):].partition(".")
@@ -318,3 +320,37 @@ def show() -> None:
     import matplotlib.pyplot as plt
 
     plt.show()
+
+
+def plot_shapes(model: Model, x: np.ndarray, motions: np.ndarray, labels: list[str], *,
+                title: str | None = None, filename: str | Path | None = None,
+                window: bool = False):
+    """Mode or buckled shapes drawn on the mechanism: one panel per column of ``motions``
+    ``(nx, k)`` [m, rad], the configuration ``x`` grey and ``x + a motion`` on top, ``a``
+    chosen so that the largest nodal translation is a tenth of the model size.
+
+    Returns the ``matplotlib.figure.Figure``; saved to ``filename`` when given.
+    """
+    motions = np.atleast_2d(np.asarray(motions, dtype=float).T).T
+    count = motions.shape[1]
+    fig = _new_figure(window, figsize=(4.0 * min(count, 3), 3.2 * -(-count // 3)))
+    axes = np.atleast_1d(fig.subplots(-(-count // 3), min(count, 3))).ravel()
+    _, index, _ = _translational_nodes(model)
+    for ax, motion, label in zip(axes, motions.T, labels, strict=False):
+        largest = np.max(np.abs(motion[index]), initial=0.0)
+        scale = 0.1 * model.characteristic_length / largest if largest > 0 else 1.0
+        for lines, style in ((element_polylines(model, x), dict(color="0.7", lw=1)),
+                             (element_polylines(model, x + scale * motion),
+                              dict(color="C0", lw=2))):
+            for line in lines:
+                ax.plot(line[:, 0], line[:, 1], **style)
+        ax.set_title(label, fontsize=10)
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.axis("off")
+    for ax in axes[count:]:
+        ax.axis("off")
+    if title:
+        fig.suptitle(title)
+    fig.tight_layout()
+    save_figure(fig, filename)
+    return fig

@@ -24,6 +24,13 @@ class RunSettings:
         max_iterations: Newton iterations of the position solve (ITERSTEP).
         load_steps: load steps of a static analysis (ITERSTEP's second value).
         tolerance: Newton tolerance of the position solve [m, rad] (ITERSTEP).
+        load_increment: total load increments of a static analysis by coordinate label,
+            ``{"x5.2": -10.0}`` [N, N m] (DELXF).
+        input_increment: total increments of prescribed inputs by label (DELINPX,
+            DELINPE) [m, rad].
+        force_inputs: coordinates loaded by the inputs of a state-space model (INPUTF).
+        outputs, rate_outputs: coordinates whose values (OUTX) or rates (OUTXP) are its
+            outputs.
     """
 
     t_end: float | None = None
@@ -35,6 +42,11 @@ class RunSettings:
     max_iterations: int | None = None
     load_steps: int | None = None
     tolerance: float | None = None
+    load_increment: Mapping[str, float] = field(default_factory=lambda: MappingProxyType({}))
+    input_increment: Mapping[str, float] = field(default_factory=lambda: MappingProxyType({}))
+    force_inputs: tuple[str, ...] = ()
+    outputs: tuple[str, ...] = ()
+    rate_outputs: tuple[str, ...] = ()
 
     def output_times(self) -> np.ndarray | None:
         """``steps + 1`` equally spaced times from 0 to ``t_end`` [s], or ``None`` when unset."""

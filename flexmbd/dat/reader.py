@@ -24,6 +24,11 @@ Readings chosen where the format leaves room (documented in the README):
   SPACAR's order, the iteration limit, the load steps of a static analysis and
   the tolerance [m, rad] of the Newton position solve (the flags are SPACAR
   solver options and are not used).
+* Static load steps and the linear model: ``DELXF n F..`` (the total load increment
+  over the load steps, as ``XF``), ``DELINPX n k delta`` and ``DELINPE e k delta``
+  (total increments of inputs), ``INPUTF n k..`` (force inputs), ``OUTX n k..`` and
+  ``OUTXP n k..`` (position and velocity outputs) of ``flexmbd static`` and
+  ``flexmbd statespace``.
 """
 
 from __future__ import annotations
@@ -100,6 +105,8 @@ class _Reader:
         self.positions: dict[int, int] = {}  # node -> line of X
         self.inputs: set[tuple[str, int, int]] = set()  # ("x"|"e", number, k) of block 1
         self.settings: dict[str, object] = {}
+        #: static increments, force inputs and outputs of the linear analyses
+        self.linear: dict[str, dict[str, float] | list[str]] = {}
         self.initial: dict[str, tuple[tuple[float, float], Statement]] = {}
         self.classified: dict[str, list[int]] = {}  # label -> lines that classified it
         self.setting_statements: dict[str, Statement] = {}
@@ -169,7 +176,9 @@ class _Reader:
                                      f"with DYNX or DYNE in the kinematics block")
         self.check_settings(model)
         initial = {label: pair for label, (pair, _) in self.initial.items()}
-        return RunSettings(initial=MappingProxyType(initial), **self.settings)
+        linear = {name: MappingProxyType(values) if isinstance(values, dict) else tuple(values)
+                  for name, values in self.linear.items()}
+        return RunSettings(initial=MappingProxyType(initial), **self.settings, **linear)
 
     def check_settings(self, model: Model) -> None:
         """ITERSTEP, ERROR and TIMESTEP values that cannot work, refused at their line
@@ -381,6 +390,44 @@ class _Reader:
         element, k, *start = s.values
         self.check_deformations(s, element, [k])
         self.initial[f"e{element}.{k}"] = ((start[0], start[1] if len(start) > 1 else 0.0), s)
+
+    def _delxf(self, s: Statement) -> None:
+        node, loads = s.values[0], s.values[1:]
+        want = 2 if self.kind(s, node) == TRANSLATIONAL else 1
+        if len(loads) != want:
+            self.fail(s, f"node {node} is {self.kinds.get(node, TRANSLATIONAL)}: give "
+                         f"{'dFx dFy' if want == 2 else 'one torque increment dM'}")
+        increments = self.linear.setdefault("load_increment", {})
+        for k, value in enumerate(loads, 1):
+            increments[f"x{node}.{k}"] = increments.get(f"x{node}.{k}", 0.0) + value
+
+    def _delinpx(self, s: Statement) -> None:
+        node, k, delta = s.values
+        self.check_directions(s, node, [k])
+        if ("x", node, k) not in self.inputs:
+            self.fail(s, f"coordinate {k} of node {node} is not an input (INPUTX in the "
+                         f"kinematics block)")
+        self.linear.setdefault("input_increment", {})[f"x{node}.{k}"] = delta
+
+    def _delinpe(self, s: Statement) -> None:
+        element, k, delta = s.values
+        self.check_deformations(s, element, [k])
+        if ("e", element, k) not in self.inputs:
+            self.fail(s, f"deformation {k} of element {element} is not an input (INPUTE in "
+                         f"the kinematics block)")
+        self.linear.setdefault("input_increment", {})[f"e{element}.{k}"] = delta
+
+    def _inputf(self, s: Statement, name: str = "force_inputs") -> None:
+        node, directions = s.values[0], s.values[1:]
+        self.check_directions(s, node, directions)
+        ks = directions or range(1, 3 if self.kind(s, node) == TRANSLATIONAL else 2)
+        self.linear.setdefault(name, []).extend(f"x{node}.{k}" for k in ks)
+
+    def _outx(self, s: Statement) -> None:
+        self._inputf(s, "outputs")
+
+    def _outxp(self, s: Statement) -> None:
+        self._inputf(s, "rate_outputs")
 
     def _startdx(self, s: Statement) -> None:
         node, k, *start = s.values

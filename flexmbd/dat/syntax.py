@@ -95,6 +95,13 @@ DYNAMICS = {
     # SPACAR's order: iteration limit, load steps, tolerance, then solver flags
     "ITERSTEP": _syntax("max_iterations:int", "load_steps:int tolerance:float", rest="flag:float"),
     "ERROR": _syntax("atol:float rtol:float"),
+    # static load steps and the linear model (SPACAR's modes 9 and 10)
+    "DELXF": _syntax("node:int", rest="load:float", min_rest=1),
+    "DELINPX": _syntax("node:int direction:int delta:float"),
+    "DELINPE": _syntax("element:int deformation:int delta:float"),
+    "INPUTF": _syntax("node:int", rest="direction:int"),
+    "OUTX": _syntax("node:int", rest="direction:int"),
+    "OUTXP": _syntax("node:int", rest="direction:int"),
 }
 
 #: spatial (3D) keywords of SPACAR that flexmbd does not read

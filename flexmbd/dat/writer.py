@@ -42,7 +42,8 @@ def dat_text(model: Model, settings: RunSettings | None = None) -> str:
     lines += ["END", "HALT", "", "# properties and loads"]
     lines += _properties(model)
     lines += _laws(model)
-    lines += _settings(settings or RunSettings())
+    settings = settings or RunSettings()
+    lines += _settings(settings) + _linear_settings(model, settings)
     lines += ["END", "END", ""]
     return "\n".join(lines)
 
@@ -138,4 +139,25 @@ def _settings(settings: RunSettings) -> list[str]:
         if settings.tolerance is not None:
             values.append(settings.tolerance)
         lines.append(_line("ITERSTEP", *values))
+    return lines
+
+
+def _linear_settings(model: Model, settings: RunSettings) -> list[str]:
+    """DELXF (every component of the node), DELINPX/DELINPE, INPUTF, OUTX and OUTXP lines."""
+    lines = []
+    by_node: dict[int, dict[int, float]] = {}
+    for label, value in settings.load_increment.items():
+        number, k = (int(part) for part in label[1:].split("."))
+        by_node.setdefault(number, {})[k] = value
+    for number, values in sorted(by_node.items()):
+        components = range(1, len(model.nodes[number].coordinates) + 1)
+        lines.append(_line("DELXF", number, *(values.get(k, 0.0) for k in components)))
+    for label, delta in sorted(settings.input_increment.items()):
+        number, k = (int(part) for part in label[1:].split("."))
+        lines.append(_line("DELINPX" if label.startswith("x") else "DELINPE", number, k, delta))
+    for keyword, labels in (("INPUTF", settings.force_inputs), ("OUTX", settings.outputs),
+                            ("OUTXP", settings.rate_outputs)):
+        for label in labels:
+            number, k = (int(part) for part in label[1:].split("."))
+            lines.append(_line(keyword, number, k))
     return lines
