@@ -49,7 +49,7 @@ __version__ = "0.2.0"
 #: analyses, which need SciPy (``import flexmbd`` loads numpy only)
 _LAZY = {
     "dat": ("read_dat", "write_dat"),
-    "linearize": ("Linearization", "linearize"),
+    "linearization": ("Linearization", "linearize"),
     "modes": ("Buckling", "Modes", "ModesAlong", "buckling", "compliance", "modes_along",
               "vibration_modes"),
     "statespace": ("StateSpace", "state_space"),

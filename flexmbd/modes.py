@@ -1,6 +1,6 @@
 """Eigenfrequencies and mode shapes, buckling load factors and compliance (THEORY 9).
 
-All three are eigen- or linear problems of one :class:`~flexmbd.linearize.Linearization`
+All three are eigen- or linear problems of one :class:`~flexmbd.linearization.Linearization`
 over the dynamic degrees of freedom ``d`` (prescribed entries held):
 
 * vibration: ``(K0 + N0 + G0) phi = omega^2 M0 phi``, shapes mass-normalized
@@ -21,7 +21,7 @@ import scipy.linalg as linalg
 
 from .engine import Engine
 from .errors import ArgumentError, SingularConfigurationError
-from .linearize import Linearization, linearize
+from .linearization import Linearization, linearize
 from .progress import progress_bar
 from .results import KinematicResult
 

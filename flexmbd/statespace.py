@@ -23,7 +23,7 @@ import scipy.linalg as linalg
 
 from .engine import Engine, _q_scale
 from .errors import ArgumentError
-from .linearize import DIFFERENCE_STEP, Linearization
+from .linearization import DIFFERENCE_STEP, Linearization
 from .modes import vibration_modes
 
 __all__ = ["StateSpace", "state_space"]
@@ -65,7 +65,7 @@ def state_space(linearization: Linearization, inputs, outputs=(), rate_outputs=(
     """The state-space model of a linearized state.
 
     Args:
-        linearization: the state (:func:`flexmbd.linearize.linearize`).
+        linearization: the state (:func:`flexmbd.linearization.linearize`).
         inputs: coordinates loaded by the force inputs (``["x5.2"]``, INPUTF).
         outputs: coordinates given as outputs (OUTX).
         rate_outputs: coordinates whose rates are outputs (OUTXP).

@@ -22,7 +22,7 @@ import scipy.linalg as linalg
 from . import checks
 from .engine import MAX_ITERATIONS, Engine, _q_scale, initial_q, load_vector, q_index
 from .errors import ArgumentError, ConvergenceError, FlexmbdError, SimulationError
-from .linearize import Linearization, linearize
+from .linearization import Linearization, linearize
 from .model import Model
 from .results import SimulationResult, check_on_failure, conclude
 

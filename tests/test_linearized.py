@@ -12,7 +12,7 @@ from scipy.optimize import brentq
 import flexmbd as fm
 from examples.slider_crank_flex import build_model
 from flexmbd.engine import Engine
-from flexmbd.linearize import equilibrium_state, linearize
+from flexmbd.linearization import equilibrium_state, linearize
 from flexmbd.modes import buckling, compliance, modes_along, vibration_modes
 from flexmbd.statespace import state_space
 from flexmbd.statics import static_equilibrium
