@@ -72,8 +72,10 @@ _TYPE_NUMBER = {cls: k for k, cls in enumerate(ELEMENT_TYPES.values())}
 
 
 # --- element values at one configuration (per-state functions, the builder's checks) -----
-def _kernel(element, name: str, x: np.ndarray, size: int, xd: np.ndarray | None = None
-            ) -> np.ndarray:
+def element_kernel(element, name: str, x: np.ndarray, size: int,
+                   xd: np.ndarray | None = None) -> np.ndarray:
+    """One generated kernel (``"deform_jac"``, ``"hessian"``, ``"quadratic"``, ...) of one
+    element at the coordinates ``x`` ``(nx,)`` (and rates ``xd``): its ``size`` values."""
     check_core()
     out = np.empty(size)
     coords = list(element.coordinates)
@@ -95,7 +97,7 @@ def deformations_and_jacobian(model: Model, x: np.ndarray) -> tuple[np.ndarray, 
     e, D_x = np.zeros(model.n_deformations), np.zeros((model.n_deformations, len(x)))
     for element in model.elements.values():
         nd, nc = len(element.deformations), len(element.coordinates)
-        out = _kernel(element, "deform_jac", x, nd * (1 + nc))
+        out = element_kernel(element, "deform_jac", x, nd * (1 + nc))
         rows = list(element.deformations)
         e[rows] = out[:nd]
         D_x[np.ix_(rows, list(element.coordinates))] = out[nd:].reshape(nd, nc)
@@ -109,7 +111,7 @@ def dense_hessian(model: Model, x: np.ndarray) -> np.ndarray:
     for element in model.elements.values():
         nd, nc = len(element.deformations), len(element.coordinates)
         coords = list(element.coordinates)
-        H[np.ix_(list(element.deformations), coords, coords)] = _kernel(
+        H[np.ix_(list(element.deformations), coords, coords)] = element_kernel(
             element, "hessian", x, nd * nc * nc).reshape(nd, nc, nc)
     return H
 
@@ -120,7 +122,7 @@ def quadratic_velocity(model: Model, x: np.ndarray, xd: np.ndarray) -> np.ndarra
     out = np.zeros(model.n_deformations)
     for element in model.elements.values():
         nd = len(element.deformations)
-        out[list(element.deformations)] = _kernel(element, "quadratic", x, nd, xd)
+        out[list(element.deformations)] = element_kernel(element, "quadratic", x, nd, xd)
     return out
 
 
@@ -410,7 +412,7 @@ def resolve_laws(model: Model, inputs: Mapping[str, Law] | None = None) -> list[
     return laws  # type: ignore[return-value]
 
 
-def _q_scale(model: Model) -> np.ndarray:
+def q_scale(model: Model) -> np.ndarray:
     """Per entry of ``q``: 1 for angles, one over the model size for lengths."""
     length = model.characteristic_length
     coordinates = list(1.0 / _coordinate_size(model)[model.independent_coordinates])
@@ -654,7 +656,7 @@ class Engine:
         model = self.model
         q = np.asarray(q, dtype=float)
         start = initial_q(model)
-        change = np.abs(q - start) * _q_scale(model)
+        change = np.abs(q - start) * q_scale(model)
         steps = int(np.ceil(np.max(change, initial=0.0) / 0.1)) if np.all(
             np.isfinite(change)) else 1
         x, zero = np.asarray(model.x0, dtype=float), np.zeros(model.n_dof)

@@ -121,20 +121,10 @@ def _modes(args, model, settings, statics) -> int:
     from .modes import vibration_modes
 
     modes = vibration_modes(statics.linearization(), args.count)
-    numbers = np.arange(1, len(modes.frequencies) + 1)
-    print(f"vibration modes at the equilibrium (load factor {statics.t[-1]:g}):")
-    print(_table(["mode", "frequency [Hz]"], [numbers, modes.frequencies]))
-    if args.out:
-        write_csv(args.out, {"mode": numbers, "frequency": modes.frequencies})
-        print(f"{len(numbers)} rows written to {args.out}")
-    if args.plot:
-        from .plot import plot_shapes
-
-        plot_shapes(model, modes.linearization.x, modes.motion,
-                    [f"mode {k}: {f:.4g} Hz" for k, f in zip(numbers, modes.frequencies,
-                                                             strict=True)],
-                    title=model.name, filename=args.plot)
-        print(f"mode shapes saved to {args.plot}")
+    _report_shapes(args, model, f"vibration modes at the equilibrium (load factor "
+                                f"{statics.t[-1]:g}):", ("frequency [Hz]", "frequency"),
+                   modes.frequencies, modes.linearization.x, modes.motion,
+                   lambda k, f: f"mode {k}: {f:.4g} Hz")
     return 0
 
 
@@ -166,21 +156,30 @@ def _buckling(args, model, settings, statics) -> int:
     from .modes import buckling
 
     result = buckling(statics.linearization(), args.count)
-    numbers = np.arange(1, len(result.factors) + 1)
-    print(f"buckling load factors of the loads at load factor {statics.t[-1]:g}:")
-    print(_table(["mode", "load factor"], [numbers, result.factors]))
+    _report_shapes(args, model, f"buckling load factors of the loads at load factor "
+                                f"{statics.t[-1]:g}:", ("load factor", "load_factor"),
+                   result.factors, result.linearization.x, result.motion,
+                   lambda k, f: f"buckling {k}: factor {f:.4g}")
+    return 0
+
+
+def _report_shapes(args, model, heading: str, names: tuple[str, str], values: np.ndarray,
+                   x: np.ndarray, motion: np.ndarray, label) -> None:
+    """Print the table of a value per mode (``names``: its header and its CSV column), write
+    it (``--out``) and draw the shapes ``motion`` at ``x``, titled ``label(k, value)``
+    (``--plot``)."""
+    numbers = np.arange(1, len(values) + 1)
+    print(heading)
+    print(_table(["mode", names[0]], [numbers, values]))
     if args.out:
-        write_csv(args.out, {"mode": numbers, "load_factor": result.factors})
+        write_csv(args.out, {"mode": numbers, names[1]: values})
         print(f"{len(numbers)} rows written to {args.out}")
     if args.plot:
         from .plot import plot_shapes
 
-        plot_shapes(model, result.linearization.x, result.motion,
-                    [f"buckling {k}: factor {f:.4g}" for k, f in zip(numbers, result.factors,
-                                                                    strict=True)],
+        plot_shapes(model, x, motion, [label(k, v) for k, v in zip(numbers, values, strict=True)],
                     title=model.name, filename=args.plot)
-        print(f"buckled shapes saved to {args.plot}")
-    return 0
+        print(f"shapes saved to {args.plot}")
 
 
 def _statespace(args, model, settings, statics) -> int:

@@ -38,7 +38,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sparse
 
-from .engine import Engine, _kernel, _q_scale, deformations_and_jacobian, load_vector
+from .engine import Engine, deformations_and_jacobian, element_kernel, load_vector, q_scale
 from .errors import ArgumentError
 from .kinematics import coordinates, generalized
 from .model import Model
@@ -97,15 +97,16 @@ class Linearization:
     def block(self, name: str, rows: str = "d", columns: str = "d") -> np.ndarray:
         """A block of one matrix (``"M0"``, ..., or ``"K"`` for ``K0 + N0 + G0``, ``"C"``
         for ``C0 + D0``) over the dynamic (``"d"``) or prescribed (``"r"``) entries."""
-        matrices = {"K": self.K0 + self.N0 + self.G0, "C": self.C0 + self.D0,
-                    **{k: getattr(self, k) for k in ("M0", "C0", "D0", "K0", "N0", "G0")}}
-        if name not in matrices:
-            raise ArgumentError("name", f"must be one of {', '.join(matrices)}, got {name!r}")
+        parts = {"K": ("K0", "N0", "G0"), "C": ("C0", "D0")}.get(name, (name,))
+        known = ("M0", "C0", "D0", "K0", "N0", "G0", "K", "C")
+        if name not in known:
+            raise ArgumentError("name", f"must be one of {', '.join(known)}, got {name!r}")
         given = ~np.asarray(self.model.q_is_input)
         picks = {"d": np.flatnonzero(given), "r": np.flatnonzero(~given)}
         if rows not in picks or columns not in picks:
             raise ArgumentError("rows", "rows and columns are 'd' (dynamic) or 'r' (prescribed)")
-        return matrices[name][np.ix_(picks[rows], picks[columns])]
+        at = np.ix_(picks[rows], picks[columns])
+        return sum(getattr(self, part)[at] for part in parts)
 
     def transfer(self, labels) -> np.ndarray:
         """Rows of ``F_q`` over the dynamic entries for coordinate labels (``"x3.2"``):
@@ -217,7 +218,7 @@ def stress_hessian(model: Model, x: np.ndarray, sigma: np.ndarray) -> sparse.csr
         if not np.any(weights):
             continue
         nd, nc = len(element.deformations), len(element.coordinates)
-        hessians = _kernel(element, "hessian", x, nd * nc * nc).reshape(nd, nc, nc)
+        hessians = element_kernel(element, "hessian", x, nd * nc * nc).reshape(nd, nc, nc)
         coords = np.asarray(element.coordinates)
         rows.append(np.repeat(coords, nc))
         cols.append(np.tile(coords, nc))
@@ -236,25 +237,41 @@ def inertia_derivatives(engine: Engine, state: dict[str, np.ndarray], F_q: np.nd
     exactly zero at rest, where those forces vanish near the state."""
     model, nq = engine.model, engine.model.n_dof
     q, qd, qdd, x = state["q"], state["qd"], state["qdd"], state["x"]
-    N0, C0 = np.zeros((nq, nq)), np.zeros((nq, nq))
     if not (np.any(qd) or np.any(qdd)):
-        return N0, C0
+        return np.zeros((nq, nq)), np.zeros((nq, nq))
+    nx = model.n_coordinates
 
-    def forces(q_, qd_):
-        s = engine.state(q_, qd_, qdd, x)
+    def forces_and_rates(s):
         M, h, _ = engine.mass(s["x"], s["xd"])
-        return M @ s["xdd"] + h, s["ed"]
+        return np.concatenate([M @ s["xdd"] + h, s["ed"]])
 
-    size = 1.0 / _q_scale(model)
+    change = central_differences(engine, q, qd, qdd, x, forces_and_rates)
+    N0 = F_q.T @ change[:nx] + E_q.T @ (C @ change[nx:])
+    # the inertia forces are quadratic in qdot: a central difference is exact
+    C0 = np.zeros((nq, nq))
+    size = 1.0 / q_scale(model)
     for j in range(nq):
-        step = np.zeros(nq)
-        step[j] = DIFFERENCE_STEP * size[j]
-        (g_plus, ed_plus), (g_minus, ed_minus) = forces(q + step, qd), forces(q - step, qd)
-        N0[:, j] = F_q.T @ (g_plus - g_minus) / (2 * step[j]) \
-            + E_q.T @ (C @ (ed_plus - ed_minus)) / (2 * step[j])
-        # the inertia forces are quadratic in qdot: a central difference is exact
         rate = np.zeros(nq)
         rate[j] = size[j]
-        (g_plus, _), (g_minus, _) = forces(q, qd + rate), forces(q, qd - rate)
-        C0[:, j] = F_q.T @ (g_plus - g_minus) / (2 * rate[j])
+        plus = forces_and_rates(engine.state(q, qd + rate, qdd, x))[:nx]
+        minus = forces_and_rates(engine.state(q, qd - rate, qdd, x))[:nx]
+        C0[:, j] = F_q.T @ (plus - minus) / (2 * rate[j])
     return N0, C0
+
+
+def central_differences(engine: Engine, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
+                        x: np.ndarray, value, columns=None) -> np.ndarray:
+    """``d value / dq_j`` at the state ``(q, qd, qdd)`` (configuration solved from ``x``) by
+    central differences with a step of :data:`DIFFERENCE_STEP` of ``q_j``'s size, one column
+    per entry ``j`` of ``columns`` (default all of ``q``); ``value`` maps the engine's
+    state (:meth:`Engine.state`) to a vector."""
+    size = 1.0 / q_scale(engine.model)
+    columns = range(len(q)) if columns is None else columns
+    out = []
+    for j in columns:
+        step = np.zeros(len(q))
+        step[j] = DIFFERENCE_STEP * size[j]
+        plus = value(engine.state(q + step, qd, qdd, x))
+        minus = value(engine.state(q - step, qd, qdd, x))
+        out.append((plus - minus) / (2 * step[j]))
+    return np.stack(out, axis=1) if out else np.zeros((0, 0))

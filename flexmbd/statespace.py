@@ -21,9 +21,9 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as linalg
 
-from .engine import Engine, _q_scale
+from .engine import Engine
 from .errors import ArgumentError
-from .linearization import DIFFERENCE_STEP, Linearization
+from .linearization import Linearization, central_differences
 from .modes import vibration_modes
 
 __all__ = ["StateSpace", "state_space"]
@@ -126,15 +126,7 @@ def _rate_transfer(lin: Linearization) -> np.ndarray:
     """``d(F_q qdot)/dq_d`` ``(nx, nd)``: how the velocities change with the position of the
     degrees of freedom at the state's rates (zero at rest), by central differences."""
     model, dynamic = lin.model, lin.dynamic
-    out = np.zeros((model.n_coordinates, len(dynamic)))
     if not np.any(lin.qd):
-        return out
-    engine = Engine(model)
-    size = 1.0 / _q_scale(model)
-    for k, j in enumerate(dynamic):
-        step = np.zeros(model.n_dof)
-        step[j] = DIFFERENCE_STEP * size[j]
-        plus = engine.state(lin.q + step, lin.qd, lin.qdd, lin.x)["xd"]
-        minus = engine.state(lin.q - step, lin.qd, lin.qdd, lin.x)["xd"]
-        out[:, k] = (plus - minus) / (2 * step[j])
-    return out
+        return np.zeros((model.n_coordinates, len(dynamic)))
+    return central_differences(Engine(model), lin.q, lin.qd, lin.qdd, lin.x,
+                               lambda state: state["xd"], dynamic)

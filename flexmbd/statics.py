@@ -20,7 +20,7 @@ import numpy as np
 import scipy.linalg as linalg
 
 from . import checks
-from .engine import MAX_ITERATIONS, Engine, _q_scale, initial_q, load_vector, q_index
+from .engine import MAX_ITERATIONS, Engine, initial_q, load_vector, q_index, q_scale
 from .errors import ArgumentError, ConvergenceError, FlexmbdError, SimulationError
 from .linearization import Linearization, linearize
 from .model import Model
@@ -152,7 +152,7 @@ class _Solver:
         self.tolerance = (engine.tolerance if tolerance is None else
                           checks.position_tolerance(tolerance, model.characteristic_length,
                                                     float(np.abs(model.x0).max(initial=0))))
-        self.scale = _q_scale(model) * model.characteristic_length
+        self.scale = q_scale(model) * model.characteristic_length
         self.dynamic = np.flatnonzero(~np.asarray(model.q_is_input))
         self.x = np.asarray(model.x0, dtype=float)
         self.state: dict[str, np.ndarray] = {}

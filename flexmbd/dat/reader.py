@@ -362,28 +362,39 @@ class _Reader:
         self.nodal_masses[node] = s.line
         self.builder.add_point_mass(node, mass)
 
-    def _xf(self, s: Statement) -> None:
+    def nodal_load(self, s: Statement, names: tuple[str, str]) -> tuple[int, tuple]:
+        """Node and values of an ``XF``-like line: two ``names[0]`` for a translational
+        node, one ``names[1]`` for a rotational one."""
         node, loads = s.values[0], s.values[1:]
         want = 2 if self.kind(s, node) == TRANSLATIONAL else 1
         if len(loads) != want:
             self.fail(s, f"node {node} is {self.kinds.get(node, TRANSLATIONAL)}: give "
-                         f"{'Fx Fy' if want == 2 else 'one torque M'}")
+                         f"{names[0] if want == 2 else names[1]}")
+        return node, loads
+
+    def check_input(self, s: Statement, kind: str, number: int, k: int) -> None:
+        """Refuse a value for a coordinate (``kind`` ``"x"``) or deformation (``"e"``) that
+        block 1 did not declare an input."""
+        if (kind, number, k) not in self.inputs:
+            what = (f"coordinate {k} of node {number}" if kind == "x" else
+                    f"deformation {k} of element {number}")
+            self.fail(s, f"{what} is not an input (INPUT{kind.upper()} in the kinematics "
+                         f"block)")
+
+    def _xf(self, s: Statement) -> None:
+        node, loads = self.nodal_load(s, ("Fx Fy", "one torque M"))
         self.builder.add_force(node, *loads)
 
     def _inputx(self, s: Statement) -> None:
         node, k, *law = s.values
         self.check_directions(s, node, [k])
-        if ("x", node, k) not in self.inputs:
-            self.fail(s, f"coordinate {k} of node {node} is not an input (INPUTX in the "
-                         f"kinematics block)")
+        self.check_input(s, "x", node, k)
         self.builder.input_coordinate(node, k, law=Polynomial(*law))
 
     def _inpute(self, s: Statement) -> None:
         element, k, *law = s.values
         self.check_deformations(s, element, [k])
-        if ("e", element, k) not in self.inputs:
-            self.fail(s, f"deformation {k} of element {element} is not an input (INPUTE in "
-                         f"the kinematics block)")
+        self.check_input(s, "e", element, k)
         self.builder.input_deformation(element, k, law=Polynomial(*law))
 
     def _startde(self, s: Statement) -> None:
@@ -392,11 +403,7 @@ class _Reader:
         self.initial[f"e{element}.{k}"] = ((start[0], start[1] if len(start) > 1 else 0.0), s)
 
     def _delxf(self, s: Statement) -> None:
-        node, loads = s.values[0], s.values[1:]
-        want = 2 if self.kind(s, node) == TRANSLATIONAL else 1
-        if len(loads) != want:
-            self.fail(s, f"node {node} is {self.kinds.get(node, TRANSLATIONAL)}: give "
-                         f"{'dFx dFy' if want == 2 else 'one torque increment dM'}")
+        node, loads = self.nodal_load(s, ("dFx dFy", "one torque increment dM"))
         increments = self.linear.setdefault("load_increment", {})
         for k, value in enumerate(loads, 1):
             increments[f"x{node}.{k}"] = increments.get(f"x{node}.{k}", 0.0) + value
@@ -404,17 +411,13 @@ class _Reader:
     def _delinpx(self, s: Statement) -> None:
         node, k, delta = s.values
         self.check_directions(s, node, [k])
-        if ("x", node, k) not in self.inputs:
-            self.fail(s, f"coordinate {k} of node {node} is not an input (INPUTX in the "
-                         f"kinematics block)")
+        self.check_input(s, "x", node, k)
         self.linear.setdefault("input_increment", {})[f"x{node}.{k}"] = delta
 
     def _delinpe(self, s: Statement) -> None:
         element, k, delta = s.values
         self.check_deformations(s, element, [k])
-        if ("e", element, k) not in self.inputs:
-            self.fail(s, f"deformation {k} of element {element} is not an input (INPUTE in "
-                         f"the kinematics block)")
+        self.check_input(s, "e", element, k)
         self.linear.setdefault("input_increment", {})[f"e{element}.{k}"] = delta
 
     def _inputf(self, s: Statement, name: str = "force_inputs") -> None:

@@ -110,6 +110,12 @@ def _properties(model: Model) -> list[str]:
     return lines
 
 
+def _numbers(label: str) -> tuple[int, int]:
+    """Node or element number and component of a label: ``"x5.2"`` -> ``(5, 2)``."""
+    number, k = label[1:].split(".")
+    return int(number), int(k)
+
+
 def _laws(model: Model) -> list[str]:
     lines = []
     for label, law in sorted(model.input_laws.items()):
@@ -117,7 +123,7 @@ def _laws(model: Model) -> list[str]:
             raise OutputError(f"the input law of {label} is {type(law).__name__}, which a "
                               f"SPACAR file cannot hold; only Polynomial(x0, v0, a0) laws "
                               f"can be written")
-        number, k = (int(part) for part in label[1:].split("."))
+        number, k = _numbers(label)
         keyword = "INPUTX" if label.startswith("x") else "INPUTE"
         lines.append(_line(keyword, number, k, law.x0, law.v0, law.a0))
     return lines
@@ -126,7 +132,7 @@ def _laws(model: Model) -> list[str]:
 def _settings(settings: RunSettings) -> list[str]:
     lines = []
     for label, (value, rate) in sorted(settings.initial.items()):
-        number, k = (int(part) for part in label[1:].split("."))
+        number, k = _numbers(label)
         lines.append(_line("STARTDE" if label.startswith("e") else "STARTDX", number, k,
                            value, rate))
     if settings.t_end is not None:
@@ -147,17 +153,17 @@ def _linear_settings(model: Model, settings: RunSettings) -> list[str]:
     lines = []
     by_node: dict[int, dict[int, float]] = {}
     for label, value in settings.load_increment.items():
-        number, k = (int(part) for part in label[1:].split("."))
+        number, k = _numbers(label)
         by_node.setdefault(number, {})[k] = value
     for number, values in sorted(by_node.items()):
         components = range(1, len(model.nodes[number].coordinates) + 1)
         lines.append(_line("DELXF", number, *(values.get(k, 0.0) for k in components)))
     for label, delta in sorted(settings.input_increment.items()):
-        number, k = (int(part) for part in label[1:].split("."))
+        number, k = _numbers(label)
         lines.append(_line("DELINPX" if label.startswith("x") else "DELINPE", number, k, delta))
     for keyword, labels in (("INPUTF", settings.force_inputs), ("OUTX", settings.outputs),
                             ("OUTXP", settings.rate_outputs)):
         for label in labels:
-            number, k = (int(part) for part in label[1:].split("."))
+            number, k = _numbers(label)
             lines.append(_line(keyword, number, k))
     return lines
