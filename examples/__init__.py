@@ -33,4 +33,8 @@ EXAMPLES: dict[str, tuple[str, list[str], str]] = {
         "slider_crank_flex", [],
         "EXERCISES 4: slider-crank with a flexible rod of --nbeams beams, v/l2 against crank angle",
     ),
+    "parallel-guide": (
+        "parallel_guide", [],
+        "a flexure: parallel leaf-spring guide, stiffness, frequencies, buckling, stroke, Bode",
+    ),
 }

@@ -97,16 +97,24 @@ def example_parser(doc: str, prog: str | None) -> argparse.ArgumentParser:
     return argparse.ArgumentParser(prog=prog, description=doc.split("\n\n")[0])
 
 
+#: the example metavar of each kind of output file
+_METAVARS = {"table": "FILE.csv", "plot": "FILE.png", "movie": "FILE.mp4"}
+
+
+def add_file_option(parser: argparse.ArgumentParser, flag: str, what: str, text: str) -> None:
+    """An option naming an output file holding ``what`` (``"plot"``, ``"movie"``,
+    ``"table"``), checked when the arguments are parsed, before any work."""
+    parser.add_argument(flag, metavar=_METAVARS[what], type=_output_file(what), help=text)
+
+
 def add_output_options(parser: argparse.ArgumentParser, table: bool = False) -> None:
     """``--plot``, ``--movie``, ``--show`` and, with ``table``, ``--out FILE.csv``; the files
     are checked before any work."""
     if table:
-        parser.add_argument("--out", metavar="FILE.csv", type=_output_file("table"),
-                            help="write the result table as CSV")
-    parser.add_argument("--plot", metavar="FILE.png", type=_output_file("plot"),
-                        help="save a plot (.png, .pdf, .svg)")
-    parser.add_argument("--movie", metavar="FILE.mp4", type=_output_file("movie"),
-                        help="save an animation (.mp4 needs the movie extra; .gif works without)")
+        add_file_option(parser, "--out", "table", "write the result table as CSV")
+    add_file_option(parser, "--plot", "plot", "save a plot (.png, .pdf, .svg)")
+    add_file_option(parser, "--movie", "movie",
+                    "save an animation (.mp4 needs the movie extra; .gif works without)")
     parser.add_argument("--show", action="store_true",
                         help="open the plot and the animation in windows")
 

@@ -9,7 +9,7 @@ coordinates or their rates:
 
 with ``M = M0``, ``K = K0 + N0 + G0``, ``C = C0 + D0`` (or modal damping), ``F_in`` the
 rows of ``F_q`` of the loaded coordinates; a position output is ``[F_out, 0]``, a rate
-output ``[d(F_out qdot)/dq, F_out]``; ``D = 0``. Its static gain ``-C A^-1 B`` is the
+output ``[d(F_out qdot)/dq, F_out]``; ``D = 0``. Its static gain ``D - C A^-1 B`` is the
 compliance (:func:`flexmbd.modes.compliance`) and its poles are ``+-i omega`` of the
 vibration modes when undamped.
 """
@@ -22,7 +22,7 @@ import numpy as np
 import scipy.linalg as linalg
 
 from .engine import Engine
-from .errors import ArgumentError
+from .errors import ArgumentError, SingularConfigurationError
 from .linearization import Linearization, central_differences
 from .modes import vibration_modes
 
@@ -56,8 +56,50 @@ class StateSpace:
         return signal.StateSpace(self.A, self.B, self.C, self.D)
 
     def static_gain(self) -> np.ndarray:
-        """``-C A^-1 B`` ``(no, ni)``: the outputs per unit constant input."""
-        return -self.C @ linalg.solve(self.A, self.B)
+        """``D - C A^-1 B`` ``(no, ni)``: the outputs per unit constant input."""
+        return self.D - self.C @ linalg.solve(self.A, self.B)
+
+    def truncated(self, count: int) -> StateSpace:
+        """The model reduced to its ``count`` modes of lowest natural frequency ``|p|``.
+
+        Modal truncation with static correction: the kept modes in real modal
+        coordinates (two states ``Re c, Im c`` per complex pole pair ``p``, one per real
+        pole), and ``D`` corrected so that the static gain is the full model's. The
+        response is then exact at zero frequency and close below the first dropped mode.
+        A few modes are what control design and ``scipy.signal.bode`` need: converting
+        the full model to a transfer function loses all precision beyond some 20 states.
+
+        Raises:
+            ArgumentError: ``count`` is not between 1 and the number of modes.
+            SingularConfigurationError: ``A`` is singular (a mechanism: no static gain).
+        """
+        poles, right = linalg.eig(self.A)
+        if np.min(np.abs(poles)) <= 1e-12 * np.max(np.abs(poles)):
+            raise SingularConfigurationError(
+                "A is singular (a rigid-body mode or mechanism): a truncated model has no "
+                "static gain to keep")
+        upper = np.flatnonzero(poles.imag >= 0.0)  # one pole of each conjugate pair
+        if not (isinstance(count, (int, np.integer)) and 1 <= count <= len(upper)):
+            raise ArgumentError("count", f"must be a whole number from 1 to {len(upper)}, "
+                                         f"got {count!r}")
+        kept = upper[np.argsort(np.abs(poles[upper]), kind="stable")[:count]]
+        left = linalg.solve(right, np.eye(len(poles)))[kept]  # rows of V^-1: c = w z
+        blocks, inputs, outputs = [], [], []
+        for p, v, w in zip(poles[kept], right[:, kept].T, left, strict=True):
+            wB, Cv = w @ self.B, self.C @ v
+            if p.imag == 0.0:  # z = v c
+                blocks.append(np.array([[p.real]]))
+                inputs.append(wB.real[None])
+                outputs.append(Cv.real[:, None])
+            else:  # z = 2 Re(v c) = [2 Re v, -2 Im v] [Re c, Im c]
+                blocks.append(np.array([[p.real, -p.imag], [p.imag, p.real]]))
+                inputs.append(np.stack([wB.real, wB.imag]))
+                outputs.append(np.stack([2 * Cv.real, -2 * Cv.imag], axis=1))
+        A, B, C = linalg.block_diag(*blocks), np.vstack(inputs), np.hstack(outputs)
+        D = self.static_gain() + C @ linalg.solve(A, B)
+        states = tuple(f"{part} c{k}" for k, p in enumerate(poles[kept], 1)
+                       for part in (("re", "im") if p.imag else ("re",)))
+        return StateSpace(A, B, C, D, self.inputs, self.outputs, states)
 
 
 def state_space(linearization: Linearization, inputs, outputs=(), rate_outputs=(), *,

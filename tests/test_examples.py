@@ -45,7 +45,7 @@ def test_slider_crank_example_checks_and_revolution():
 
 
 #: arguments that keep each example's run short in the tests
-QUICK = {"slider-crank-flex": ["--revolutions", "0.1"],
+QUICK = {"slider-crank-flex": ["--revolutions", "0.1"], "parallel-guide": ["--nbeams", "4"],
          "slider-crank-dyn": ["--revolutions", "0.5", "--points", "40"]}
 
 
@@ -104,3 +104,27 @@ def test_pd_controlled_crank_is_consistent_with_inverse_dynamics():
     # the controller keeps up: the error stays a small share of a turn
     phi_ref = np.array([law.value(t) for t in result.t])
     assert np.max(np.abs(phi_ref - result["x2.1"])) < 0.2
+
+
+def test_parallel_guide_checks_and_its_spacar_file():
+    """The flexure's four checks pass at 8 beams per leaf, and its .dat file is the same
+    model: equal coordinates, frequencies, compliance and stroke."""
+    from flexmbd.examples import EXAMPLES_DIR, parallel_guide
+
+    import flexmbd as fm
+
+    model = parallel_guide.build_model()
+    found = parallel_guide.analyse(model)
+    assert all(c.passed for c in parallel_guide.checks(found))
+    read, settings = fm.read_dat(EXAMPLES_DIR / "parallel_guide.dat")
+    assert read.q_labels == model.q_labels
+    np.testing.assert_allclose(read.x0, model.x0, rtol=0, atol=1e-15)  # the file rounds
+    statics = fm.static_equilibrium(read, load_increment=dict(settings.load_increment),
+                                    steps=settings.load_steps)
+    np.testing.assert_allclose(statics.x, found["statics"].x, rtol=0, atol=1e-13)
+    # equal to the Newton tolerance (1e-10 of the size: the stresses to about 1e-5)
+    lin = statics.linearization(0)
+    np.testing.assert_allclose(fm.vibration_modes(lin, 4).frequencies,
+                               found["modes"].frequencies, rtol=1e-6)
+    assert 1 / fm.compliance(lin, ["x17.1"])[0, 0] == pytest.approx(found["stiffness"],
+                                                                      rel=1e-6)

@@ -274,3 +274,36 @@ def test_state_space_gain_is_the_compliance_and_poles_the_frequencies():
     damped = state_space(lin, labels[:1], rate_outputs=labels[:1], damping_ratio=0.02)
     real = np.linalg.eigvals(damped.A)
     np.testing.assert_allclose(-real.real / np.abs(real), 0.02, rtol=1e-6)
+
+
+def _response(system, omega):
+    """``C (i w - A)^-1 B + D`` ``(nw, no, ni)`` by direct solves."""
+    eye = np.eye(system.A.shape[0])
+    return np.array([system.C @ np.linalg.solve(1j * w * eye - system.A, system.B) + system.D
+                     for w in omega])
+
+
+def test_a_truncated_state_space_keeps_the_static_gain_and_the_low_modes():
+    from scipy import signal
+
+    model = beam_line(8, deformations=(1, 2, 3), EA=1e4)
+    lin = linearize(model)
+    full = state_space(lin, ["x17.2", "x17.1"], ["x17.2"], ["x17.2"], damping_ratio=0.01)
+    reduced = full.truncated(3)
+    assert reduced.A.shape == (6, 6)
+    np.testing.assert_allclose(reduced.static_gain(), full.static_gain(), rtol=1e-12,
+                               atol=1e-15)
+    omega = np.sqrt(vibration_modes(lin).omega2)
+    poles = np.sort(np.abs(np.linalg.eigvals(reduced.A)))[::2]
+    np.testing.assert_allclose(poles, np.sort(np.abs(np.linalg.eigvals(full.A)))[:6:2],
+                               rtol=1e-10)
+    # below the first dropped mode the responses agree; the error grows towards it
+    band = np.linspace(0.0, 0.5 * omega[3], 200)
+    near, exact = _response(reduced, band)[:, 0, 0], _response(full, band)[:, 0, 0]
+    assert np.max(np.abs(near - exact)) < 1e-3 * abs(exact[0])
+    # scipy.signal takes the reduced model; the full one (58 states) it cannot convert
+    _, magnitude, _ = signal.bode(signal.StateSpace(reduced.A, reduced.B[:, :1], reduced.C[:1],
+                                                    reduced.D[:1, :1]), band[1:])
+    np.testing.assert_allclose(magnitude, 20 * np.log10(np.abs(near[1:])), atol=1e-6)
+    with pytest.raises(fm.ArgumentError, match="count"):
+        full.truncated(0)
