@@ -33,6 +33,10 @@ EXAMPLES: dict[str, tuple[str, list[str], str]] = {
         "slider_crank_flex", [],
         "EXERCISES 4: slider-crank with a flexible rod of --nbeams beams, v/l2 against crank angle",
     ),
+    "slider-crank-modes": (
+        "slider_crank_modes", [],
+        "EXERCISES 4's rod: eigenfrequencies along a crank revolution, at rest pinned-pinned",
+    ),
     "parallel-guide": (
         "parallel_guide", [],
         "a flexure: parallel leaf-spring guide, stiffness, frequencies, buckling, stroke, Bode",

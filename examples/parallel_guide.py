@@ -1,4 +1,4 @@
-"""A flexure: parallel leaf-spring guide with its stiffness, frequencies, buckling load and Bode plot.
+"""A flexure: parallel leaf-spring guide; stiffness, frequencies, buckling load, Bode plot.
 
 Two steel leaf springs (length ``L = 50 mm``, thickness 0.5 mm, width 20 mm,
 ``E = 210 GPa``, ``rho = 7850 kg/m^3``), clamped at the base ``W = 40 mm`` apart,
@@ -124,7 +124,8 @@ def sway_frequency(compression: float) -> float:
     """
     def determinant(omega: float) -> float:
         root = math.sqrt(compression**2 + 4 * EI * RHO_A * omega**2)
-        a, b = math.sqrt((root - compression) / (2 * EI)), math.sqrt((root + compression) / (2 * EI))
+        a = math.sqrt((root - compression) / (2 * EI))
+        b = math.sqrt((root + compression) / (2 * EI))
         ch, sh = math.cosh(a * LENGTH), math.sinh(a * LENGTH)
         c, s = math.cos(b * LENGTH), math.sin(b * LENGTH)
         slope = (a * sh + b * s, a * ch - a * c)

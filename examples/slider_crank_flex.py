@@ -68,8 +68,12 @@ def rod_nodes(nbeams: int) -> tuple[list[int], list[int]]:
 
 
 def build_model(nbeams: int = 1, eps1flex: bool = False, omega: float = OMEGA,
-                alpha: float = 0.0) -> fm.Model:
-    """The flexible slider-crank; crank angle ``phi2 = omega t + alpha t^2 / 2`` [rad]."""
+                alpha: float = 0.0, second_order: bool = False) -> fm.Model:
+    """The flexible slider-crank; crank angle ``phi2 = omega t + alpha t^2 / 2`` [rad].
+
+    With ``second_order`` the rod's beams are :class:`~flexmbd.SecondOrderBeam`: their
+    elongation includes the arc length of the bending, so the rod's axial force changes
+    its bending stiffness (the course's beams measure the chord)."""
     if nbeams < 1:
         raise fm.ModelError(f"nbeams must be at least 1, got {nbeams}")
     b = fm.ModelBuilder(f"flexible slider-crank, {nbeams} beam{'s' * (nbeams > 1)}")
@@ -80,7 +84,8 @@ def build_model(nbeams: int = 1, eps1flex: bool = False, omega: float = OMEGA,
         b.add_node(positions[k], L1 + L2 * k / nbeams, 0.0)
     for k in range(nbeams):
         element = k + 2
-        b.add_beam(element, positions[k], angles[k], positions[k + 1], angles[k + 1])
+        b.add_beam(element, positions[k], angles[k], positions[k + 1], angles[k + 1],
+                   second_order=second_order)
         b.set_mass(element, M2 / L2)
         b.set_stiffness(element, axial=EA, bending=EI)
         b.dynamic_deformation(element, *((1, 2, 3) if eps1flex else (2, 3)))
@@ -92,7 +97,8 @@ def build_model(nbeams: int = 1, eps1flex: bool = False, omega: float = OMEGA,
 
 def nbeams_of(model: fm.Model) -> int:
     """Number of beams along the rod."""
-    return sum(element.type is fm.Beam for element in model.elements.values())
+    return sum(element.type in (fm.Beam, fm.SecondOrderBeam)
+               for element in model.elements.values())
 
 
 def midpoint_deflection(model: fm.Model, x: np.ndarray) -> np.ndarray:
@@ -135,8 +141,10 @@ def simulate(nbeams: int = 1, eps1flex: bool = False, revolutions: float = 2.0, 
 def run(model: fm.Model, revolutions: float = 2.0, *, omega: float = OMEGA, alpha: float = 0.0,
         method: str = "GeneralizedAlpha", steps_per_revolution: int = STEPS_PER_REVOLUTION,
         rtol: float = 1e-6, iterations: int | None = 1, renew_every: int = 2,
-        progress: bool | None = None, on_failure: str = "raise") -> fm.SimulationResult:
-    """Simulate ``revolutions`` crank turns of ``model``; output at 400 points per turn.
+        progress: bool | None = None, on_failure: str = "raise",
+        times: np.ndarray | None = None) -> fm.SimulationResult:
+    """Simulate ``revolutions`` crank turns of ``model``; output at 400 points per turn
+    (or at ``times`` [s]).
 
     The default generalized-alpha method takes ``steps_per_revolution`` fixed steps
     per turn, linearly implicit (``iterations=1``, a Newton matrix every
@@ -145,7 +153,7 @@ def run(model: fm.Model, revolutions: float = 2.0, *, omega: float = OMEGA, alph
     convergence (``iterations=None``) at a higher cost. The error-controlled methods
     (``"RK45"``, ...) use ``rtol`` instead.
     """
-    times = output_times(revolutions, omega, alpha)
+    times = output_times(revolutions, omega, alpha) if times is None else times
     options = {"rtol": rtol, "atol": rtol * 1e-3}
     if method == "GeneralizedAlpha":  # damped: the axial modes are far from resolved
         options.update(step=turn_time(1.0, omega, alpha) / steps_per_revolution,

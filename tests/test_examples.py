@@ -128,3 +128,33 @@ def test_parallel_guide_checks_and_its_spacar_file():
                                found["modes"].frequencies, rtol=1e-6)
     assert 1 / fm.compliance(lin, ["x17.1"])[0, 0] == pytest.approx(found["stiffness"],
                                                                       rel=1e-6)
+
+
+@pytest.mark.parametrize("nbeams, eps1flex, second_order",
+                         [(1, False, False), (1, True, True), (4, False, False)])
+def test_rod_frequencies_at_rest_are_pinned_pinned(nbeams, eps1flex, second_order):
+    """At rest the EXERCISES 4 rod is a pinned-pinned beam: one Hermite beam gives
+    sqrt(120) and sqrt(2520) exactly, four beams the continuous (k pi)^2 within 0.11
+    (k/4)^4; in motion the first frequency swings around it, except for one chord beam,
+    whose rotations do not change its elongation (no effect of the axial force)."""
+    from flexmbd.examples import slider_crank_flex, slider_crank_modes
+
+    import flexmbd as fm
+
+    model = slider_crank_flex.build_model(nbeams, eps1flex, second_order=second_order)
+    along = fm.modes_along(slider_crank_modes.motion(model, 13, False, 150.0), 2)
+    rest = slider_crank_modes.frequencies_at_rest(model, along.t, 2)
+    scale = math.sqrt(slider_crank_flex.EI * slider_crank_flex.L2
+                      / slider_crank_flex.M2 / slider_crank_flex.L2**4) / (2 * math.pi)
+    if nbeams == 1:
+        np.testing.assert_allclose(rest, np.broadcast_to(scale * np.sqrt([120, 2520]),
+                                                         rest.shape), rtol=1e-9)
+    else:
+        np.testing.assert_allclose(rest / scale, np.broadcast_to(
+            [math.pi**2, 4 * math.pi**2], rest.shape), rtol=0.11 / 16)
+    first = along.frequencies[:, 0]
+    if nbeams > 1 or second_order:
+        assert first.min() < 0.95 * rest[0, 0] and first.max() > 1.05 * rest[0, 0]
+    else:
+        assert np.ptp(first) < 0.01 * rest[0, 0]
+    np.testing.assert_allclose(along.frequencies, along.frequencies[::-1], rtol=1e-10)
