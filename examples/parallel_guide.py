@@ -29,6 +29,7 @@ example, for ``flexmbd static | modes | buckling | statespace``.
 Nodes: left leaf 1, 3, ..., top ``2n+1`` (angles 2, 4, ...), right leaf 101, 103,
 ..., top ``101+2n`` (angles 102, ...); the stage angle ``2n+2`` is both tops'.
 Elements: left leaf beams 1..n, right leaf 101..100+n, stage 200 (rigid beam).
+(From 49 beams per leaf on, the right leaf's numbers start at the next hundred.)
 
 Run: ``flexmbd example parallel-guide --plot stroke.png --bode bode.png``.
 """
@@ -72,9 +73,15 @@ DAMPING_RATIO = 0.01  #: modal damping of the Bode plot
 BODE_MODES = 3  #: modes kept in the reduced state space
 
 
+def right_offset(nbeams: int) -> int:
+    """What the right leaf adds to the left leaf's node and element numbers: 100, or the
+    next multiple of 100 that keeps them apart; the stage is element ``2 offset``."""
+    return 100 * math.ceil((2 * nbeams + 3) / 100)
+
+
 def top_nodes(nbeams: int) -> tuple[int, int, int]:
     """The left and right leaf tops and the stage's angle node."""
-    return 2 * nbeams + 1, 101 + 2 * nbeams, 2 * nbeams + 2
+    return 2 * nbeams + 1, right_offset(nbeams) + 1 + 2 * nbeams, 2 * nbeams + 2
 
 
 def build_model(nbeams: int = NBEAMS) -> fm.Model:
@@ -83,7 +90,7 @@ def build_model(nbeams: int = NBEAMS) -> fm.Model:
         raise fm.ModelError(f"nbeams must be at least 1, got {nbeams}")
     left_top, right_top, stage_angle = top_nodes(nbeams)
     b = fm.ModelBuilder(f"parallel leaf-spring guide, {nbeams} beams per leaf")
-    for offset, x in ((0, 0.0), (100, SPACING)):
+    for offset, x in ((0, 0.0), (right_offset(nbeams), SPACING)):
         positions = [offset + 1 + 2 * k for k in range(nbeams + 1)]
         angles = [offset + 2 + 2 * k for k in range(nbeams)] + [stage_angle]
         for k, node in enumerate(positions):
@@ -100,7 +107,7 @@ def build_model(nbeams: int = NBEAMS) -> fm.Model:
         b.fix(positions[0]).fix(angles[0])
         b.add_point_mass(positions[-1], STAGE_MASS / 2)
         b.add_force(positions[-1], 0.0, -PAYLOAD / 2)
-    b.add_rigid_beam(200, left_top, stage_angle, right_top)
+    b.add_rigid_beam(2 * right_offset(nbeams), left_top, stage_angle, right_top)
     return b.build()
 
 

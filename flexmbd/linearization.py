@@ -140,14 +140,10 @@ def linearize(model: Model, x=None, qd=None, qdd=None, *, loads=None,
     qd = zero if qd is None else generalized(model, qd, "qd")
     qdd = zero if qdd is None else generalized(model, qdd, "qdd")
     extra = np.zeros(model.n_coordinates) if loads is None else load_vector(model, loads)
-    state = equilibrium_state(engine, x, qd, qdd, extra)
+    state, F_q, E_q, H = _elastic_state(engine, x, qd, qdd, extra)
     x = state["x"]
-    D_x = deformations_and_jacobian(model, x)[1]
-    F_q = transfer(engine, x, D_x)
-    E_q = D_x @ F_q
     M = engine.mass(x, state["xd"])[0]
     S, C = elastic_matrices(engine)
-    H = stress_hessian(model, x, state["sigma"])
     N0, C0 = inertia_derivatives(engine, state, F_q, E_q, C)
     return Linearization(
         model=model, x=x, xd=state["xd"], xdd=state["xdd"], e=state["e"], q=state["q"],
@@ -155,6 +151,29 @@ def linearize(model: Model, x=None, qd=None, qdd=None, *, loads=None,
         reactions=state["reactions"], F_q=F_q, E_q=E_q,
         M0=F_q.T @ M @ F_q, C0=C0, D0=E_q.T @ (C @ E_q), K0=E_q.T @ (S @ E_q),
         N0=N0, G0=F_q.T @ (H @ F_q))
+
+
+def static_tangent(engine: Engine, x: np.ndarray, loads: np.ndarray
+                   ) -> tuple[dict[str, np.ndarray], np.ndarray]:
+    """The state at rest at ``x`` under ``loads`` ``(nx,)`` (:func:`equilibrium_state`:
+    its ``driving`` entries are the out-of-balance loads on ``q``) and the tangent
+    stiffness ``K0 + G0`` ``(nq, nq)``: what static Newton needs of :func:`linearize`,
+    without the mass and inertia terms."""
+    zero = np.zeros(engine.model.n_dof)
+    state, F_q, E_q, H = _elastic_state(engine, x, zero, zero, loads)
+    S = elastic_matrices(engine)[0]
+    return state, E_q.T @ (S @ E_q) + F_q.T @ (H @ F_q)
+
+
+# --- the pieces ---------------------------------------------------------------------------
+def _elastic_state(engine: Engine, x: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
+                   loads: np.ndarray) -> tuple[dict, np.ndarray, np.ndarray, sparse.csr_matrix]:
+    """The state (:func:`equilibrium_state`), ``F_q``, ``E_q`` and the stress-weighted
+    Hessian of the deformations ``H`` ``(nx, nx)`` that ``G0 = F_q^T H F_q`` needs."""
+    state = equilibrium_state(engine, x, qd, qdd, loads)
+    D_x = deformations_and_jacobian(engine.model, state["x"])[1]
+    F_q = transfer(engine, state["x"], D_x)
+    return state, F_q, D_x @ F_q, stress_hessian(engine.model, state["x"], state["sigma"])
 
 
 # --- the pieces ---------------------------------------------------------------------------

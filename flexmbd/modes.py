@@ -18,6 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg as linalg
+from threadpoolctl import threadpool_limits
 
 from .engine import Engine
 from .errors import ArgumentError, SingularConfigurationError
@@ -84,17 +85,37 @@ def vibration_modes(linearization: Linearization, count: int | None = None) -> M
     if not len(K):
         empty = np.zeros(0)
         return Modes(lin, empty, empty, np.zeros((0, 0)), np.zeros((len(lin.x), 0)))
-    _check_mass(lin, M)
-    asymmetry = np.abs(K - K.T).max() / max(np.abs(K).max(), np.finfo(float).tiny)
-    if asymmetry <= SYMMETRIC:
-        omega2, shapes = linalg.eigh(0.5 * (K + K.T), M, subset_by_index=(0, count - 1))
-    else:
-        values, vectors = linalg.eig(K, M)
-        order = np.argsort(values.real)[:count]
-        omega2, shapes = values.real[order], vectors.real[:, order]
-        shapes = shapes / np.sqrt(np.einsum("ik,ij,jk->k", shapes, M, shapes))
+    omega2, shapes = _eigen(lin, K, M, count, vectors=True)
     frequencies = np.sign(omega2) * np.sqrt(np.abs(omega2)) / (2 * np.pi)
     return Modes(lin, omega2, frequencies, shapes, lin.F_q[:, lin.dynamic] @ shapes)
+
+
+def _eigen(lin: Linearization, K: np.ndarray, M: np.ndarray, count: int, vectors: bool
+           ) -> tuple[np.ndarray, np.ndarray | None]:
+    """The ``count`` lowest ``omega^2`` of ``K phi = omega^2 M phi``, with mass-normalized
+    shapes ``phi`` when ``vectors``. The generalized solvers keep the low frequencies
+    accurate next to stiff axial ones (an explicit reduction by ``M``'s Cholesky factor
+    loses digits there); at rest ``K`` is symmetric, in motion ``N0`` and ``C0`` make it
+    unsymmetric."""
+    try:
+        linalg.cholesky(M, check_finite=False)
+    except linalg.LinAlgError:
+        weak = int(lin.dynamic[np.argmin(np.diag(M))])
+        raise SingularConfigurationError(
+            f"the reduced mass matrix M0 is not positive definite: "
+            f"{lin.model.describe_q(weak)} moves without mass; give its elements mass (EM) "
+            f"or its nodes point masses (XM)") from None
+    asymmetry = np.abs(K - K.T).max() / max(np.abs(K).max(), np.finfo(float).tiny)
+    if asymmetry <= SYMMETRIC:
+        result = linalg.eigh(0.5 * (K + K.T), M, subset_by_index=(0, count - 1),
+                             eigvals_only=not vectors)
+        return result if vectors else (result, None)
+    if not vectors:
+        return np.sort(linalg.eigvals(K, M).real)[:count], None
+    values, right = linalg.eig(K, M)
+    order = np.argsort(values.real)[:count]
+    shapes = right.real[:, order]
+    return values.real[order], shapes / np.sqrt(np.einsum("ik,ij,jk->k", shapes, M, shapes))
 
 
 @dataclass(frozen=True, eq=False)
@@ -139,12 +160,13 @@ def modes_along(result: KinematicResult, count: int = 6, progress: bool | None =
     engine = Engine(model)
     nt = len(result.t)
     omega2 = np.full((nt, count), np.nan)
-    with progress_bar(result.t, "modes", progress) as advance:
+    # many small problems: BLAS threads would cost more in hand-over than they gain
+    with progress_bar(result.t, "modes", progress) as advance, threadpool_limits(1, "blas"):
         for k in range(nt):
             qd = np.concatenate([result.xd[k, nxm], result.ed[k, emd]])
             qdd = np.concatenate([result.xdd[k, nxm], result.edd[k, emd]])
             lin = linearize(model, result.x[k], qd, qdd, engine=engine)
-            omega2[k] = vibration_modes(lin, count).omega2
+            omega2[k] = _eigen(lin, lin.block("K"), lin.block("M0"), count, vectors=False)[0]
             if advance is not None:
                 advance(result.t[k])
     frequencies = np.sign(omega2) * np.sqrt(np.abs(omega2)) / (2 * np.pi)
@@ -200,16 +222,3 @@ def _count(count: int | None, available: int) -> int:
     if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count < 1:
         raise ArgumentError("count", f"must be a positive whole number, got {count!r}")
     return min(int(count), available)
-
-
-def _check_mass(lin: Linearization, M: np.ndarray) -> None:
-    try:
-        linalg.cholesky(M)
-    except linalg.LinAlgError:
-        model = lin.model
-        dynamic = lin.dynamic
-        weak = int(dynamic[np.argmin(np.diag(M))])
-        raise SingularConfigurationError(
-            f"the reduced mass matrix M0 is not positive definite: {model.describe_q(weak)} "
-            f"moves without mass; give its elements mass (EM) or its nodes point masses "
-            f"(XM)") from None

@@ -22,7 +22,7 @@ import scipy.linalg as linalg
 from . import checks
 from .engine import MAX_ITERATIONS, Engine, initial_q, load_vector, q_index, q_scale
 from .errors import ArgumentError, ConvergenceError, FlexmbdError, SimulationError
-from .linearization import Linearization, linearize
+from .linearization import Linearization, equilibrium_state, linearize, static_tangent
 from .model import Model
 from .results import SimulationResult, check_on_failure, conclude
 
@@ -190,21 +190,22 @@ class _Solver:
         q[inputs] = q_target[inputs]
         x = engine.positions(q, self.x)
         residual = np.inf
+        dynamic = np.ix_(self.dynamic, self.dynamic)
         for _ in range(self.max_iterations):
-            lin = linearize(model, x, loads=loads, engine=engine)
-            residual_vector = lin.driving[self.dynamic]
-            K = lin.block("K0") + lin.block("G0")
-            step = -linalg.solve(K, residual_vector, assume_a="sym")
+            state, tangent = static_tangent(engine, x, loads)
+            residual_vector = state["driving"][self.dynamic]
+            step = -linalg.solve(tangent[dynamic], residual_vector, assume_a="sym")
             if not np.all(np.isfinite(step)):
                 raise np.linalg.LinAlgError("the tangent K0 + G0 is singular")
-            q = lin.q.copy()
+            q = state["q"].copy()
             q[self.dynamic] += step
-            x = engine.positions(q, lin.x)
+            x = engine.positions(q, state["x"])
             size = np.abs(step) * self.scale[self.dynamic]
             residual = float(np.max(np.abs(residual_vector), initial=0.0))
             if np.max(size, initial=0.0) <= self.tolerance:
-                final = linearize(model, x, loads=loads, engine=engine)
-                self.x, self.state = final.x, _row(final)
+                zero = np.zeros(model.n_dof)
+                self.state = _row(equilibrium_state(engine, x, zero, zero, loads))
+                self.x = self.state["x"]
                 return
         worst = int(self.dynamic[np.argmax(np.abs(residual_vector))]) if len(self.dynamic) \
             else 0
@@ -214,9 +215,9 @@ class _Solver:
                                iterations=self.max_iterations, residual=residual)
 
 
-def _row(lin: Linearization) -> dict[str, np.ndarray]:
-    """The columns of a result row from a converged linearized state (rates zero)."""
-    zero_x, zero_e = np.zeros_like(lin.x), np.zeros_like(lin.e)
-    return {"x": lin.x, "xd": zero_x, "xdd": zero_x, "e": lin.e, "ed": zero_e,
-            "edd": zero_e, "q": lin.q, "qd": lin.qd, "qdd": lin.qdd, "sigma": lin.sigma,
-            "reactions": lin.reactions, "driving": lin.driving}
+def _row(state: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """The columns of a result row from a converged state at rest
+    (:func:`~flexmbd.linearization.equilibrium_state`)."""
+    keys = ("x", "xd", "xdd", "e", "ed", "edd", "q", "qd", "qdd", "sigma", "reactions",
+            "driving")
+    return {key: state[key] for key in keys}

@@ -307,3 +307,16 @@ def test_a_truncated_state_space_keeps_the_static_gain_and_the_low_modes():
     np.testing.assert_allclose(magnitude, 20 * np.log10(np.abs(near[1:])), atol=1e-6)
     with pytest.raises(fm.ArgumentError, match="count"):
         full.truncated(0)
+
+
+def test_a_degree_of_freedom_without_mass_is_named():
+    """A point mass on the tip only: the rotations of the tip's inner beam ends have no
+    mass, and the frequencies cannot be computed; the message names one."""
+    b = fm.ModelBuilder("massless beam")
+    b.add_node(1, 0.0, 0.0).add_node(3, L, 0.0)
+    b.add_beam(1, 1, 2, 3, 4).dynamic_deformation(1, 2, 3).set_stiffness(1, bending=EI)
+    model = b.fix(1).fix(2).add_point_mass(3, 1.0).build()
+    with pytest.raises(fm.SingularConfigurationError, match="moves without mass"):
+        vibration_modes(linearize(model))
+    with pytest.raises(fm.SingularConfigurationError, match="moves without mass"):
+        modes_along(fm.kinematic_analysis(model, [0.0, 1.0]), 1)
