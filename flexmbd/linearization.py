@@ -176,7 +176,6 @@ def _elastic_state(engine: Engine, x: np.ndarray, qd: np.ndarray, qdd: np.ndarra
     return state, F_q, D_x @ F_q, stress_hessian(engine.model, state["x"], state["sigma"])
 
 
-# --- the pieces ---------------------------------------------------------------------------
 def equilibrium_state(engine: Engine, x: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
                       loads: np.ndarray) -> dict[str, np.ndarray]:
     """The engine's inverse dynamics at one state: ``{"x", "xd", "xdd", "q", "sigma",
