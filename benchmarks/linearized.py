@@ -27,6 +27,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from _tables import table  # benchmarks/_tables.py, beside the script
 from flexmbd.examples import parallel_guide, slider_crank_flex
 
 import flexmbd as fm
@@ -66,29 +67,23 @@ def command_time(arguments: list[str], repeat: int) -> float:
 
 def eigenfrequencies(repeat: int, folder: Path) -> list[dict]:
     """Target 1: the 200-beam models."""
-    rows = []
-    model = column(200)
+    model, guide = column(200), parallel_guide.build_model(100)
 
     def at_rest():
         return fm.vibration_modes(fm.linearize(model), 6)
-    wall, modes = median_time(at_rest, repeat)
-    path = folder / "column200.dat"
-    fm.write_dat(model, path)
-    rows.append({"model": "column, 200 beams, at rest", "dof": model.n_dof,
-                 "API [s]": wall, "command [s]": command_time(["modes", str(path)], repeat),
-                 "f1 [Hz]": modes.frequencies[0]})
-
-    guide = parallel_guide.build_model(100)
 
     def loaded():
-        statics = fm.static_equilibrium(guide)
-        return fm.vibration_modes(statics.linearization(0), 6)
-    wall, modes = median_time(loaded, repeat)
-    path = folder / "guide200.dat"
-    fm.write_dat(guide, path)
-    rows.append({"model": "parallel guide, 2 x 100 beams, payload", "dof": guide.n_dof,
-                 "API [s]": wall, "command [s]": command_time(["modes", str(path)], repeat),
-                 "f1 [Hz]": modes.frequencies[0]})
+        return fm.vibration_modes(fm.static_equilibrium(guide).linearization(0), 6)
+
+    cases = [("column, 200 beams, at rest", model, at_rest, "column200.dat"),
+             ("parallel guide, 2 x 100 beams, payload", guide, loaded, "guide200.dat")]
+    rows = []
+    for name, case, work, filename in cases:
+        wall, modes = median_time(work, repeat)
+        fm.write_dat(case, folder / filename)
+        rows.append({"model": name, "dof": case.n_dof, "API [s]": wall,
+                     "command [s]": command_time(["modes", str(folder / filename)], repeat),
+                     "f1 [Hz]": modes.frequencies[0]})
     return rows
 
 
@@ -110,16 +105,6 @@ def along_a_motion(repeat: int, beams: list[int]) -> list[dict]:
                      "f1 [Hz]": f"{along.frequencies[:, 0].min():.4g} to "
                                 f"{along.frequencies[:, 0].max():.4g}"})
     return rows
-
-
-def table(rows: list[dict]) -> str:
-    """Rows as a Markdown table."""
-    keys = list(rows[0])
-    lines = ["| " + " | ".join(keys) + " |", "|" + "---|" * len(keys)]
-    for row in rows:
-        cells = [f"{v:.3g}" if isinstance(v, float) else str(v) for v in row.values()]
-        lines.append("| " + " | ".join(cells) + " |")
-    return "\n".join(lines)
 
 
 def main() -> None:

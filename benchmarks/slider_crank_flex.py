@@ -17,6 +17,7 @@ import platform
 import time
 
 import numpy as np
+from _tables import table  # benchmarks/_tables.py, beside the script
 from flexmbd.examples import slider_crank_flex as example
 
 import flexmbd as fm
@@ -40,16 +41,6 @@ def run_case(nbeams: int, eps1flex: bool, method: str, steps_per_revolution: int
                                                       ("nsteps", "nfev", "njev")},
             "ms/step": 1e3 * wall / max(result.stats["nsteps"], 1),
             "max v/l2": v.max(), "min v/l2": v.min(), "ok": result.success}
-
-
-def table(rows: list[dict]) -> str:
-    """Rows as a Markdown table."""
-    keys = list(rows[0])
-    lines = ["| " + " | ".join(keys) + " |", "|" + "---|" * len(keys)]
-    for row in rows:
-        cells = [f"{v:.3g}" if isinstance(v, float) else str(v) for v in row.values()]
-        lines.append("| " + " | ".join(cells) + " |")
-    return "\n".join(lines)
 
 
 def main() -> None:
