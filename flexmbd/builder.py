@@ -169,9 +169,10 @@ class ModelBuilder:
                  second_order: bool = False) -> ModelBuilder:
         """Beam from ``p`` to ``q`` with rotational nodes ``phi_p``, ``phi_q`` (PLBEAM).
 
-        With ``second_order`` the elongation includes the arc length of the bending
-        (:class:`~flexmbd.SecondOrderBeam`, PLBEAM2): needed for accurate buckling loads
-        and stiffening by axial load; the chord elongation of the course otherwise."""
+        With ``second_order`` the large-deflection beam (:class:`~flexmbd.SecondOrderBeam`,
+        PLBEAM2): the elongation includes the arc length of the bending and the bending
+        deformations are the exact end rotations, needed for accurate buckling loads,
+        stiffening by axial load and large deflections; the course's beam otherwise."""
         etype = SecondOrderBeam if checks.flag(second_order, "second_order") else Beam
         return self.add_element(number, etype, (p, phi_p, q, phi_q))
 

@@ -269,8 +269,11 @@ class Model:
         return self.describe_deformation(self.independent_deformations[j - nxm])
 
     def summary(self) -> str:
-        """A few lines describing sizes and classification, for printing."""
+        """A few lines describing sizes and classification, for printing. Lists longer
+        than six entries give their count and the first and last labels."""
         def names(idx, describe):
+            if len(idx) > 6:
+                return f"{len(idx)} ({describe(idx[0])}, ..., {describe(idx[-1])})"
             return ", ".join(describe(i) for i in idx) or "none"
 
         x_in = self.coordinate_class == CoordinateClass.INPUT

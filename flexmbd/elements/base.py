@@ -145,7 +145,8 @@ class ElementType:
         """Deformation parameters as expressions of the element coordinates ``c`` and the
         reference parameters ``p`` (``[l0, beta0]``, as many as :attr:`reference`).
 
-        ``m`` supplies ``sqrt``, ``sin`` and ``cos`` (``sympy`` or ``numpy``).
+        ``m`` is the module that supplies ``sqrt``, ``sin``, ``cos`` and ``atan2``:
+        ``sympy``, for the kernel generator and the symbolic path.
         """
         raise NotImplementedError
 

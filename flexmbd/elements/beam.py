@@ -40,7 +40,7 @@ class Beam(ElementType):
     keyword = "PLBEAM"
     roles = (translational("p"), rotational("phi_p"), translational("q"), rotational("phi_q"))
     deformation_names = ("elongation", "bending at p", "bending at q")
-    deformation_units = ("m", "rad", "rad")
+    deformation_units = ("m", "m", "m")  # e2 ~ l theta_p: a length, its stress a force
     stiffness_values = (AXIAL_STIFFNESS, Value("bending", "EI", "N m^2"),
                         Value("shear", "GA_s", "N"))
     damping_values = (AXIAL_DAMPING, Value("bending", "c_I", "N m^2 s"))
