@@ -22,10 +22,12 @@ from __future__ import annotations
 
 from collections import deque
 from collections.abc import Callable, Mapping
+from functools import cached_property
 
 import numpy as np
 
 from . import checks
+from .assembly import Assembly
 from .diagnosis import at_time, massless_message, singular_message
 from .elements import ELEMENT_TYPES, TRANSLATIONAL
 from .errors import (
@@ -416,10 +418,10 @@ def q_scale(model: Model) -> np.ndarray:
     """Per entry of ``q``: 1 for angles, one over the model size for lengths."""
     length = model.characteristic_length
     coordinates = list(1.0 / _coordinate_size(model)[model.independent_coordinates])
-    deformations = []
-    for d in model.independent_deformations:
-        etype = next(e.type for e in model.elements.values() if d in e.deformations)
-        deformations.append(1.0 / length if etype.ends() is not None else 1.0)
+    lengths = {d for e in model.elements.values() if e.type.ends() is not None
+               for d in e.deformations}  # deformations of elements with a chord
+    deformations = [1.0 / length if d in lengths else 1.0
+                    for d in model.independent_deformations]
     return np.array(coordinates + deformations)
 
 
@@ -493,6 +495,13 @@ class Engine:
         self.integrated = False  #: whether the run integrates dynamic degrees of freedom
         self.core.settings(self.tolerance, self.max_iterations, self.regularity_limit,
                            self.reference_conditioning)
+
+    @cached_property
+    def assembly(self) -> Assembly:
+        """Model-wide arrays from the element kernels in one call each (``D_x``, the
+        stress Hessian, the elastic law): :class:`~flexmbd.assembly.Assembly`."""
+        return Assembly(self.core, self.compiled, self.model.n_coordinates,
+                        self.model.n_deformations)
 
     # --- preparing a run ------------------------------------------------------------------
     def prepare(self, laws: list[Law], n_outputs: int, *, integrated: bool = False,

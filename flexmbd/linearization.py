@@ -36,9 +36,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.sparse as sparse
 
-from .engine import Engine, deformations_and_jacobian, element_kernel, load_vector, q_scale
+from .engine import Engine, load_vector, q_scale
 from .errors import ArgumentError
 from .kinematics import coordinates, generalized
 from .model import Model
@@ -143,13 +142,13 @@ def linearize(model: Model, x=None, qd=None, qdd=None, *, loads=None,
     state, F_q, E_q, H = _elastic_state(engine, x, qd, qdd, extra)
     x = state["x"]
     M = engine.mass(x, state["xd"])[0]
-    S, C = elastic_matrices(engine)
-    N0, C0 = inertia_derivatives(engine, state, F_q, E_q, C)
+    N0, C0 = inertia_derivatives(engine, state, F_q, E_q)
+    law = engine.assembly.law_times
     return Linearization(
         model=model, x=x, xd=state["xd"], xdd=state["xdd"], e=state["e"], q=state["q"],
         qd=qd, qdd=qdd, sigma=state["sigma"], driving=state["driving"],
         reactions=state["reactions"], F_q=F_q, E_q=E_q,
-        M0=F_q.T @ M @ F_q, C0=C0, D0=E_q.T @ (C @ E_q), K0=E_q.T @ (S @ E_q),
+        M0=F_q.T @ M @ F_q, C0=C0, D0=E_q.T @ law("C", E_q), K0=E_q.T @ law("S", E_q),
         N0=N0, G0=F_q.T @ (H @ F_q))
 
 
@@ -161,19 +160,18 @@ def static_tangent(engine: Engine, x: np.ndarray, loads: np.ndarray
     without the mass and inertia terms."""
     zero = np.zeros(engine.model.n_dof)
     state, F_q, E_q, H = _elastic_state(engine, x, zero, zero, loads)
-    S = elastic_matrices(engine)[0]
-    return state, E_q.T @ (S @ E_q) + F_q.T @ (H @ F_q)
+    return state, E_q.T @ engine.assembly.law_times("S", E_q) + F_q.T @ (H @ F_q)
 
 
 # --- the pieces ---------------------------------------------------------------------------
 def _elastic_state(engine: Engine, x: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
-                   loads: np.ndarray) -> tuple[dict, np.ndarray, np.ndarray, sparse.csr_matrix]:
+                   loads: np.ndarray) -> tuple[dict, np.ndarray, np.ndarray, np.ndarray]:
     """The state (:func:`equilibrium_state`), ``F_q``, ``E_q`` and the stress-weighted
     Hessian of the deformations ``H`` ``(nx, nx)`` that ``G0 = F_q^T H F_q`` needs."""
     state = equilibrium_state(engine, x, qd, qdd, loads)
-    D_x = deformations_and_jacobian(engine.model, state["x"])[1]
+    D_x = engine.assembly.deformations_and_jacobian(state["x"])[1]
     F_q = transfer(engine, state["x"], D_x)
-    return state, F_q, D_x @ F_q, stress_hessian(engine.model, state["x"], state["sigma"])
+    return state, F_q, D_x @ F_q, engine.assembly.stress_hessian(state["x"], state["sigma"])
 
 
 def equilibrium_state(engine: Engine, x: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
@@ -182,7 +180,8 @@ def equilibrium_state(engine: Engine, x: np.ndarray, qd: np.ndarray, qdd: np.nda
     "driving", "reactions", ...}`` (one row each), started from the configuration ``x``."""
     model = engine.model
     q = np.concatenate([x[model.independent_coordinates],
-                        deformations_and_jacobian(model, x)[0][model.independent_deformations]])
+                        engine.assembly.deformations_and_jacobian(x)[0][
+                            model.independent_deformations]])
     laws = [Polynomial(*values) for values in zip(q, qd, qdd, strict=True)]
     forces = None if not np.any(loads) else (lambda t, x_, xd_: loads)
     arrays = engine.prepare(laws, 1, dynamics=True, forces=forces)
@@ -212,44 +211,8 @@ def transfer(engine: Engine, x: np.ndarray, D_x: np.ndarray) -> np.ndarray:
     return F_q
 
 
-def elastic_matrices(engine: Engine) -> tuple[sparse.csr_matrix, sparse.csr_matrix]:
-    """The elastic law's ``S`` and ``C`` over all deformations ``(ne, ne)`` (sparse): the
-    compiled element blocks, nonzero on the deformations that carry elastic stress."""
-    spec, ne = engine.compiled, engine.model.n_deformations
-    rows, cols, at = [], [], []
-    for k in range(int(spec["nel"])):
-        defs = spec["d_idx"][spec["d_off"][k]:spec["d_off"][k + 1]]
-        n = len(defs)
-        rows.append(np.repeat(defs, n))
-        cols.append(np.tile(defs, n))
-        at.append(spec["law_off"][k] + np.arange(n * n))
-    rows, cols, at = (np.concatenate(a) if a else np.zeros(0, int) for a in (rows, cols, at))
-    return tuple(sparse.csr_matrix((spec[name][at], (rows, cols)), shape=(ne, ne))
-                 for name in ("S", "C"))
-
-
-def stress_hessian(model: Model, x: np.ndarray, sigma: np.ndarray) -> sparse.csr_matrix:
-    """``sum_i sigma_i D_xx,i`` ``(nx, nx)`` (sparse), from the elements' Hessian kernels."""
-    rows, cols, values = [], [], []
-    for element in model.elements.values():
-        weights = sigma[list(element.deformations)]
-        if not np.any(weights):
-            continue
-        nd, nc = len(element.deformations), len(element.coordinates)
-        hessians = element_kernel(element, "hessian", x, nd * nc * nc).reshape(nd, nc, nc)
-        coords = np.asarray(element.coordinates)
-        rows.append(np.repeat(coords, nc))
-        cols.append(np.tile(coords, nc))
-        values.append(np.tensordot(weights, hessians, axes=1).ravel())
-    n = model.n_coordinates
-    if not rows:
-        return sparse.csr_matrix((n, n))
-    return sparse.csr_matrix((np.concatenate(values), (np.concatenate(rows),
-                                                       np.concatenate(cols))), shape=(n, n))
-
-
 def inertia_derivatives(engine: Engine, state: dict[str, np.ndarray], F_q: np.ndarray,
-                        E_q: np.ndarray, C: sparse.csr_matrix) -> tuple[np.ndarray, np.ndarray]:
+                        E_q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``N0``, ``C0`` ``(nq, nq)``: central differences of the inertia forces ``M xddot + h``
     (and of ``edot`` for the damping stresses) along each ``q`` and ``qdot`` at the state;
     exactly zero at rest, where those forces vanish near the state."""
@@ -264,7 +227,7 @@ def inertia_derivatives(engine: Engine, state: dict[str, np.ndarray], F_q: np.nd
         return np.concatenate([M @ s["xdd"] + h, s["ed"]])
 
     change = central_differences(engine, q, qd, qdd, x, forces_and_rates)
-    N0 = F_q.T @ change[:nx] + E_q.T @ (C @ change[nx:])
+    N0 = F_q.T @ change[:nx] + E_q.T @ engine.assembly.law_times("C", change[nx:])
     # the inertia forces are quadratic in qdot: a central difference is exact
     C0 = np.zeros((nq, nq))
     size = 1.0 / q_scale(model)

@@ -17,7 +17,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg as linalg
 from threadpoolctl import threadpool_limits
 
 from .engine import Engine
@@ -93,22 +92,32 @@ def vibration_modes(linearization: Linearization, count: int | None = None) -> M
 def _eigen(lin: Linearization, K: np.ndarray, M: np.ndarray, count: int, vectors: bool
            ) -> tuple[np.ndarray, np.ndarray | None]:
     """The ``count`` lowest ``omega^2`` of ``K phi = omega^2 M phi``, with mass-normalized
-    shapes ``phi`` when ``vectors``. The generalized solvers keep the low frequencies
-    accurate next to stiff axial ones (an explicit reduction by ``M``'s Cholesky factor
-    loses digits there); at rest ``K`` is symmetric, in motion ``N0`` and ``C0`` make it
-    unsymmetric."""
-    try:
-        linalg.cholesky(M, check_finite=False)
-    except linalg.LinAlgError:
-        weak = int(lin.dynamic[np.argmin(np.diag(M))])
-        raise SingularConfigurationError(
-            f"the reduced mass matrix M0 is not positive definite: "
-            f"{lin.model.describe_q(weak)} moves without mass; give its elements mass (EM) "
-            f"or its nodes point masses (XM)") from None
+    shapes ``phi`` when ``vectors``.
+
+    A symmetric positive definite ``K`` (a structure at rest, a stable equilibrium) gives
+    the largest ``mu = 1/omega^2`` of ``L^-1 M L^-T`` with ``K = L L^T``: rounding then
+    scales with the lowest frequencies, where reducing by ``M`` (the generalized
+    solvers) scales it with the highest, the stiff axial ones of flexures (1e-5 of a
+    200-beam column's first frequency). An indefinite ``K`` (mechanisms, unstable
+    states) takes the generalized symmetric solver, and an unsymmetric one (``N0`` and
+    ``C0`` in motion) the general one."""
+    _check_mass(lin, M)
     asymmetry = np.abs(K - K.T).max() / max(np.abs(K).max(), np.finfo(float).tiny)
     if asymmetry <= SYMMETRIC:
-        result = linalg.eigh(0.5 * (K + K.T), M, subset_by_index=(0, count - 1),
-                             eigvals_only=not vectors)
+        K = 0.5 * (K + K.T)
+        factor = _cholesky(K)
+        if factor is not None:
+            reduced = _congruence(factor, M)
+            if not vectors:
+                return 1.0 / np.linalg.eigvalsh(reduced)[::-1][:count], None
+            mu, y = np.linalg.eigh(reduced)
+            mu, y = mu[::-1][:count], y[:, ::-1][:, :count]
+            # phi = L^-T y has phi^T K phi = 1 and phi^T M phi = mu
+            return 1.0 / mu, np.linalg.solve(factor.T, y) / np.sqrt(mu)
+    import scipy.linalg as linalg  # only here: its import alone costs 0.2 s
+
+    if asymmetry <= SYMMETRIC:
+        result = linalg.eigh(K, M, subset_by_index=(0, count - 1), eigvals_only=not vectors)
         return result if vectors else (result, None)
     if not vectors:
         return np.sort(linalg.eigvals(K, M).real)[:count], None
@@ -116,6 +125,32 @@ def _eigen(lin: Linearization, K: np.ndarray, M: np.ndarray, count: int, vectors
     order = np.argsort(values.real)[:count]
     shapes = right.real[:, order]
     return values.real[order], shapes / np.sqrt(np.einsum("ik,ij,jk->k", shapes, M, shapes))
+
+
+def _check_mass(lin: Linearization, M: np.ndarray) -> None:
+    """Raise, naming the degree of freedom, when ``M0`` is not positive definite."""
+    if _cholesky(M) is None:
+        weak = int(lin.dynamic[np.argmin(np.diag(M))])
+        raise SingularConfigurationError(
+            f"the reduced mass matrix M0 is not positive definite: "
+            f"{lin.model.describe_q(weak)} moves without mass; give its elements mass (EM) "
+            f"or its nodes point masses (XM)")
+
+
+def _cholesky(A: np.ndarray) -> np.ndarray | None:
+    """The lower Cholesky factor of a symmetric ``A``, or ``None`` when ``A`` is not
+    positive definite."""
+    try:
+        return np.linalg.cholesky(A)
+    except np.linalg.LinAlgError:
+        return None
+
+
+def _congruence(factor: np.ndarray, A: np.ndarray) -> np.ndarray:
+    """``L^-1 A L^-T`` for the Cholesky factor ``L`` and a symmetric ``A``, symmetrized."""
+    half = np.linalg.solve(factor, A)
+    reduced = np.linalg.solve(factor, half.T)
+    return 0.5 * (reduced + reduced.T)
 
 
 @dataclass(frozen=True, eq=False)
@@ -185,13 +220,20 @@ def buckling(linearization: Linearization, count: int | None = None) -> Buckling
     if not len(K) or not np.any(G):
         raise ArgumentError("loads", "the state carries no stresses, so no load factor makes "
                                      "it buckle: apply loads (XF, gravity, loads=...)")
-    # eig(G, K) gives 1/lambda, finite for every mode even where G0 vanishes on it
-    inverse, vectors = linalg.eig(G, K)
-    inverse = inverse.real
+    # 1/lambda are the eigenvalues of (G, K): finite for every mode even where G0 vanishes
+    factor = _cholesky(0.5 * (K + K.T))
+    if factor is not None:  # a stable state: a symmetric problem L^-1 G L^-T y = y / lambda
+        inverse, y = np.linalg.eigh(_congruence(factor, 0.5 * (G + G.T)))
+        vectors = np.linalg.solve(factor.T, y)
+    else:
+        import scipy.linalg as linalg  # only here: its import alone costs 0.2 s
+
+        inverse, vectors = linalg.eig(G, K)
+        inverse, vectors = inverse.real, vectors.real
     keep = np.abs(inverse) > 1e-12 * np.abs(inverse).max()
     factors = -1.0 / inverse[keep]
     order = np.argsort(np.abs(factors))[:_count(count, int(keep.sum()))]
-    shapes = vectors.real[:, keep][:, order]
+    shapes = vectors[:, keep][:, order]
     shapes = shapes / shapes[np.abs(shapes).argmax(axis=0), np.arange(shapes.shape[1])]
     return Buckling(lin, factors[order], shapes, lin.F_q[:, lin.dynamic] @ shapes)
 
@@ -207,13 +249,13 @@ def compliance(linearization: Linearization, labels) -> np.ndarray:
     lin = linearization
     F = lin.transfer(labels)
     K = lin.block("K0") + lin.block("G0")
-    try:
-        factor = linalg.cho_factor(0.5 * (K + K.T))
-    except linalg.LinAlgError:
+    factor = _cholesky(0.5 * (K + K.T))
+    if factor is None:
         raise SingularConfigurationError(
             "the stiffness K0 + G0 is not positive definite: the dynamic degrees of freedom "
-            "include a mechanism (no stiffness) or the loads buckle the structure") from None
-    return F @ linalg.cho_solve(factor, F.T)
+            "include a mechanism (no stiffness) or the loads buckle the structure")
+    half = np.linalg.solve(factor, F.T)  # L^-1 F^T: F K^-1 F^T = half^T half
+    return half.T @ half
 
 
 def _count(count: int | None, available: int) -> int:

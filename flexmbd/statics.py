@@ -17,7 +17,6 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
-import scipy.linalg as linalg
 
 from . import checks
 from .engine import MAX_ITERATIONS, Engine, initial_q, load_vector, q_index, q_scale
@@ -194,7 +193,7 @@ class _Solver:
         for _ in range(self.max_iterations):
             state, tangent = static_tangent(engine, x, loads)
             residual_vector = state["driving"][self.dynamic]
-            step = -linalg.solve(tangent[dynamic], residual_vector, assume_a="sym")
+            step = -np.linalg.solve(tangent[dynamic], residual_vector)
             if not np.all(np.isfinite(step)):
                 raise np.linalg.LinAlgError("the tangent K0 + G0 is singular")
             q = state["q"].copy()

@@ -59,6 +59,16 @@ def test_clamped_free_bending_frequencies_converge_to_the_closed_form():
     assert np.all(error16 < error8 / 8)  # O(n^-4)
 
 
+def test_low_frequencies_keep_their_digits_next_to_stiff_axial_ones():
+    """200 axially stiff beams (EA/EI = 1.2e6 / L^2, axial frequencies 1e5 times the
+    first): the first bending frequency to 1e-9 of the closed form; reducing by M0
+    loses 1e-5 of it to rounding (THEORY 9, modes.py)."""
+    model = beam_line(200, deformations=(1, 2, 3), EA=1.2e6 * EI, second_order=True)
+    exact = CLAMPED_FREE[0] ** 2 * np.sqrt(EI / (RHO_A * L**4))
+    omega2 = vibration_modes(linearize(model), 2).omega2
+    assert np.sqrt(omega2[0]) == pytest.approx(exact, rel=1e-9)
+
+
 def test_pinned_pinned_bending_frequencies_converge_to_the_closed_form():
     exact = (np.pi * np.arange(1, 4)) ** 2 * np.sqrt(EI / (RHO_A * L**4))
     error8 = np.abs(frequencies(beam_line(8, ends=("pinned", "roller"))) / exact - 1)
@@ -335,3 +345,45 @@ def test_a_degree_of_freedom_without_mass_is_named():
         vibration_modes(linearize(model))
     with pytest.raises(fm.SingularConfigurationError, match="moves without mass"):
         modes_along(fm.kinematic_analysis(model, [0.0, 1.0]), 1)
+
+
+def test_the_assembled_arrays_equal_the_element_by_element_ones():
+    """Engine.assembly (every element in one core call, scattered by index maps) gives
+    D_x, the stress Hessian and the elastic law's products of the per-element kernels,
+    on a model of every element type at a random configuration."""
+    from flexmbd.engine import deformations_and_jacobian, dense_hessian
+
+    b = fm.ModelBuilder("every element type")
+    for n, (x, y) in {1: (0, 0), 3: (1, 0.2), 5: (2, -0.1), 7: (2.5, 0.6)}.items():
+        b.add_node(n, x, y)
+    b.add_truss(1, 1, 3).add_beam(2, 1, 2, 3, 4).add_beam(3, 3, 4, 5, 6, second_order=True)
+    b.add_rigid_beam(4, 5, 6, 7).add_hinge(5, 4, 6).add_element(6, "spring-damper", (1, 7))
+    b.release(1, 1).dynamic_deformation(2, 1, 2, 3).dynamic_deformation(3, 1, 2, 3)
+    b.release(5, 1).fix(1).fix(2)
+    for k, values in {1: {"axial": 3.0}, 2: {"axial": 5.0, "bending": 2.0},
+                      3: {"axial": 7.0, "bending": 1.5}, 5: {"hinge": 0.5},
+                      6: {"spring": 4.0}}.items():
+        b.set_stiffness(k, **values)
+    b.set_damping(2, axial=0.3, bending=0.1).set_damping(6, spring=0.2)
+    model = b.build()
+    assert {e.type for e in model.elements.values()} == set(fm.elements.ELEMENT_TYPES.values())
+    rng = np.random.default_rng(5)
+    x = model.x0 + 0.1 * rng.standard_normal(model.n_coordinates)
+    sigma = rng.standard_normal(model.n_deformations)
+    assembly = Engine(model).assembly
+
+    e, D_x = assembly.deformations_and_jacobian(x)
+    e_each, D_x_each = deformations_and_jacobian(model, x)
+    assert np.array_equal(e, e_each) and np.array_equal(D_x, D_x_each)
+    H = np.einsum("i,ijk->jk", sigma, dense_hessian(model, x))
+    assert np.allclose(assembly.stress_hessian(x, sigma), H, rtol=1e-14, atol=1e-14)
+    # the law's blocks: S = diag(EA/l0, EI/l0^3 [[4, -2], [-2, 4]], k) on the beam 2
+    A = rng.standard_normal((model.n_deformations, 3))
+    rows = [model.deformation_index(f"e2.{k}") for k in (1, 2, 3)]
+    l0 = float(np.hypot(1.0, 0.2))
+    S_beam = np.diag([5.0 / l0, 0, 0]) + 2.0 / l0**3 * np.array([[0, 0, 0], [0, 4, -2],
+                                                                   [0, -2, 4]])
+    assert np.allclose(assembly.law_times("S", A)[rows], S_beam @ A[rows], rtol=1e-14)
+    spring = model.deformation_index("e6.1")
+    assert assembly.law_times("C", A)[spring] == pytest.approx(0.2 * A[spring], rel=1e-14)
+    assert not np.any(assembly.law_times("S", A)[model.deformation_index("e4.1")])

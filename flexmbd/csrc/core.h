@@ -159,6 +159,9 @@ int fm_positions(const FmModel *m, FmState *s, double t, const double *guess, do
 void fm_dependent_rates(const FmModel *m, FmState *s, double *rates,
                         const double *targets, const double *extra);
 void fm_element_rates(const FmModel *m, FmState *s, const double *rates, double *out);
+/* One kernel of every element at x, element after element: e then D_x (nd (1 + nc) values)
+ * or, with `hessian`, D_xx (nd nc nc); returns the count, and only counts when out is NULL */
+size_t fm_element_values(const FmModel *m, int hessian, const double *x, double *out);
 int fm_kinematics(const FmModel *m, FmState *s, double t, const double *guess, double near,
                   int use_factor, int refresh, FmError *err);
 void fm_stresses(const FmModel *m, FmState *s);

@@ -1025,6 +1025,29 @@ static PyObject *Core_mass_matrix(Core *c, PyObject *args)
     Py_RETURN_NONE;
 }
 
+/* element_values(name, x, out): the kernel "deform_jac" or "hessian" of every element at
+ * x, element after element (fm_element_values) */
+static PyObject *Core_element_values(Core *c, PyObject *args)
+{
+    const char *name;
+    PyObject *xo, *oo;
+    Views v = {.n = 0};
+    if (!PyArg_ParseTuple(args, "sOO", &name, &xo, &oo))
+        return NULL;
+    const int hessian = !strcmp(name, "hessian");
+    if (!hessian && strcmp(name, "deform_jac")) {
+        PyErr_Format(PyExc_ValueError, "element_values: no kernel %s for all elements", name);
+        return NULL;
+    }
+    const Py_ssize_t size = (Py_ssize_t)fm_element_values(&c->m, hessian, NULL, NULL);
+    const double *x = array(&v, xo, c->m.nx, 0, "x");
+    double *out = x ? array(&v, oo, size, 1, "out") : NULL;
+    if (out)
+        fm_element_values(&c->m, hessian, x, out);
+    release(&v);
+    return out ? Py_NewRef(Py_None) : NULL;
+}
+
 /* factor(x): D_c at x; returns its scaled conditioning (0 when singular) */
 static PyObject *Core_factor(Core *c, PyObject *args)
 {
@@ -1216,6 +1239,8 @@ static PyMethodDef Core_methods[] = {
      "state(t, q, qd, qdd, guess, x, xd, xdd, e, ed, edd): kinematics of one state."},
     {"mass_matrix", (PyCFunction)Core_mass_matrix, METH_VARARGS,
      "mass_matrix(x, xd, M, h, f): mass matrix, velocity inertia, loads and gravity."},
+    {"element_values", (PyCFunction)Core_element_values, METH_VARARGS,
+     "element_values(name, x, out): kernel deform_jac or hessian of every element at x."},
     {"factor", (PyCFunction)Core_factor, METH_VARARGS, "factor(x): D_c at x; its conditioning."},
     {"solve", (PyCFunction)Core_solve, METH_VARARGS, "solve(rhs, transposed): with D_c."},
     {"configuration", (PyCFunction)Core_configuration, METH_VARARGS,

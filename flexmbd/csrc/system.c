@@ -82,6 +82,22 @@ static void gather(const FmModel *m, int k, const double *x, double *c)
         c[a - m->c_off[k]] = x[m->c_idx[a]];
 }
 
+size_t fm_element_values(const FmModel *m, int hessian, const double *x, double *out)
+{
+    double c[MAX_NC];
+    size_t at = 0;
+    for (int k = 0; k < m->nel; k++) {
+        const FmKernels *kern = &FM_KERNELS[m->etype[k]];
+        const size_t nd = (size_t)kern->nd, nc = (size_t)kern->nc;
+        if (out) {
+            gather(m, k, x, c);
+            (hessian ? kern->hessian : kern->deform_jac)(c, m->param + m->p_off[k], out + at);
+        }
+        at += hessian ? nd * nc * nc : nd * (1 + nc);
+    }
+    return at;
+}
+
 /* e at s->x, and D_x with it when `jacobian`. */
 static void element_pass(const FmModel *m, FmState *s, int jacobian)
 {
