@@ -689,6 +689,19 @@ class Engine:
                   np.ascontiguousarray(guess), *out.values())
         return out
 
+    def inertia_slopes(self, x: np.ndarray, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
+                       step: np.ndarray, rates: bool = False) -> np.ndarray:
+        """Central differences ``(nx + ne, nq)`` of the inertia forces ``M xddot + h`` [N,
+        N m] stacked on the deformation rates ``edot`` along each entry ``j`` of ``q``
+        (of ``qdot`` with ``rates``), ``step[j]`` either side, at the state ``(q, qdot,
+        qddot)`` with positions solved from ``x``: column ``j`` is the slope along
+        ``q_j``. All states in one core call."""
+        model = self.model
+        out = np.empty((model.n_coordinates + model.n_deformations, model.n_dof))
+        vectors = [np.ascontiguousarray(v, dtype=float) for v in (x, q, qd, qdd, step)]
+        self.call(self.core.inertia_slopes, *vectors, bool(rates), out)
+        return out
+
     def factor(self, x: np.ndarray) -> float:
         """Factorise ``D_c`` at ``x``; returns its scaled conditioning, 0 when singular (a
         zero pivot, or the core's singular threshold)."""

@@ -220,23 +220,11 @@ def inertia_derivatives(engine: Engine, state: dict[str, np.ndarray], F_q: np.nd
     q, qd, qdd, x = state["q"], state["qd"], state["qdd"], state["x"]
     if not (np.any(qd) or np.any(qdd)):
         return np.zeros((nq, nq)), np.zeros((nq, nq))
-    nx = model.n_coordinates
-
-    def forces_and_rates(s):
-        M, h, _ = engine.mass(s["x"], s["xd"])
-        return np.concatenate([M @ s["xdd"] + h, s["ed"]])
-
-    change = central_differences(engine, q, qd, qdd, x, forces_and_rates)
+    nx, size = model.n_coordinates, 1.0 / q_scale(model)
+    change = engine.inertia_slopes(x, q, qd, qdd, DIFFERENCE_STEP * size)
     N0 = F_q.T @ change[:nx] + E_q.T @ engine.assembly.law_times("C", change[nx:])
     # the inertia forces are quadratic in qdot: a central difference is exact
-    C0 = np.zeros((nq, nq))
-    size = 1.0 / q_scale(model)
-    for j in range(nq):
-        rate = np.zeros(nq)
-        rate[j] = size[j]
-        plus = forces_and_rates(engine.state(q, qd + rate, qdd, x))[:nx]
-        minus = forces_and_rates(engine.state(q, qd - rate, qdd, x))[:nx]
-        C0[:, j] = F_q.T @ (plus - minus) / (2 * rate[j])
+    C0 = F_q.T @ engine.inertia_slopes(x, q, qd, qdd, size, rates=True)[:nx]
     return N0, C0
 
 

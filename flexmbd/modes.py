@@ -98,9 +98,9 @@ def _eigen(lin: Linearization, K: np.ndarray, M: np.ndarray, count: int, vectors
     the largest ``mu = 1/omega^2`` of ``L^-1 M L^-T`` with ``K = L L^T``: rounding then
     scales with the lowest frequencies, where reducing by ``M`` (the generalized
     solvers) scales it with the highest, the stiff axial ones of flexures (1e-5 of a
-    200-beam column's first frequency). An indefinite ``K`` (mechanisms, unstable
-    states) takes the generalized symmetric solver, and an unsymmetric one (``N0`` and
-    ``C0`` in motion) the general one."""
+    200-beam column's first frequency). An unsymmetric ``K`` (``N0`` and ``C0`` in
+    motion) gives ``mu`` of ``K^-1 M`` likewise. Only a symmetric indefinite ``K``
+    (mechanisms, unstable states) or a singular one takes SciPy's generalized solvers."""
     _check_mass(lin, M)
     asymmetry = np.abs(K - K.T).max() / max(np.abs(K).max(), np.finfo(float).tiny)
     if asymmetry <= SYMMETRIC:
@@ -114,6 +114,16 @@ def _eigen(lin: Linearization, K: np.ndarray, M: np.ndarray, count: int, vectors
             mu, y = mu[::-1][:count], y[:, ::-1][:, :count]
             # phi = L^-T y has phi^T K phi = 1 and phi^T M phi = mu
             return 1.0 / mu, np.linalg.solve(factor.T, y) / np.sqrt(mu)
+    else:
+        try:  # K regular: the eigenvalues mu = 1/omega^2 of K^-1 M, as above
+            inverse = np.linalg.solve(K, M)
+        except np.linalg.LinAlgError:
+            inverse = None
+        if inverse is not None and np.all(np.isfinite(inverse)):
+            if not vectors:
+                return np.sort((1.0 / np.linalg.eigvals(inverse)).real)[:count], None
+            mu, right = np.linalg.eig(inverse)
+            return _lowest(1.0 / mu, right, M, count)
     import scipy.linalg as linalg  # only here: its import alone costs 0.2 s
 
     if asymmetry <= SYMMETRIC:
@@ -121,7 +131,12 @@ def _eigen(lin: Linearization, K: np.ndarray, M: np.ndarray, count: int, vectors
         return result if vectors else (result, None)
     if not vectors:
         return np.sort(linalg.eigvals(K, M).real)[:count], None
-    values, right = linalg.eig(K, M)
+    return _lowest(*linalg.eig(K, M), M, count)
+
+
+def _lowest(values: np.ndarray, right: np.ndarray, M: np.ndarray, count: int
+            ) -> tuple[np.ndarray, np.ndarray]:
+    """The ``count`` eigenpairs of lowest real ``omega^2``, shapes mass-normalized."""
     order = np.argsort(values.real)[:count]
     shapes = right.real[:, order]
     return values.real[order], shapes / np.sqrt(np.einsum("ik,ij,jk->k", shapes, M, shapes))

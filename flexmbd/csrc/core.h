@@ -166,6 +166,12 @@ int fm_kinematics(const FmModel *m, FmState *s, double t, const double *guess, d
                   int use_factor, int refresh, FmError *err);
 void fm_stresses(const FmModel *m, FmState *s);
 void fm_inertia(const FmModel *m, FmState *s);
+/* Central differences of the inertia forces M xdd + h (nx) and the deformation rates ed
+ * (ne) along each entry j of q (of qdot with `rates`), step[j] either side, at (q, qd, qdd)
+ * with positions solved from x: out is (nx + ne) x nq, row-major. Uses s. */
+int fm_inertia_slopes(const FmModel *m, FmState *s, const double *x, const double *q,
+                      const double *qd, const double *qdd, const double *step, int rates,
+                      double *out, FmError *err);
 void fm_nodal_force(const FmModel *m, FmState *s, const double *user);
 int fm_saddle(const FmModel *m, FmState *s, Band *sd, double c_q, double c_v, FmError *err);
 void fm_saddle_apply(const FmModel *m, FmState *s, const Band *sd, const double *J,

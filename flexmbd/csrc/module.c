@@ -1048,6 +1048,31 @@ static PyObject *Core_element_values(Core *c, PyObject *args)
     return out ? Py_NewRef(Py_None) : NULL;
 }
 
+/* inertia_slopes(x, q, qd, qdd, step, rates, out): fm_inertia_slopes */
+static PyObject *Core_inertia_slopes(Core *c, PyObject *args)
+{
+    PyObject *o[6];
+    int rates;
+    Views v = {.n = 0};
+    if (!PyArg_ParseTuple(args, "OOOOOpO", &o[0], &o[1], &o[2], &o[3], &o[4], &rates, &o[5]))
+        return NULL;
+    const FmModel *m = &c->m;
+    const Py_ssize_t sizes[6] = {m->nx, m->nq, m->nq, m->nq, m->nq,
+                                 (Py_ssize_t)(m->nx + m->ne) * m->nq};
+    double *a[6];
+    for (int k = 0; k < 6; k++)
+        if (!(a[k] = array(&v, o[k], sizes[k], k == 5, "inertia_slopes"))) {
+            release(&v);
+            return NULL;
+        }
+    reset_error(c);
+    c->failed = &c->out;
+    const int code = fm_inertia_slopes(m, &c->out, a[0], a[1], a[2], a[3], a[4], rates, a[5],
+                                       &c->error);
+    release(&v);
+    return code ? raise_core(c, code) : Py_NewRef(Py_None);
+}
+
 /* factor(x): D_c at x; returns its scaled conditioning (0 when singular) */
 static PyObject *Core_factor(Core *c, PyObject *args)
 {
@@ -1241,6 +1266,8 @@ static PyMethodDef Core_methods[] = {
      "mass_matrix(x, xd, M, h, f): mass matrix, velocity inertia, loads and gravity."},
     {"element_values", (PyCFunction)Core_element_values, METH_VARARGS,
      "element_values(name, x, out): kernel deform_jac or hessian of every element at x."},
+    {"inertia_slopes", (PyCFunction)Core_inertia_slopes, METH_VARARGS,
+     "inertia_slopes(x, q, qd, qdd, step, rates, out): differences of M xdd + h and ed."},
     {"factor", (PyCFunction)Core_factor, METH_VARARGS, "factor(x): D_c at x; its conditioning."},
     {"solve", (PyCFunction)Core_solve, METH_VARARGS, "solve(rhs, transposed): with D_c."},
     {"configuration", (PyCFunction)Core_configuration, METH_VARARGS,

@@ -535,6 +535,52 @@ void fm_inertia(const FmModel *m, FmState *s)
     }
 }
 
+/* The inertia forces M xdd + h (nx) then the deformation rates ed (ne) of the state in s,
+ * with the element matrices of fm_inertia, into out. */
+static void inertia_forces_and_rates(const FmModel *m, const FmState *s, double *out)
+{
+    for (int i = 0; i < m->nx; i++)
+        out[i] = m->nodal_mass[i] * s->xdd[i];
+    for (int k = 0; k < m->nel; k++) {
+        const int nc = m->c_off[k + 1] - m->c_off[k], *ci = m->c_idx + m->c_off[k];
+        const double *M = s->blocks + m->b_off[k], *h = s->hvec + m->c_off[k];
+        for (int a = 0; a < nc; a++) {
+            double sum = h[a];
+            for (int b = 0; b < nc; b++)
+                sum += M[a * nc + b] * s->xdd[ci[b]];
+            out[ci[a]] += sum;
+        }
+    }
+    memcpy(out + m->nx, s->ed, sizeof(double) * m->ne);
+}
+
+int fm_inertia_slopes(const FmModel *m, FmState *s, const double *x, const double *q,
+                      const double *qd, const double *qdd, const double *step, int rates,
+                      double *out, FmError *err)
+{
+    const int n = m->nx + m->ne, nq = m->nq;
+    double *plus = alloc(n), *minus = alloc(n);
+    int code = plus && minus ? FM_OK : FM_NO_MEMORY;
+    for (int j = 0; !code && j < nq; j++) {
+        for (int side = 0; !code && side < 2; side++) {
+            memcpy(s->q, q, sizeof(double) * nq);
+            memcpy(s->qd, qd, sizeof(double) * nq);
+            memcpy(s->qdd, qdd, sizeof(double) * nq);
+            (rates ? s->qd : s->q)[j] += side ? -step[j] : step[j];
+            code = fm_kinematics(m, s, NAN, x, m->tolerance, 0, 1, err);
+            if (!code) {
+                fm_inertia(m, s);
+                inertia_forces_and_rates(m, s, side ? minus : plus);
+            }
+        }
+        for (int r = 0; !code && r < n; r++)
+            out[(size_t)r * nq + j] = (plus[r] - minus[r]) / (2.0 * step[j]);
+    }
+    free(plus);
+    free(minus);
+    return code;
+}
+
 /* y = M xdd + h - f + D_x^T sigma with the element matrices of fm_inertia and the
  * stresses in s->sigma; `user` are applied loads (nx) or NULL. */
 void fm_nodal_force(const FmModel *m, FmState *s, const double *user)
