@@ -1,21 +1,61 @@
-"""Model-wide arrays from the element kernels, for the linearized analyses (THEORY 9).
+"""Model-wide arrays and products from the element kernels, for the linearized analyses
+(THEORY 9).
 
 The compiled core evaluates one generated kernel for every element in one call
-(``Core.element_values``); :class:`Assembly` scatters the element blocks into the
-model's dense arrays with index maps made once per engine:
+(``Core.element_values``). :class:`Assembly` takes the element blocks by element type
+(one block size each) with index maps made once per engine, and gives
 
-* ``e`` ``(ne,)`` and ``D_x`` ``(ne, nx)``;
-* the stress-weighted Hessian ``sum_i sigma_i D_xx,i`` ``(nx, nx)`` of ``G0``;
+* ``e`` ``(ne,)`` and ``D_x`` ``(ne, nx)``, and the product ``D_x A``;
+* the product ``(sum_i sigma_i D_xx,i) A`` with the stress-weighted Hessian of ``G0``;
 * products with the block-diagonal elastic law ``S`` or ``C`` ``(ne, ne)``.
 
-The per-element functions of :mod:`flexmbd.engine` (``deformations_and_jacobian``,
-``dense_hessian``) give the same values one element at a time, for any model without an
-engine; a test holds the two together.
+The products go block by block, so they cost ``O(n_elements)`` per column of ``A``
+instead of a dense matrix product. The per-element functions of :mod:`flexmbd.engine`
+(``deformations_and_jacobian``, ``dense_hessian``) give the same values one element at
+a time, for any model without an engine; a test holds the two together.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
+
+
+@dataclass(frozen=True)
+class _Group:
+    """The ``n`` elements of one type: their coordinates ``(n, nc)`` and deformations
+    ``(n, nd)``, where their values start in the kernels' outputs ``(n,)``, and their
+    elastic law's blocks ``{"S", "C"}`` ``(n, nd, nd)``."""
+
+    coords: np.ndarray
+    defs: np.ndarray
+    jac_at: np.ndarray
+    hess_at: np.ndarray
+    law: dict[str, np.ndarray]
+
+    layers: list[np.ndarray]
+
+    def add_rows(self, out: np.ndarray, rows: np.ndarray) -> None:
+        """``out[coords] += rows`` ``(n, nc, k)``, adding where elements share a coordinate:
+        layer by layer, each holding a coordinate at most once (``np.add.at`` is slower)."""
+        coords, flat = self.coords.ravel(), rows.reshape(self.coords.size, -1)
+        for layer in self.layers:
+            out[coords[layer]] += flat[layer]
+
+    def jacobian(self, out: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``e`` ``(n, nd)`` and ``D_x`` ``(n, nd, nc)`` from the output of "deform_jac"
+        (per element ``e`` then ``D_x`` row-major)."""
+        n, nd = self.defs.shape
+        nc = self.coords.shape[1]
+        values = out[self.jac_at[:, None] + np.arange(nd * (1 + nc))]
+        return values[:, :nd], values[:, nd:].reshape(n, nd, nc)
+
+    def hessians(self, out: np.ndarray) -> np.ndarray:
+        """``D_xx`` ``(n, nd, nc, nc)`` from the output of "hessian"."""
+        n, nd = self.defs.shape
+        nc = self.coords.shape[1]
+        return out[self.hess_at[:, None] + np.arange(nd * nc * nc)].reshape(n, nd, nc, nc)
 
 
 class Assembly:
@@ -25,66 +65,78 @@ class Assembly:
         self.core, self.nx, self.ne = core, n_coordinates, n_deformations
         c_off, c_idx = compiled["c_off"], compiled["c_idx"]
         d_off, d_idx = compiled["d_off"], compiled["d_idx"]
-        jac = {"e_at": [], "e_def": [], "value": [], "def": [], "coord": []}
-        hess = {"def": [], "row": [], "col": []}
-        jac_size, hess_size = 0, 0
-        by_type: dict[int, list[int]] = {}
-        for k in range(int(compiled["nel"])):
-            coords = c_idx[c_off[k]:c_off[k + 1]]
-            defs = d_idx[d_off[k]:d_off[k + 1]]
-            nd, nc = len(defs), len(coords)
-            # the kernel "deform_jac" gives e (nd) then D_x row-major (nd x nc)
-            jac["e_at"].append(jac_size + np.arange(nd))
-            jac["e_def"].append(defs)
-            jac["value"].append(jac_size + nd + np.arange(nd * nc))
-            jac["def"].append(np.repeat(defs, nc))
-            jac["coord"].append(np.tile(coords, nd))
-            jac_size += nd * (1 + nc)
-            # the kernel "hessian" gives D_xx row-major (nd x nc x nc)
-            hess["def"].append(np.repeat(defs, nc * nc))
-            hess["row"].append(np.tile(np.repeat(coords, nc), nd))
-            hess["col"].append(np.tile(coords, nd * nc))
-            hess_size += nd * nc * nc
-            by_type.setdefault(int(compiled["etype"][k]), []).append(k)
+        nc, nd = np.diff(c_off), np.diff(d_off)
+        # where each element's values start in the kernels' outputs (element after element)
+        jac_at = np.concatenate([[0], np.cumsum(nd * (1 + nc))])
+        hess_at = np.concatenate([[0], np.cumsum(nd * nc * nc)])
+        self.jac_out, self.hess_out = np.empty(jac_at[-1]), np.empty(hess_at[-1])
+        etype = np.asarray(compiled["etype"])
+        self.groups = []
+        for kind in np.unique(etype):
+            ks = np.flatnonzero(etype == kind)
+            n_c, n_d = int(nc[ks[0]]), int(nd[ks[0]])
+            at = compiled["law_off"][ks][:, None] + np.arange(n_d * n_d)
+            coords = c_idx[c_off[ks][:, None] + np.arange(n_c)]
+            self.groups.append(_Group(
+                coords=coords, defs=d_idx[d_off[ks][:, None] + np.arange(n_d)],
+                jac_at=jac_at[ks], hess_at=hess_at[ks],
+                law={name: compiled[name][at].reshape(len(ks), n_d, n_d)
+                     for name in ("S", "C")},
+                layers=_layers(coords.ravel())))
 
-        def joined(parts):
-            return np.concatenate(parts) if parts else np.zeros(0, dtype=np.intp)
-
-        self.jac = {name: joined(parts) for name, parts in jac.items()}
-        self.hess = {name: joined(parts) for name, parts in hess.items()}
-        self.hess["flat"] = self.hess["row"] * n_coordinates + self.hess["col"]
-        self.jac_out, self.hess_out = np.empty(jac_size), np.empty(hess_size)
-        # the elastic law's blocks (n, nd, nd) per element type, with their deformations
-        self.law_groups = []
-        for ks in map(np.asarray, by_type.values()):
-            nd = int(d_off[ks[0] + 1] - d_off[ks[0]])
-            at = compiled["law_off"][ks][:, None] + np.arange(nd * nd)
-            self.law_groups.append((d_idx[d_off[ks][:, None] + np.arange(nd)],
-                                    {name: compiled[name][at].reshape(len(ks), nd, nd)
-                                     for name in ("S", "C")}))
+    def _evaluate(self, name: str, x: np.ndarray) -> np.ndarray:
+        out = self.jac_out if name == "deform_jac" else self.hess_out
+        self.core.element_values(name, np.ascontiguousarray(x, dtype=float), out)
+        return out
 
     def deformations_and_jacobian(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``e = D(x)`` ``(ne,)`` and ``D_x`` ``(ne, nx)`` at ``x`` ``(nx,)``."""
-        self.core.element_values("deform_jac", np.ascontiguousarray(x, dtype=float),
-                                 self.jac_out)
+        out = self._evaluate("deform_jac", x)
         e, D_x = np.zeros(self.ne), np.zeros((self.ne, self.nx))
-        e[self.jac["e_def"]] = self.jac_out[self.jac["e_at"]]
-        D_x[self.jac["def"], self.jac["coord"]] = self.jac_out[self.jac["value"]]
+        for group in self.groups:
+            values, jacobians = group.jacobian(out)
+            e[group.defs] = values
+            D_x[group.defs[:, :, None], group.coords[:, None, :]] = jacobians
         return e, D_x
 
-    def stress_hessian(self, x: np.ndarray, sigma: np.ndarray) -> np.ndarray:
-        """``sum_i sigma_i D_xx,i`` ``(nx, nx)`` at ``x`` for stresses ``sigma`` ``(ne,)``."""
-        self.core.element_values("hessian", np.ascontiguousarray(x, dtype=float),
-                                 self.hess_out)
-        weighted = sigma[self.hess["def"]] * self.hess_out
-        return np.bincount(self.hess["flat"], weighted, minlength=self.nx * self.nx
-                           ).reshape(self.nx, self.nx)
+    def jacobian_times(self, x: np.ndarray, A: np.ndarray) -> np.ndarray:
+        """``D_x A`` ``(ne, k)`` at ``x`` for ``A`` ``(nx, k)``."""
+        out = self._evaluate("deform_jac", x)
+        product = np.zeros((self.ne, A.shape[1]))
+        for group in self.groups:
+            product[group.defs] = group.jacobian(out)[1] @ A[group.coords]
+        return product
+
+    def stress_hessian_times(self, x: np.ndarray, sigma: np.ndarray, A: np.ndarray
+                             ) -> np.ndarray:
+        """``(sum_i sigma_i D_xx,i) A`` ``(nx, k)`` at ``x`` for stresses ``sigma``
+        ``(ne,)`` and ``A`` ``(nx, k)``."""
+        out = self._evaluate("hessian", x)
+        product = np.zeros((self.nx, A.shape[1]))
+        for group in self.groups:
+            weights = sigma[group.defs]
+            if np.any(weights):
+                hessian = np.einsum("ni,niab->nab", weights, group.hessians(out))
+                group.add_rows(product, hessian @ A[group.coords])
+        return product
 
     def law_times(self, name: str, A: np.ndarray) -> np.ndarray:
         """``S @ A`` (``name="S"``) or ``C @ A`` for ``A`` ``(ne, k)``: the elastic law's
         stiffness or damping over all deformations, nonzero on those that carry elastic
         stress, applied block by block."""
-        out = np.zeros_like(A, dtype=float)
-        for defs, blocks in self.law_groups:
-            out[defs] = np.einsum("nij,njk->nik", blocks[name], A[defs])
-        return out
+        product = np.zeros_like(A, dtype=float)
+        for group in self.groups:
+            product[group.defs] = group.law[name] @ A[group.defs]
+        return product
+
+
+def _layers(indices: np.ndarray) -> list[np.ndarray]:
+    """Positions in ``indices`` split so that no index repeats within a part: the ``r``-th
+    occurrence of every index goes to part ``r``."""
+    order = np.argsort(indices, kind="stable")
+    ranked = indices[order]
+    first = np.flatnonzero(np.diff(ranked, prepend=-1))          # where each run starts
+    occurrence = np.empty(len(indices), dtype=np.intp)
+    occurrence[order] = np.arange(len(indices)) - np.repeat(first, np.diff(
+        np.append(first, len(indices))))
+    return [np.flatnonzero(occurrence == r) for r in range(occurrence.max(initial=-1) + 1)]

@@ -139,7 +139,7 @@ def linearize(model: Model, x=None, qd=None, qdd=None, *, loads=None,
     qd = zero if qd is None else generalized(model, qd, "qd")
     qdd = zero if qdd is None else generalized(model, qdd, "qdd")
     extra = np.zeros(model.n_coordinates) if loads is None else load_vector(model, loads)
-    state, F_q, E_q, H = _elastic_state(engine, x, qd, qdd, extra)
+    state, F_q, E_q, G0 = _elastic_state(engine, x, qd, qdd, extra)
     x = state["x"]
     M = engine.mass(x, state["xd"])[0]
     N0, C0 = inertia_derivatives(engine, state, F_q, E_q)
@@ -149,7 +149,7 @@ def linearize(model: Model, x=None, qd=None, qdd=None, *, loads=None,
         qd=qd, qdd=qdd, sigma=state["sigma"], driving=state["driving"],
         reactions=state["reactions"], F_q=F_q, E_q=E_q,
         M0=F_q.T @ M @ F_q, C0=C0, D0=E_q.T @ law("C", E_q), K0=E_q.T @ law("S", E_q),
-        N0=N0, G0=F_q.T @ (H @ F_q))
+        N0=N0, G0=G0)
 
 
 def static_tangent(engine: Engine, x: np.ndarray, loads: np.ndarray
@@ -159,19 +159,20 @@ def static_tangent(engine: Engine, x: np.ndarray, loads: np.ndarray
     stiffness ``K0 + G0`` ``(nq, nq)``: what static Newton needs of :func:`linearize`,
     without the mass and inertia terms."""
     zero = np.zeros(engine.model.n_dof)
-    state, F_q, E_q, H = _elastic_state(engine, x, zero, zero, loads)
-    return state, E_q.T @ engine.assembly.law_times("S", E_q) + F_q.T @ (H @ F_q)
+    state, _, E_q, G0 = _elastic_state(engine, x, zero, zero, loads)
+    return state, E_q.T @ engine.assembly.law_times("S", E_q) + G0
 
 
 # --- the pieces ---------------------------------------------------------------------------
 def _elastic_state(engine: Engine, x: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
                    loads: np.ndarray) -> tuple[dict, np.ndarray, np.ndarray, np.ndarray]:
-    """The state (:func:`equilibrium_state`), ``F_q``, ``E_q`` and the stress-weighted
-    Hessian of the deformations ``H`` ``(nx, nx)`` that ``G0 = F_q^T H F_q`` needs."""
+    """The state (:func:`equilibrium_state`), ``F_q``, ``E_q = D_x F_q`` and the geometric
+    stiffness ``G0 = F_q^T (sum_i sigma_i D_xx,i) F_q``."""
     state = equilibrium_state(engine, x, qd, qdd, loads)
-    D_x = engine.assembly.deformations_and_jacobian(state["x"])[1]
-    F_q = transfer(engine, state["x"], D_x)
-    return state, F_q, D_x @ F_q, engine.assembly.stress_hessian(state["x"], state["sigma"])
+    assembly, x = engine.assembly, state["x"]
+    F_q = transfer(engine, x, assembly.deformations_and_jacobian(x)[1])
+    return (state, F_q, assembly.jacobian_times(x, F_q),
+            F_q.T @ assembly.stress_hessian_times(x, state["sigma"], F_q))
 
 
 def equilibrium_state(engine: Engine, x: np.ndarray, qd: np.ndarray, qdd: np.ndarray,

@@ -107,13 +107,14 @@ def _eigen(lin: Linearization, K: np.ndarray, M: np.ndarray, count: int, vectors
         K = 0.5 * (K + K.T)
         factor = _cholesky(K)
         if factor is not None:
-            reduced = _congruence(factor, M)
+            inverse = np.linalg.inv(factor)
+            reduced = _congruence(inverse, M)
             if not vectors:
                 return 1.0 / np.linalg.eigvalsh(reduced)[::-1][:count], None
             mu, y = np.linalg.eigh(reduced)
             mu, y = mu[::-1][:count], y[:, ::-1][:, :count]
             # phi = L^-T y has phi^T K phi = 1 and phi^T M phi = mu
-            return 1.0 / mu, np.linalg.solve(factor.T, y) / np.sqrt(mu)
+            return 1.0 / mu, inverse.T @ y / np.sqrt(mu)
     else:
         try:  # K regular: the eigenvalues mu = 1/omega^2 of K^-1 M, as above
             inverse = np.linalg.solve(K, M)
@@ -161,10 +162,10 @@ def _cholesky(A: np.ndarray) -> np.ndarray | None:
         return None
 
 
-def _congruence(factor: np.ndarray, A: np.ndarray) -> np.ndarray:
-    """``L^-1 A L^-T`` for the Cholesky factor ``L`` and a symmetric ``A``, symmetrized."""
-    half = np.linalg.solve(factor, A)
-    reduced = np.linalg.solve(factor, half.T)
+def _congruence(inverse: np.ndarray, A: np.ndarray) -> np.ndarray:
+    """``L^-1 A L^-T`` for the inverse ``L^-1`` of a Cholesky factor and a symmetric
+    ``A``, symmetrized."""
+    reduced = inverse @ A @ inverse.T
     return 0.5 * (reduced + reduced.T)
 
 
@@ -238,8 +239,9 @@ def buckling(linearization: Linearization, count: int | None = None) -> Buckling
     # 1/lambda are the eigenvalues of (G, K): finite for every mode even where G0 vanishes
     factor = _cholesky(0.5 * (K + K.T))
     if factor is not None:  # a stable state: a symmetric problem L^-1 G L^-T y = y / lambda
-        inverse, y = np.linalg.eigh(_congruence(factor, 0.5 * (G + G.T)))
-        vectors = np.linalg.solve(factor.T, y)
+        inverse_factor = np.linalg.inv(factor)
+        inverse, y = np.linalg.eigh(_congruence(inverse_factor, 0.5 * (G + G.T)))
+        vectors = inverse_factor.T @ y
     else:
         import scipy.linalg as linalg  # only here: its import alone costs 0.2 s
 

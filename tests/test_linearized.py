@@ -359,10 +359,11 @@ def test_the_assembled_arrays_equal_the_element_by_element_ones():
     b.add_truss(1, 1, 3).add_beam(2, 1, 2, 3, 4).add_beam(3, 3, 4, 5, 6, second_order=True)
     b.add_rigid_beam(4, 5, 6, 7).add_hinge(5, 4, 6).add_element(6, "spring-damper", (1, 7))
     b.release(1, 1).dynamic_deformation(2, 1, 2, 3).dynamic_deformation(3, 1, 2, 3)
+    b.add_beam(7, 1, 2, 5, 6).release(7, 1, 2, 3)  # shares nodes 1, 2 with beam 2
     b.release(5, 1).fix(1).fix(2)
     for k, values in {1: {"axial": 3.0}, 2: {"axial": 5.0, "bending": 2.0},
                       3: {"axial": 7.0, "bending": 1.5}, 5: {"hinge": 0.5},
-                      6: {"spring": 4.0}}.items():
+                      6: {"spring": 4.0}, 7: {"axial": 2.0, "bending": 1.0}}.items():
         b.set_stiffness(k, **values)
     b.set_damping(2, axial=0.3, bending=0.1).set_damping(6, spring=0.2)
     model = b.build()
@@ -375,8 +376,11 @@ def test_the_assembled_arrays_equal_the_element_by_element_ones():
     e, D_x = assembly.deformations_and_jacobian(x)
     e_each, D_x_each = deformations_and_jacobian(model, x)
     assert np.array_equal(e, e_each) and np.array_equal(D_x, D_x_each)
+    A = rng.standard_normal((model.n_coordinates, 4))
+    assert np.allclose(assembly.jacobian_times(x, A), D_x_each @ A, rtol=1e-14, atol=1e-14)
     H = np.einsum("i,ijk->jk", sigma, dense_hessian(model, x))
-    assert np.allclose(assembly.stress_hessian(x, sigma), H, rtol=1e-14, atol=1e-14)
+    assert np.allclose(assembly.stress_hessian_times(x, sigma, A), H @ A, rtol=1e-13,
+                       atol=1e-13)
     # the law's blocks: S = diag(EA/l0, EI/l0^3 [[4, -2], [-2, 4]], k) on the beam 2
     A = rng.standard_normal((model.n_deformations, 3))
     rows = [model.deformation_index(f"e2.{k}") for k in (1, 2, 3)]
@@ -387,3 +391,13 @@ def test_the_assembled_arrays_equal_the_element_by_element_ones():
     spring = model.deformation_index("e6.1")
     assert assembly.law_times("C", A)[spring] == pytest.approx(0.2 * A[spring], rel=1e-14)
     assert not np.any(assembly.law_times("S", A)[model.deformation_index("e4.1")])
+
+
+def test_the_layers_of_a_scatter_hold_each_index_once():
+    from flexmbd.assembly import _layers
+
+    indices = np.random.default_rng(2).integers(0, 7, size=40)
+    layers = _layers(indices)
+    assert sorted(np.concatenate(layers)) == list(range(40))
+    assert all(len(set(indices[layer])) == len(layer) for layer in layers)
+    assert len(layers) == np.bincount(indices).max()
