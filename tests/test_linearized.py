@@ -101,6 +101,33 @@ def test_axial_frequencies_of_a_free_clamped_bar_converge_to_the_closed_form():
     assert errors[2][0] < 1e-3
 
 
+def test_a_free_pivot_gives_a_rigid_mode_and_the_pinned_free_frequency():
+    """A beam on a free pivot (its angle dynamic): K0 is singular, so the generalized
+    solver runs. omega = 0 for the swing, then the first elastic mode of a pinned-free
+    beam, (beta L)^2 = 3.9266^2."""
+    n = 8
+    b = fm.ModelBuilder("free pivot")
+    for k in range(n + 1):
+        b.add_node(2 * k + 1, L * k / n, 0.0)
+    for k in range(n):
+        b.add_beam(k + 1, 2 * k + 1, 2 * k + 2, 2 * k + 3, 2 * k + 4).dynamic_deformation(
+            k + 1, 2, 3).set_stiffness(k + 1, axial=1e6, bending=EI).set_mass(k + 1, RHO_A)
+    omega = frequencies(b.fix(1).dynamic_coordinate(2).build(), 2)
+    assert omega[0] < 1e-3 * omega[1]
+    assert omega[1] == pytest.approx(3.926602312047919**2 * np.sqrt(EI / (RHO_A * L**4)),
+                                     rel=1e-4)
+
+
+def test_a_column_beyond_its_euler_load_vibrates_with_negative_omega_squared():
+    """Pinned-pinned under twice its Euler load: K0 + G0 is indefinite and the first
+    omega^2 = (pi/L)^2 ((pi/L)^2 EI - P) / rhoA = -(pi/L)^4 EI / rhoA."""
+    model = beam_line(8, ends=("pinned", "roller"), deformations=(1, 2, 3), second_order=True,
+                      tip=(-2 * np.pi**2 * EI / L**2, 0.0))
+    modes = vibration_modes(linearize(model), 2)
+    assert modes.omega2[0] == pytest.approx(-(np.pi / L) ** 4 * EI / RHO_A, rel=1e-4)
+    assert modes.frequencies[0] < 0 < modes.frequencies[1]
+
+
 @pytest.mark.parametrize("ends, effective_length", [(("clamped", "free"), 2 * L),
                                                      (("pinned", "roller"), L)])
 def test_euler_buckling_loads_within_a_thousandth_at_eight_beams(ends, effective_length):
