@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
 
 from . import __version__
@@ -44,6 +45,9 @@ def _parser() -> argparse.ArgumentParser:
     from .linear_cli import add_commands
 
     add_commands(commands)
+    from .course_cli import add_commands as add_course_commands
+
+    add_course_commands(commands)
     return parser
 
 
@@ -96,6 +100,10 @@ def main(argv: list[str] | None = None) -> int:
             return run(args)
         if rest:
             parser.error(f"unrecognized arguments: {' '.join(rest)}")
+        if args.command == "exercise":
+            from .course_cli import run as run_course
+
+            return run_course(args)
         if args.command in ("static", "modes", "buckling", "statespace"):
             from .linear_cli import run as run_linear
 
@@ -107,6 +115,10 @@ def main(argv: list[str] | None = None) -> int:
         return EXIT_USAGE
     except FlexmbdError as error:
         print(f"flexmbd: error: {_one_line(error)}", file=sys.stderr)
+        return EXIT_ERROR
+    except BrokenPipeError:
+        # the reader of the output (head, less) has gone: stop quietly, as the shell tools do
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return EXIT_ERROR
     except OSError as error:
         print(f"flexmbd: error: {_one_line(error)}", file=sys.stderr)

@@ -20,7 +20,7 @@ from .outputs import check_output
 from .results import write_csv
 from .settings import RunSettings
 
-# the analyses need SciPy: they load when a command runs, not when the parser is built
+# the analyses load when a command runs, not when the parser is built
 
 COMMANDS = {
     "static": "static equilibrium with load steps (XF, DELXF, DELINPX, ITERSTEP)",
