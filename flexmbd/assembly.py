@@ -89,6 +89,14 @@ class Assembly:
         self.core.element_values(name, np.ascontiguousarray(x, dtype=float), out)
         return out
 
+    def deformations(self, x: np.ndarray) -> np.ndarray:
+        """``e = D(x)`` ``(ne,)`` at ``x`` ``(nx,)``."""
+        out = self._evaluate("deform_jac", x)
+        e = np.zeros(self.ne)
+        for group in self.groups:
+            e[group.defs] = group.jacobian(out)[0]
+        return e
+
     def deformations_and_jacobian(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``e = D(x)`` ``(ne,)`` and ``D_x`` ``(ne, nx)`` at ``x`` ``(nx,)``."""
         out = self._evaluate("deform_jac", x)

@@ -181,8 +181,7 @@ def equilibrium_state(engine: Engine, x: np.ndarray, qd: np.ndarray, qdd: np.nda
     "driving", "reactions", ...}`` (one row each), started from the configuration ``x``."""
     model = engine.model
     q = np.concatenate([x[model.independent_coordinates],
-                        engine.assembly.deformations_and_jacobian(x)[0][
-                            model.independent_deformations]])
+                        engine.assembly.deformations(x)[model.independent_deformations]])
     laws = [Polynomial(*values) for values in zip(q, qd, qdd, strict=True)]
     forces = None if not np.any(loads) else (lambda t, x_, xd_: loads)
     arrays = engine.prepare(laws, 1, dynamics=True, forces=forces)

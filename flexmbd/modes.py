@@ -107,8 +107,7 @@ def _eigen(lin: Linearization, K: np.ndarray, M: np.ndarray, count: int, vectors
         K = 0.5 * (K + K.T)
         factor = _cholesky(K)
         if factor is not None:
-            inverse = np.linalg.inv(factor)
-            reduced = _congruence(inverse, M)
+            reduced, inverse = _reduced(factor, M)
             if not vectors:
                 return 1.0 / np.linalg.eigvalsh(reduced)[::-1][:count], None
             mu, y = np.linalg.eigh(reduced)
@@ -162,11 +161,12 @@ def _cholesky(A: np.ndarray) -> np.ndarray | None:
         return None
 
 
-def _congruence(inverse: np.ndarray, A: np.ndarray) -> np.ndarray:
-    """``L^-1 A L^-T`` for the inverse ``L^-1`` of a Cholesky factor and a symmetric
-    ``A``, symmetrized."""
+def _reduced(factor: np.ndarray, A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``L^-1 A L^-T`` (symmetrized) for a Cholesky factor ``L`` and a symmetric ``A``,
+    and ``L^-1``, which turns the reduced problem's vectors back (``L^-T y``)."""
+    inverse = np.linalg.inv(factor)
     reduced = inverse @ A @ inverse.T
-    return 0.5 * (reduced + reduced.T)
+    return 0.5 * (reduced + reduced.T), inverse
 
 
 @dataclass(frozen=True, eq=False)
@@ -239,8 +239,8 @@ def buckling(linearization: Linearization, count: int | None = None) -> Buckling
     # 1/lambda are the eigenvalues of (G, K): finite for every mode even where G0 vanishes
     factor = _cholesky(0.5 * (K + K.T))
     if factor is not None:  # a stable state: a symmetric problem L^-1 G L^-T y = y / lambda
-        inverse_factor = np.linalg.inv(factor)
-        inverse, y = np.linalg.eigh(_congruence(inverse_factor, 0.5 * (G + G.T)))
+        reduced, inverse_factor = _reduced(factor, 0.5 * (G + G.T))
+        inverse, y = np.linalg.eigh(reduced)
         vectors = inverse_factor.T @ y
     else:
         import scipy.linalg as linalg  # only here: its import alone costs 0.2 s

@@ -403,6 +403,7 @@ def test_the_assembled_arrays_equal_the_element_by_element_ones():
     e, D_x = assembly.deformations_and_jacobian(x)
     e_each, D_x_each = deformations_and_jacobian(model, x)
     assert np.array_equal(e, e_each) and np.array_equal(D_x, D_x_each)
+    assert np.array_equal(assembly.deformations(x), e_each)
     A = rng.standard_normal((model.n_coordinates, 4))
     assert np.allclose(assembly.jacobian_times(x, A), D_x_each @ A, rtol=1e-14, atol=1e-14)
     H = np.einsum("i,ijk->jk", sigma, dense_hessian(model, x))

@@ -535,22 +535,30 @@ void fm_inertia(const FmModel *m, FmState *s)
     }
 }
 
+/* out += the elements' M xdd + h (less their gravity g with `gravity`), with the element
+ * matrices of fm_inertia. */
+static void add_element_inertia(const FmModel *m, const FmState *s, int gravity, double *out)
+{
+    for (int k = 0; k < m->nel; k++) {
+        const int nc = m->c_off[k + 1] - m->c_off[k], *ci = m->c_idx + m->c_off[k];
+        const double *M = s->blocks + m->b_off[k], *h = s->hvec + m->c_off[k],
+                     *g = s->gvec + m->c_off[k];
+        for (int a = 0; a < nc; a++) {
+            double sum = gravity ? h[a] - g[a] : h[a];
+            for (int b = 0; b < nc; b++)
+                sum += M[a * nc + b] * s->xdd[ci[b]];
+            out[ci[a]] += sum;
+        }
+    }
+}
+
 /* The inertia forces M xdd + h (nx) then the deformation rates ed (ne) of the state in s,
  * with the element matrices of fm_inertia, into out. */
 static void inertia_forces_and_rates(const FmModel *m, const FmState *s, double *out)
 {
     for (int i = 0; i < m->nx; i++)
         out[i] = m->nodal_mass[i] * s->xdd[i];
-    for (int k = 0; k < m->nel; k++) {
-        const int nc = m->c_off[k + 1] - m->c_off[k], *ci = m->c_idx + m->c_off[k];
-        const double *M = s->blocks + m->b_off[k], *h = s->hvec + m->c_off[k];
-        for (int a = 0; a < nc; a++) {
-            double sum = h[a];
-            for (int b = 0; b < nc; b++)
-                sum += M[a * nc + b] * s->xdd[ci[b]];
-            out[ci[a]] += sum;
-        }
-    }
+    add_element_inertia(m, s, 0, out);
     memcpy(out + m->nx, s->ed, sizeof(double) * m->ne);
 }
 
@@ -588,18 +596,7 @@ void fm_nodal_force(const FmModel *m, FmState *s, const double *user)
     fm_jacobian_t_times(m, s->J, s->sigma, s->y);
     for (int i = 0; i < m->nx; i++)
         s->y[i] += m->nodal_mass[i] * s->xdd[i] - m->f_const[i] - (user ? user[i] : 0.0);
-    for (int k = 0; k < m->nel; k++) {
-        const int nc = m->c_off[k + 1] - m->c_off[k];
-        const int *ci = m->c_idx + m->c_off[k];
-        const double *M = s->blocks + m->b_off[k], *h = s->hvec + m->c_off[k],
-                     *g = s->gvec + m->c_off[k];
-        for (int a = 0; a < nc; a++) {
-            double sum = h[a] - g[a];
-            for (int b = 0; b < nc; b++)
-                sum += M[a * nc + b] * s->xdd[ci[b]];
-            s->y[ci[a]] += sum;
-        }
-    }
+    add_element_inertia(m, s, 1, s->y);
 }
 
 /* --- the saddle-point system (THEORY 7, 8) ---------------------------------------------------- */
