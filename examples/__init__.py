@@ -37,6 +37,11 @@ EXAMPLES: dict[str, tuple[str, list[str], str]] = {
         "slider_crank_modes", [],
         "EXERCISES 4's rod: eigenfrequencies along a crank revolution, at rest pinned-pinned",
     ),
+    "symbolic-course": (
+        "symbolic_course", [],
+        "EXERCISES 1-4's symbolic steps: ydot_q, F_q(phi2), Mbar lumped = consistent, tau2, "
+        "generated flexible slider-crank",
+    ),
     "parallel-guide": (
         "parallel_guide", [],
         "a flexure: parallel leaf-spring guide, stiffness, frequencies, buckling, stroke, Bode",

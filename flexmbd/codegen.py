@@ -46,6 +46,21 @@ def _integrate(expr, xi, sp):
     return sp.trigsimp(sp.integrate(sp.expand(expr), (xi, 0, 1)))
 
 
+def consistent_inertia(cls: type[ElementType], c: list, v: list, p: list, g: list, sp):
+    """Per unit element mass, in the symbols given (THEORY 5): the consistent mass matrix
+    ``int N^T N dxi`` ``(nc, nc)``, the velocity-dependent inertia ``int N^T (Ndot v) dxi``
+    ``(nc, 1)`` and the gravity load ``int N^T g dxi`` ``(nc, 1)``, with ``N`` the
+    derivative of the type's material point with respect to the coordinates ``c``."""
+    xi = sp.Symbol("xi", real=True)
+    point = sp.Matrix(cls.material_point(c, p, xi, sp))
+    N = point.jacobian(c)
+    Ndot = sum((N.diff(ck) * vk for ck, vk in zip(c, v, strict=True)), sp.zeros(*N.shape))
+    mass = (N.T * N).applyfunc(lambda z: _integrate(z, xi, sp))
+    inertia = (N.T * Ndot * sp.Matrix(v)).applyfunc(lambda z: _integrate(z, xi, sp))
+    gravity = (N.T * sp.Matrix(g)).applyfunc(lambda z: _integrate(z, xi, sp))
+    return mass, inertia, gravity
+
+
 def derive(cls: type[ElementType], sp) -> dict[str, tuple[list, list]]:
     """The kernels of one type as ``{name: (arguments, expressions)}``."""
     nc, nd = cls.n_coordinates(), cls.n_deformations()
@@ -65,14 +80,8 @@ def derive(cls: type[ElementType], sp) -> dict[str, tuple[list, list]]:
                                   for b in range(nc)]),
     }
     if cls.has_mass:
-        xi = sp.Symbol("xi", real=True)
         g = list(sp.symbols("g0:2", real=True))
-        point = sp.Matrix(cls.material_point(c, p, xi, sp))
-        N = point.jacobian(c)
-        Ndot = sum((N.diff(ck) * vk for ck, vk in zip(c, v, strict=True)), sp.zeros(2, nc))
-        mass = (N.T * N).applyfunc(lambda z: _integrate(z, xi, sp))
-        inertia = (N.T * Ndot * sp.Matrix(v)).applyfunc(lambda z: _integrate(z, xi, sp))
-        gravity = (N.T * sp.Matrix(g)).applyfunc(lambda z: _integrate(z, xi, sp))
+        mass, inertia, gravity = consistent_inertia(cls, c, v, p, g, sp)
         kernels["mass"] = (["c", "p"], list(mass))
         kernels["inertia"] = (["c", "v", "p"], list(inertia))
         kernels["gravity"] = (["c", "p", "g"], list(gravity))
