@@ -1,0 +1,98 @@
+"""What an exercise is made of: its lettered parts, their reference answers and the
+typical wrong answers the checker recognises.
+
+A :class:`Part` is one function the student writes. Besides its name, arguments and
+what it returns (for ``flexmbd exercise list``), it carries:
+
+* ``answer``: flexmbd's answer for given arguments, computed by the engine;
+* ``cases``: the arguments the checker tries, the exercise's configuration first and
+  then random ones drawn from a generator;
+* ``mistakes``: typical wrong answers, each a function of the same arguments with a
+  hint; a failed answer that equals one of them gets its hint;
+* ``angles``: which arguments are angles [rad], so that an answer computed as if they
+  were degrees is recognised;
+* ``symbolic``: optionally the names of the SymPy symbols to call the student's
+  function with and the reference expression in them, so that an answer written in
+  SymPy is accepted when it is algebraically equal.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+from ..errors import ArgumentError
+
+
+@dataclass(frozen=True)
+class Mistake:
+    """A typical wrong answer: ``wrong(*args)`` gives it, ``hint`` says what to fix."""
+
+    hint: str
+    wrong: Callable[..., Any]
+
+
+@dataclass(frozen=True)
+class Part:
+    """One part of an exercise (see the module docstring).
+
+    Attributes:
+        letter: ``"a"``, ``"b"``, ...
+        function: the name of the function the student writes.
+        arguments: its arguments, as written in its signature.
+        returns: what it returns, with shapes and units.
+        hint: where to start, shown while the part is not done.
+        answer: flexmbd's answer, ``answer(*args)``: an array, or a tuple of arrays.
+        cases: ``cases(rng)``, the argument tuples to check, the exercise's first.
+        mistakes: typical wrong answers recognised in a failure.
+        angles: indices of the arguments that are angles [rad].
+        symbolic: ``() -> (symbol names per argument, reference expression)``.
+        rtol: relative tolerance of the comparison.
+    """
+
+    letter: str
+    function: str
+    arguments: str
+    returns: str
+    hint: str = ""
+    answer: Callable[..., Any] | None = field(default=None, repr=False)
+    cases: Callable[[Any], list[tuple]] | None = field(default=None, repr=False)
+    mistakes: tuple[Mistake, ...] = field(default=(), repr=False)
+    angles: tuple[int, ...] = ()
+    symbolic: Callable[[], tuple[Sequence, Any]] | None = field(default=None, repr=False)
+    rtol: float = 1e-7
+
+
+@dataclass(frozen=True)
+class Exercise:
+    """One exercise: its number, command name, title, the model it is about and parts."""
+
+    number: int
+    name: str
+    title: str
+    model: str
+    parts: tuple[Part, ...]
+    module: str = ""  #: the solution file's stem, e.g. ``"sliding_bar"``
+
+    def part(self, letter: str) -> Part:
+        """The part with ``letter``."""
+        for part in self.parts:
+            if part.letter == letter:
+                return part
+        raise ArgumentError("part", f"exercise {self.number} has parts "
+                                    f"{', '.join(p.letter for p in self.parts)}, not {letter!r}")
+
+
+def lettered(*parts: dict) -> tuple[Part, ...]:
+    """Parts lettered a, b, ... in order from keyword dictionaries of :class:`Part`."""
+    return tuple(Part(chr(ord("a") + k), **fields) for k, fields in enumerate(parts))
+
+
+def without_nodal_masses(model):
+    """``model`` without its point masses and rotary inertias (for one element's mass)."""
+    from ..model import Model
+
+    fields = {name: getattr(model, name) for name, spec in Model.__dataclass_fields__.items()
+              if spec.init}
+    return Model(**{**fields, "nodal_masses": {}})

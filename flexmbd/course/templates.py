@@ -1,0 +1,97 @@
+"""Exercise files: the solution, the template made from it, and notebooks.
+
+A solution file (:mod:`flexmbd.course.solutions`) marks the student's formulas with
+``# BEGIN SOLUTION`` / ``# END SOLUTION`` inside the part's function, as nbgrader and
+otter-grader do. The template replaces each marked block with a call of
+:func:`~flexmbd.course.student.not_done` carrying the part's letter and hint, so it runs
+as written and says which part is missing. Files are in the "percent" format
+(``# %%`` starts a code cell, ``# %% [markdown]`` a text cell), which Jupyter,
+VS Code and jupytext read; :func:`notebook` turns one into an ``.ipynb``.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from importlib import resources
+
+from ..errors import InputFileError
+from .parts import Exercise
+
+_BEGIN, _END = "# BEGIN SOLUTION", "# END SOLUTION"
+_DEF = re.compile(r"^def (\w+)\(")
+
+
+def solution_source(exercise: Exercise) -> str:
+    """The completed file of ``exercise`` (text of a Python script)."""
+    return (resources.files("flexmbd.course.solutions") / f"{exercise.module}.py").read_text()
+
+
+def template_source(exercise: Exercise) -> str:
+    """The template: the solution with every marked block replaced by "not done yet"."""
+    parts = {part.function: part for part in exercise.parts}
+    lines, out, function, inside = solution_source(exercise).splitlines(), [], None, False
+    for number, line in enumerate(lines, 1):
+        match = _DEF.match(line)
+        if match:
+            function = match.group(1)
+        stripped = line.strip()
+        if stripped == _BEGIN:
+            if function not in parts:
+                raise InputFileError(f"{_BEGIN} outside the function of a part "
+                                     f"({function})", f"{exercise.module}.py", number)
+            part, inside = parts[function], True
+            indent = line[:len(line) - len(line.lstrip())]
+            out.append(f"{indent}# part {part.letter}: write {part.returns}")
+            out.append(f"{indent}not_done({part.letter!r}, {part.hint!r})")
+        elif stripped == _END:
+            inside = False
+        elif not inside:
+            out.append(line)
+    return "\n".join(out) + "\n"
+
+
+def cells(source: str) -> list[tuple[str, str]]:
+    """``(kind, text)`` of a percent-format script, kind ``"code"`` or ``"markdown"``."""
+    found: list[tuple[str, list[str]]] = []
+    for line in source.splitlines():
+        if line.startswith("# %%"):
+            found.append(("markdown" if "[markdown]" in line else "code", []))
+            continue
+        if not found:
+            found.append(("code", []))
+        kind, body = found[-1]
+        body.append(line[2:] if kind == "markdown" and line.startswith("# ") else
+                    "" if kind == "markdown" and line == "#" else line)
+    return [(kind, "\n".join(body).strip("\n")) for kind, body in found
+            if "\n".join(body).strip()]
+
+
+def notebook(source: str) -> str:
+    """The percent-format ``source`` as a Jupyter notebook (nbformat 4, JSON text)."""
+    def cell(kind, text):
+        lines = text.splitlines(keepends=True)
+        common = {"cell_type": kind, "metadata": {}, "source": lines}
+        return common if kind == "markdown" else {**common, "execution_count": None,
+                                                   "outputs": []}
+
+    return json.dumps({"cells": [cell(kind, text) for kind, text in cells(source)],
+                       "metadata": {"kernelspec": {"display_name": "Python 3",
+                                                   "language": "python", "name": "python3"},
+                                    "language_info": {"name": "python"}},
+                       "nbformat": 4, "nbformat_minor": 5}, indent=1) + "\n"
+
+
+def notebook_code(text: str) -> list[str]:
+    """The code cells of a notebook's JSON ``text``; IPython magics and shell lines
+    (``%``, ``!``) are dropped. Raises ``ValueError`` for text that is not a notebook."""
+    data = json.loads(text)
+    out = []
+    for cell in data.get("cells", []):
+        if cell.get("cell_type") != "code":
+            continue
+        source = cell.get("source", "")
+        source = "".join(source) if isinstance(source, list) else str(source)
+        out.append("\n".join(line for line in source.splitlines()
+                             if not line.lstrip().startswith(("%", "!"))))
+    return out
