@@ -174,9 +174,9 @@ def _conform(got, expected):
     expected = np.asarray(expected, dtype=float)
     if got.shape == expected.shape:
         return got
-    if got.size == expected.size and (expected.ndim <= 1 or 1 in expected.shape):
-        if got.ndim <= 1 or 1 in got.shape:
-            return got.reshape(expected.shape)
+    vector = expected.ndim <= 1 or 1 in expected.shape
+    if got.size == expected.size and vector and (got.ndim <= 1 or 1 in got.shape):
+        return got.reshape(expected.shape)
     return got
 
 

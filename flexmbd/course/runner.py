@@ -76,9 +76,8 @@ def compare_symbolic(result, reference: str) -> str:
 
     expected = sp.sympify(reference)
     got = sp.Matrix(result) if isinstance(expected, sp.MatrixBase) else result
-    if isinstance(got, sp.MatrixBase) and got.shape != expected.shape:
-        if got.shape[::-1] == expected.shape or 1 in got.shape:
-            got = got.reshape(*expected.shape)
+    if isinstance(got, sp.MatrixBase) and got.shape != expected.shape and 1 in got.shape:
+        got = got.reshape(*expected.shape)  # a vector given as a row or a column
     difference = sp.simplify(got - expected)
     zero = difference.is_zero_matrix if isinstance(difference, sp.MatrixBase) \
         else difference == 0

@@ -6,7 +6,7 @@ from __future__ import annotations
 import sys
 
 
-class NotDone(NotImplementedError):
+class NotDone(NotImplementedError):  # noqa: N818 - what the student reads
     """A part of an exercise that the student has not written yet."""
 
     def __init__(self, part: str, hint: str):

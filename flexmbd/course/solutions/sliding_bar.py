@@ -59,8 +59,8 @@ def truss_motion(x_p, xd_p, xdd_p):
     yd_q = -D[0] * xd_p / D[3]
     dv = np.array([-xd_p, yd_q])  # rate of d = r_q - r_p
     d = np.array([-x_p, x[3]])
-    l = np.hypot(*d)
-    quadratic = (dv @ dv - (d @ dv / l) ** 2) / l
+    length = np.hypot(*d)
+    quadratic = (dv @ dv - (d @ dv / length) ** 2) / length
     ydd_q = (-D[0] * xdd_p - quadratic) / D[3]
     return np.array([yd_q, ydd_q])
     # END SOLUTION
@@ -128,11 +128,11 @@ def rigid_beam_quadratic(x, xd):
     # BEGIN SOLUTION
     d = np.array([x[3] - x[0], x[4] - x[1]])
     dv = np.array([xd[3] - xd[0], xd[4] - xd[1]])
-    l = np.hypot(d[0], d[1])
+    length = np.hypot(d[0], d[1])
     w = xd[2]
     e_p = np.array([np.cos(x[2]), np.sin(x[2])])
     n_p = np.array([-np.sin(x[2]), np.cos(x[2])])
-    return np.array([(dv @ dv - (d @ dv / l) ** 2) / l,
+    return np.array([(dv @ dv - (d @ dv / length) ** 2) / length,
                      -w**2 * (n_p @ d) - 2 * w * (e_p @ dv)])
     # END SOLUTION
 
