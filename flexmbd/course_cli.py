@@ -1,25 +1,67 @@
-"""``flexmbd exercise list [NAME]``: the course's exercises and their lettered parts."""
+"""``flexmbd exercise list|start|check|solution``: the course's exercises, part by part."""
 
 from __future__ import annotations
 
 import argparse
+import json
+import sys
+from pathlib import Path
+
+from .errors import ArgumentError
+
+_NAME_HELP = "the exercise, by name (sliding-bar, ...) or number (1-4)"
 
 
 def add_commands(commands) -> None:
     """The ``exercise`` command and its actions."""
     parser = commands.add_parser(
         "exercise", help="the course's exercises, part by part (flexmbd exercise list)",
-        description="The course's exercises and their lettered parts.")
+        description="The course's exercises: list them, start one from its template, check "
+                    "your file part by part, or (lecturers) write the completed file.")
     actions = parser.add_subparsers(dest="action", metavar="ACTION", required=True)
     listing = actions.add_parser("list", help="the exercises and their parts",
                                  description="The exercises and their lettered parts: the "
                                              "function a student writes for each part, its "
                                              "arguments and what it returns.")
     listing.add_argument("name", nargs="?", help="one exercise, by name or number")
+    for action, text in (("start", "write the template to complete"),
+                         ("solution", "write the completed file (for lecturers)")):
+        sub = actions.add_parser(action, help=text, description=text[0].upper() + text[1:]
+                                 + ": a Python script, or a Jupyter notebook with --notebook.")
+        sub.add_argument("name", help=_NAME_HELP)
+        sub.add_argument("directory", nargs="?", default=".",
+                         help="where to write it (default: the current directory)")
+        sub.add_argument("--notebook", action="store_true", help="write a .ipynb notebook")
+        sub.add_argument("--force", action="store_true", help="overwrite an existing file")
+    check = actions.add_parser(
+        "check", help="check a completed file part by part",
+        description="Run FILE (.py or .ipynb) in a separate process with a time limit, call "
+                    "each part at the exercise's configuration and at random ones, and "
+                    "compare with flexmbd's answers. Exit status 0 when every part passes, "
+                    "1 otherwise.")
+    check.add_argument("name", help=_NAME_HELP)
+    check.add_argument("file", help="the student's file")
+    check.add_argument("--json", metavar="REPORT.json",
+                       help="also write the report in the Gradescope/otter-grader format")
+    check.add_argument("--timeout", type=float, default=60.0,
+                       help="time limit of the student's process [s] (default 60)")
+    check.add_argument("--seed", type=int, default=2026,
+                       help="seed of the random configurations")
 
 
 def run(args: argparse.Namespace) -> int:
     """Run one ``exercise`` action; returns the exit code."""
+    from .course import exercise
+
+    if args.action == "list":
+        return _list(args)
+    chosen = exercise(args.name)
+    if args.action == "check":
+        return _check(chosen, args)
+    return _write(chosen, args)
+
+
+def _list(args) -> int:
     from .course import EXERCISES, exercise
 
     chosen = [exercise(args.name)] if args.name else list(EXERCISES.values())
@@ -33,3 +75,44 @@ def run(args: argparse.Namespace) -> int:
             call = f"{part.function}({part.arguments})"
             print(f"   {item.number}{part.letter}  {call:<{width}}  -> {part.returns}")
     return 0
+
+
+def _write(chosen, args) -> int:
+    """``start`` (the template) or ``solution`` (the completed file) into a directory."""
+    from .course.templates import notebook, solution_source, template_source
+
+    directory = Path(args.directory)
+    if directory.exists() and not directory.is_dir():
+        raise ArgumentError("directory", f"{directory} is a file, not a directory")
+    suffix = "_solution" if args.action == "solution" else ""
+    target = directory / f"{chosen.module}{suffix}{'.ipynb' if args.notebook else '.py'}"
+    if target.exists() and not args.force:
+        raise ArgumentError("directory", f"{target} exists; give --force to overwrite it")
+    source = solution_source(chosen) if args.action == "solution" else template_source(chosen)
+    directory.mkdir(parents=True, exist_ok=True)
+    target.write_text(notebook(source) if args.notebook else source, encoding="utf-8")
+    print(f"wrote {target}")
+    if args.action == "start":
+        parts = ", ".join(f"{chosen.number}{p.letter} {p.function}" for p in chosen.parts)
+        run = f"jupyter lab {target}" if args.notebook else f"python {target}"
+        print(f"complete the parts {parts};\nrun it with `{run}` and check it with "
+              f"`flexmbd exercise check {chosen.name} {target}`")
+    return 0
+
+
+def _check(chosen, args) -> int:
+    from .course.check import check
+
+    if args.timeout <= 0:
+        raise ArgumentError("--timeout", f"must be positive, got {args.timeout:g}")
+    if args.json:
+        report_path = Path(args.json)
+        if report_path.suffix != ".json" or not report_path.parent.resolve().is_dir():
+            raise ArgumentError("--json", f"cannot write {args.json!r}: give a .json file in "
+                                          f"an existing directory")
+    report = check(chosen, args.file, timeout=args.timeout, seed=args.seed)
+    print(report.text())
+    if args.json:
+        Path(args.json).write_text(json.dumps(report.gradescope(), indent=1) + "\n")
+        print(f"report written to {args.json}", file=sys.stderr)
+    return report.exit_status

@@ -87,8 +87,8 @@ class Report:
                 "tests": [{"name": f"{ex.number}{p.letter} {p.function}",
                            "score": int(p.status == PASSED), "max_score": 1,
                            "status": "passed" if p.status == PASSED else "failed",
-                           "output": " ".join(filter(None, [p.status, p.message,
-                                                            p.hint and "hint: " + p.hint]))}
+                           "output": ": ".join(filter(None, [p.status, p.message]))
+                           + (f" (hint: {p.hint})" if p.hint else "")}
                           for p in self.parts]}
 
 

@@ -43,7 +43,8 @@ def _where(error: BaseException, path: str) -> str:
 
 
 def _message(error: BaseException, path: str) -> str:
-    return f"{type(error).__name__}: {str(error)[:300]}{_where(error, path)}"
+    text = " ".join(str(error).split())[:300]
+    return f"{type(error).__name__}: {text}{_where(error, path)}"
 
 
 def encode(result) -> dict:
@@ -76,7 +77,9 @@ def compare_symbolic(result, reference: str) -> str:
 
     expected = sp.sympify(reference)
     got = sp.Matrix(result) if isinstance(expected, sp.MatrixBase) else result
-    if isinstance(got, sp.MatrixBase) and got.shape != expected.shape and 1 in got.shape:
+    if isinstance(got, sp.MatrixBase) and got.shape != expected.shape:
+        if 1 not in got.shape or len(got) != len(expected):
+            return "different"
         got = got.reshape(*expected.shape)  # a vector given as a row or a column
     difference = sp.simplify(got - expected)
     zero = difference.is_zero_matrix if isinstance(difference, sp.MatrixBase) \

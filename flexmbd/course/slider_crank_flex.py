@@ -114,6 +114,11 @@ _QUADRATIC = ("the right-hand side needs the velocity terms: f_d = F_q^T (f - h 
               "qd) qd) - E_q^T sigma")
 
 
+def _bending_mistakes(function) -> tuple[Mistake, ...]:
+    """The answer with the sign of e2, of e3 or of both reversed."""
+    return tuple(Mistake(_BENDING, _flip(rows)(function)) for rows in ([1], [2], [1, 2]))
+
+
 def _symbolic_beam(function: str):
     def reference():
         import sympy as sp
@@ -150,19 +155,17 @@ EXERCISE = Exercise(
              hint="e1 = |d| - l0, e2 = -n_p . d, e3 = n_q . d",
              answer=beam_deformations, cases=_beam_states,
              symbolic=_symbolic_beam("deformations"),
-             mistakes=(Mistake(_BENDING, _flip([1, 2])(beam_deformations)),
-                       Mistake(_BENDING, _flip([2])(beam_deformations)))),
+             mistakes=_bending_mistakes(beam_deformations)),
         dict(function="beam_jacobian", arguments="xe", returns="D_x (3, 6) of the beam",
              hint="differentiate (e1, e2, e3) with respect to the six element coordinates",
              answer=beam_jacobian, cases=_beam_states, symbolic=_symbolic_beam("jacobian"),
-             mistakes=(Mistake(_BENDING, _flip([1, 2])(beam_jacobian)),
-                       Mistake(_BENDING, _flip([2])(beam_jacobian)))),
+             mistakes=_bending_mistakes(beam_jacobian)),
         dict(function="beam_quadratic", arguments="xe, xed",
              returns="(D_xx xed) xed (3,) [m/s^2] of the beam",
              hint="e2: w_p^2 (n_p . d) + 2 w_p (e_p . dv); e3: -w_q^2 (n_q . d) - 2 w_q "
                   "(e_q . dv)",
              answer=beam_quadratic, cases=lambda rng: _beam_states(rng, True),
-             mistakes=(Mistake(_BENDING, _flip([1, 2])(beam_quadratic)),)),
+             mistakes=_bending_mistakes(beam_quadratic)),
         dict(function="beam_mass", arguments="xe, xed",
              returns="(M (6, 6) [kg, kg m, kg m^2], h (6,) [N]): the rod's consistent mass and "
                      "its velocity term (Hermite interpolation)",

@@ -58,17 +58,18 @@ def beam_motion(phi_p, omega, omegad, quadratic=True):
     return np.array([xdd[0], xdd[4]])
 
 
-def _symbolic(function: str, with_rates: bool = False):
+def _symbolic(of, function: str):
+    """The reference of a part in SymPy: ``function`` of :mod:`flexmbd.symbolic` applied
+    to the model ``of()``, in its coordinate (and rate) symbols."""
     def reference():
         from .. import symbolic
 
-        model = truss() if function.startswith("truss") else rigid_beam()
+        model = of()
         names = [str(s) for s in symbolic.coordinate_symbols(model)]
-        if with_rates:
+        if function == "quadratic_velocity":
             rates = [str(s) for s in symbolic.coordinate_symbols(model, "xd")]
             return [names, rates], symbolic.quadratic_velocity(model)
-        expr = getattr(symbolic, function)(model)
-        return [names], expr
+        return [names], getattr(symbolic, function)(model)
     return reference
 
 
@@ -119,13 +120,13 @@ EXERCISE = Exercise(
         dict(function="truss_elongation", arguments="x",
              returns="e1 = l - l0 [m] of the truss p-q at x = [x_p, y_p, x_q, y_q]",
              hint="e1 = |r_q - r_p| - l0",
-             answer=_elongation, cases=_any_truss_x, symbolic=_symbolic("deformations"),
+             answer=_elongation, cases=_any_truss_x, symbolic=_symbolic(truss, "deformations"),
              mistakes=(Mistake(_ELONGATION, lambda x: _elongation(x) + L0),)),
         dict(function="truss_jacobian", arguments="x", returns="D_x (1, 4): de1/dx",
              hint="differentiate e1 with respect to each of x_p, y_p, x_q, y_q: a row "
                   "(1, 4)",
              answer=lambda x: kin.jacobian(truss(), np.asarray(x, dtype=float)),
-             cases=_any_truss_x, symbolic=_symbolic("jacobian")),
+             cases=_any_truss_x, symbolic=_symbolic(truss, "jacobian")),
         dict(function="truss_position", arguments="x_p",
              returns="y_q [m] by Newton-Raphson from y_q = 1",
              hint="iterate y_q -= e1 / (de1/dy_q) from y_q = 1 until |e1| < 1e-12",
@@ -144,13 +145,13 @@ EXERCISE = Exercise(
              hint="e1 = |d| - l0, e2 = n_p . d with d = r_q - r_p, n_p = (-sin phi_p, "
                   "cos phi_p)",
              answer=lambda x: kin.deformations(rigid_beam(), np.asarray(x, dtype=float)),
-             cases=_any_beam_x, symbolic=_symbolic("deformations"),
+             cases=_any_beam_x, symbolic=_symbolic(rigid_beam, "deformations"),
              mistakes=(Mistake(_BENDING, _flip_bending(
                  lambda x: kin.deformations(rigid_beam(), np.asarray(x, dtype=float)))),)),
         dict(function="rigid_beam_jacobian", arguments="x", returns="D_x (2, 5)",
              hint="rows e1, e2; columns x_p, y_p, phi_p, x_q, y_q",
              answer=lambda x: kin.jacobian(rigid_beam(), np.asarray(x, dtype=float)),
-             cases=_any_beam_x, symbolic=_symbolic("jacobian"),
+             cases=_any_beam_x, symbolic=_symbolic(rigid_beam, "jacobian"),
              mistakes=(Mistake(_BENDING, _flip_bending(
                  lambda x: kin.jacobian(rigid_beam(), np.asarray(x, dtype=float)))),)),
         dict(function="rigid_beam_position", arguments="phi_p",
@@ -171,7 +172,7 @@ EXERCISE = Exercise(
              cases=lambda rng: [(np.array([-math.sqrt(3.0), 0.0, DRAWN, 0.0, 1.0]),
                                  np.array([4.0, 0.0, 4.0, 0.0, 4 * math.sqrt(3.0)]))] + [
                  (rng.uniform(-2, 2, 5), rng.uniform(-5, 5, 5)) for _ in range(3)],
-             symbolic=_symbolic("quadratic_velocity", with_rates=True)),
+             symbolic=_symbolic(rigid_beam, "quadratic_velocity")),
         dict(function="rigid_beam_accelerations", arguments="phi_p, omega, omegad",
              returns="(xdd_p, ydd_q) [m/s^2]",
              hint="D_c xdd_c = -D_m omegad - (D_xx xd) xd",
