@@ -189,6 +189,13 @@ def _conform(got, expected):
     return got
 
 
+def _off(got: np.ndarray, expected: np.ndarray, rtol: float) -> np.ndarray:
+    """Where ``got`` differs from ``expected`` (same shapes): beyond ``rtol`` relative, with
+    an absolute floor of 1e-9 of the answer's largest entry (at least 1)."""
+    scale = max(1.0, float(np.max(np.abs(expected), initial=0.0)))
+    return ~(np.abs(got - expected) <= rtol * np.abs(expected) + 1e-9 * scale)  # NaN: off
+
+
 def _close(got, expected, rtol: float) -> bool:
     if isinstance(expected, tuple):
         return isinstance(got, tuple) and len(got) == len(expected) and all(
@@ -199,8 +206,7 @@ def _close(got, expected, rtol: float) -> bool:
     got = _conform(got, expected)
     if got.shape != expected.shape:
         return False
-    scale = max(1.0, float(np.max(np.abs(expected), initial=0.0)))
-    return bool(np.all(np.abs(got - expected) <= rtol * np.abs(expected) + 1e-9 * scale))
+    return not np.any(_off(got, expected, rtol))
 
 
 def _first_difference(got, expected, rtol: float) -> str:
@@ -218,8 +224,7 @@ def _first_difference(got, expected, rtol: float) -> str:
     got = _conform(got, expected)
     if got.shape != expected.shape:
         return f"shape {got.shape}, expected {expected.shape}"
-    scale = max(1.0, float(np.max(np.abs(expected), initial=0.0)))
-    bad = np.abs(got - expected) > rtol * np.abs(expected) + 1e-9 * scale
+    bad = _off(got, expected, rtol)
     index = tuple(int(i) for i in np.argwhere(bad)[0]) if expected.ndim else ()
     where = f"entry {list(index)}" if index else "value"
     return f"{where}: expected {expected[index]:.10g}, got {got[index]:.10g}"

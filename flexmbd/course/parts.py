@@ -22,6 +22,8 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
+import numpy as np
+
 from ..errors import ArgumentError
 
 
@@ -96,3 +98,28 @@ def without_nodal_masses(model):
     fields = {name: getattr(model, name) for name, spec in Model.__dataclass_fields__.items()
               if spec.init}
     return Model(**{**fields, "nodal_masses": {}})
+
+
+def negated_rows(function, rows: list[int]):
+    """``function``'s answer with the sign of ``rows`` reversed: the typical wrong answer
+    with the opposite sign convention of those deformations."""
+    def wrong(*args):
+        answer = np.array(function(*args), dtype=float)
+        answer[rows] = -answer[rows]
+        return answer
+    return wrong
+
+
+def model_reference(of, function: str):
+    """A part's SymPy reference: ``function`` of :mod:`flexmbd.symbolic` (deformations,
+    jacobian, quadratic_velocity) applied to the model ``of()``, called with the model's
+    coordinate symbols (and rate symbols for the quadratic velocity terms)."""
+    def reference():
+        from .. import symbolic
+
+        model = of()
+        names = [[str(s) for s in symbolic.coordinate_symbols(model)]]
+        if function == "quadratic_velocity":
+            names.append([str(s) for s in symbolic.coordinate_symbols(model, "xd")])
+        return names, getattr(symbolic, function)(model)
+    return reference

@@ -18,7 +18,7 @@ from .. import kinematics as kin
 from ..dynamics import inverse_dynamics, reduced_mass_matrix
 from ..engine import Engine
 from ..motion import Polynomial
-from .parts import Exercise, Mistake, lettered, without_nodal_masses
+from .parts import Exercise, Mistake, lettered, negated_rows, without_nodal_masses
 
 BEAM = [3, 4, 5, 6, 7, 8]  #: the one-beam rod's coordinates in x
 STRAIN = [2, 3, 4]  #: its deformations e2.1, e2.2, e2.3 in e
@@ -98,16 +98,6 @@ def _q(rng):
                                           for _ in range(3)]
 
 
-def _flip(rows):
-    def flip(function):
-        def wrong(*args):
-            a = np.array(function(*args), dtype=float)
-            a[rows] = -a[rows]
-            return a
-        return wrong
-    return flip
-
-
 _BENDING = ("the beam's bending deformations are e2 = -n_p . d and e3 = n_q . d (n = the "
             "left normal of the end tangent, d = r_q - r_p): e2 ~ l theta_p, e3 ~ -l theta_q")
 _QUADRATIC = ("the right-hand side needs the velocity terms: f_d = F_q^T (f - h - M (F_qq "
@@ -116,7 +106,7 @@ _QUADRATIC = ("the right-hand side needs the velocity terms: f_d = F_q^T (f - h 
 
 def _bending_mistakes(function) -> tuple[Mistake, ...]:
     """The answer with the sign of e2, of e3 or of both reversed."""
-    return tuple(Mistake(_BENDING, _flip(rows)(function)) for rows in ([1], [2], [1, 2]))
+    return tuple(Mistake(_BENDING, negated_rows(function, rows)) for rows in ([1], [2], [1, 2]))
 
 
 def _symbolic_beam(function: str):

@@ -12,7 +12,7 @@ import math
 import numpy as np
 
 from .. import kinematics as kin
-from .parts import Exercise, Mistake, lettered
+from .parts import Exercise, Mistake, lettered, model_reference, negated_rows
 
 DRAWN = math.pi / 3  #: the drawn configuration, phi2 = 60 degrees
 
@@ -55,21 +55,6 @@ def _phi(rng, rates: int = 0):
         (rng.uniform(-math.pi, math.pi), *rng.uniform(-10, 10, rates)) for _ in range(3)]
 
 
-def _bending_flipped(matrix):
-    a = np.array(matrix, dtype=float)
-    a[[1, 3]] = -a[[1, 3]]
-    return a
-
-
-def _symbolic(function: str):
-    def reference():
-        from .. import symbolic
-
-        return [[str(s) for s in symbolic.coordinate_symbols(model())]], \
-            getattr(symbolic, function)(model())
-    return reference
-
-
 _BENDING = ("the rigid beams' bending is e2 = n_p . d with n_p = (-sin(beta0 + phi), "
             "cos(beta0 + phi)) and d = r_q - r_p; your rows e1.2, e2.2 have the opposite sign")
 _QUADRATIC = ("accelerations need the quadratic velocity term: xdd = F_q phi2dd + F_qq "
@@ -91,13 +76,13 @@ EXERCISE = Exercise(
         dict(function="deformations", arguments="x",
              returns="e (4,) [m]: the two rigid beams' elongations and bendings",
              hint="per rigid beam: e1 = |d| - l0, e2 = n_p . d (beta0 = 0 for both)",
-             answer=_deformations, cases=_x, symbolic=_symbolic("deformations"),
-             mistakes=(Mistake(_BENDING, lambda x: _bending_flipped(_deformations(x))),)),
+             answer=_deformations, cases=_x, symbolic=model_reference(model, "deformations"),
+             mistakes=(Mistake(_BENDING, negated_rows(_deformations, [1, 3])),)),
         dict(function="jacobian", arguments="x", returns="D (4, 8): D_x, columns in the "
                                                           "order of x",
              hint="one row per deformation, one column per coordinate of x",
-             answer=_jacobian, cases=_x, symbolic=_symbolic("jacobian"),
-             mistakes=(Mistake(_BENDING, lambda x: _bending_flipped(_jacobian(x))),)),
+             answer=_jacobian, cases=_x, symbolic=model_reference(model, "jacobian"),
+             mistakes=(Mistake(_BENDING, negated_rows(_jacobian, [1, 3])),)),
         dict(function="positions", arguments="phi2",
              returns="(x3, y3, phi4, x5) by Newton-Raphson",
              hint="Newton on e = 0 for the dependent coordinates, from the drawn "

@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from .. import kinematics as kin
-from .parts import Exercise, Mistake, lettered
+from .parts import Exercise, Mistake, lettered, model_reference, negated_rows
 
 L0 = 2.0  #: bar length [m]
 DRAWN = math.radians(30.0)  #: the drawn configuration's angle
@@ -58,21 +58,6 @@ def beam_motion(phi_p, omega, omegad, quadratic=True):
     return np.array([xdd[0], xdd[4]])
 
 
-def _symbolic(of, function: str):
-    """The reference of a part in SymPy: ``function`` of :mod:`flexmbd.symbolic` applied
-    to the model ``of()``, in its coordinate (and rate) symbols."""
-    def reference():
-        from .. import symbolic
-
-        model = of()
-        names = [str(s) for s in symbolic.coordinate_symbols(model)]
-        if function == "quadratic_velocity":
-            rates = [str(s) for s in symbolic.coordinate_symbols(model, "xd")]
-            return [names, rates], symbolic.quadratic_velocity(model)
-        return [names], getattr(symbolic, function)(model)
-    return reference
-
-
 def _any_truss_x(rng):
     return [(np.array([-math.sqrt(3.0), 0.0, 0.0, 1.0]),)] + [
         (rng.uniform(-2.0, 2.0, 4),) for _ in range(3)]
@@ -94,15 +79,6 @@ def _phi(rng, rates: int = 0):
     return [drawn] + [(rng.uniform(0.1, 1.4), *rng.uniform(-5, 5, rates)) for _ in range(3)]
 
 
-def _flip_bending(rows):
-    """The answer with the bending rows' sign flipped (the n_p . d convention)."""
-    def wrong(a):
-        a = np.array(a, dtype=float)
-        a[1] = -a[1]
-        return a
-    return lambda *args: wrong(rows(*args))
-
-
 _BENDING = ("the rigid beam's bending is e2 = n_p . d with n_p = (-sin(beta0 + phi_p), "
             "cos(beta0 + phi_p)) and d = r_q - r_p; you have the opposite sign")
 _QUADRATIC = ("the acceleration needs the quadratic velocity term: D_c xdd_c = -D_m xdd_m "
@@ -114,19 +90,28 @@ def _elongation(x):
     return kin.deformations(truss(), np.asarray(x, dtype=float))
 
 
+def _beam_deformations(x):
+    return kin.deformations(rigid_beam(), np.asarray(x, dtype=float))
+
+
+def _beam_jacobian(x):
+    return kin.jacobian(rigid_beam(), np.asarray(x, dtype=float))
+
+
 EXERCISE = Exercise(
     1, "sliding-bar", "Sliding bar: a truss (1a-d), then a rigid beam (1e-j)",
     "a bar of length l0 = 2, end p on the x axis, end q on the y axis", lettered(
         dict(function="truss_elongation", arguments="x",
              returns="e1 = l - l0 [m] of the truss p-q at x = [x_p, y_p, x_q, y_q]",
              hint="e1 = |r_q - r_p| - l0",
-             answer=_elongation, cases=_any_truss_x, symbolic=_symbolic(truss, "deformations"),
+             answer=_elongation, cases=_any_truss_x,
+             symbolic=model_reference(truss, "deformations"),
              mistakes=(Mistake(_ELONGATION, lambda x: _elongation(x) + L0),)),
         dict(function="truss_jacobian", arguments="x", returns="D_x (1, 4): de1/dx",
              hint="differentiate e1 with respect to each of x_p, y_p, x_q, y_q: a row "
                   "(1, 4)",
              answer=lambda x: kin.jacobian(truss(), np.asarray(x, dtype=float)),
-             cases=_any_truss_x, symbolic=_symbolic(truss, "jacobian")),
+             cases=_any_truss_x, symbolic=model_reference(truss, "jacobian")),
         dict(function="truss_position", arguments="x_p",
              returns="y_q [m] by Newton-Raphson from y_q = 1",
              hint="iterate y_q -= e1 / (de1/dy_q) from y_q = 1 until |e1| < 1e-12",
@@ -144,16 +129,14 @@ EXERCISE = Exercise(
                      "beta0 = 0",
              hint="e1 = |d| - l0, e2 = n_p . d with d = r_q - r_p, n_p = (-sin phi_p, "
                   "cos phi_p)",
-             answer=lambda x: kin.deformations(rigid_beam(), np.asarray(x, dtype=float)),
-             cases=_any_beam_x, symbolic=_symbolic(rigid_beam, "deformations"),
-             mistakes=(Mistake(_BENDING, _flip_bending(
-                 lambda x: kin.deformations(rigid_beam(), np.asarray(x, dtype=float)))),)),
+             answer=_beam_deformations, cases=_any_beam_x,
+             symbolic=model_reference(rigid_beam, "deformations"),
+             mistakes=(Mistake(_BENDING, negated_rows(_beam_deformations, [1])),)),
         dict(function="rigid_beam_jacobian", arguments="x", returns="D_x (2, 5)",
              hint="rows e1, e2; columns x_p, y_p, phi_p, x_q, y_q",
-             answer=lambda x: kin.jacobian(rigid_beam(), np.asarray(x, dtype=float)),
-             cases=_any_beam_x, symbolic=_symbolic(rigid_beam, "jacobian"),
-             mistakes=(Mistake(_BENDING, _flip_bending(
-                 lambda x: kin.jacobian(rigid_beam(), np.asarray(x, dtype=float)))),)),
+             answer=_beam_jacobian, cases=_any_beam_x,
+             symbolic=model_reference(rigid_beam, "jacobian"),
+             mistakes=(Mistake(_BENDING, negated_rows(_beam_jacobian, [1])),)),
         dict(function="rigid_beam_position", arguments="phi_p",
              returns="(x_p, y_q) [m] by Newton-Raphson",
              hint="Newton on (e1, e2) = 0 for the dependent x_p, y_q",
@@ -172,7 +155,7 @@ EXERCISE = Exercise(
              cases=lambda rng: [(np.array([-math.sqrt(3.0), 0.0, DRAWN, 0.0, 1.0]),
                                  np.array([4.0, 0.0, 4.0, 0.0, 4 * math.sqrt(3.0)]))] + [
                  (rng.uniform(-2, 2, 5), rng.uniform(-5, 5, 5)) for _ in range(3)],
-             symbolic=_symbolic(rigid_beam, "quadratic_velocity")),
+             symbolic=model_reference(rigid_beam, "quadratic_velocity")),
         dict(function="rigid_beam_accelerations", arguments="phi_p, omega, omegad",
              returns="(xdd_p, ydd_q) [m/s^2]",
              hint="D_c xdd_c = -D_m omegad - (D_xx xd) xd",
