@@ -13,6 +13,8 @@ Symbols: coordinate ``x<n>.<k>`` is the symbol ``x<n>_<k>``, its rate
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from .errors import OptionalDependencyError
@@ -168,6 +170,22 @@ def _element_masses(model: Model, given):
             if props.mass_per_length > 0 or number in given}
 
 
+@functools.lru_cache(maxsize=64)
+def _consistent(model: Model, number: int):
+    """Per unit mass of element ``number``: its consistent mass matrix, velocity-dependent
+    inertia and gravity load in the model's coordinate, rate and gravity values
+    (:func:`flexmbd.codegen.consistent_inertia`), integrated once per model and element."""
+    from .codegen import consistent_inertia
+
+    sp = _sympy()
+    element = model.elements[number]
+    x, xd = coordinate_symbols(model), coordinate_symbols(model, "xd")
+    return consistent_inertia(element.type, [x[i] for i in element.coordinates],
+                              [xd[i] for i in element.coordinates],
+                              [_exact(r) for r in element.reference],
+                              [_exact(g) for g in model.gravity], sp)
+
+
 def mass_matrix(model: Model, lumped: bool | None = None, element_masses=None,
                 nodal_masses=None):
     """The system mass matrix ``M`` ``(nx, nx)`` in the coordinate symbols (THEORY 5).
@@ -181,24 +199,18 @@ def mass_matrix(model: Model, lumped: bool | None = None, element_masses=None,
     The consistent element matrices come from the element types' material points, the
     same integrals the compiled kernels are generated from (:mod:`flexmbd.codegen`).
     """
-    from .codegen import consistent_inertia
-
     sp = _sympy()
-    x = coordinate_symbols(model)
     nx = model.n_coordinates
     M = sp.zeros(nx, nx)
     for number, mass in _element_masses(model, element_masses).items():
         element = model.elements[number]
-        c = [x[i] for i in element.coordinates]
-        reference = [_exact(v) for v in element.reference]
         is_lumped = model.element_properties[number].lumped if lumped is None else lumped
         if is_lumped:
             diagonal = element.type.lumped_masses(np.array([element.reference]),
                                                   np.array([1.0]))[0]
             block = sp.diag(*[_exact(d) for d in diagonal])
         else:
-            block, _, _ = consistent_inertia(element.type, c, [0] * len(c), reference,
-                                             [0, 0], sp)
+            block = _consistent(model, number)[0]
         for a, i in enumerate(element.coordinates):
             for b, j in enumerate(element.coordinates):
                 M[i, j] += mass * block[a, b]
@@ -213,19 +225,13 @@ def mass_matrix(model: Model, lumped: bool | None = None, element_masses=None,
 def velocity_inertia(model: Model, element_masses=None):
     """The velocity-dependent inertia ``h`` ``(nx, 1)`` (inertia force ``M xddot + h``) in
     the coordinate and rate symbols; zero for lumped masses (THEORY 5)."""
-    from .codegen import consistent_inertia
-
     sp = _sympy()
-    x, xd = coordinate_symbols(model), coordinate_symbols(model, "xd")
     h = sp.zeros(model.n_coordinates, 1)
     for number, mass in _element_masses(model, element_masses).items():
         element = model.elements[number]
         if model.element_properties[number].lumped:
             continue
-        c = [x[i] for i in element.coordinates]
-        v = [xd[i] for i in element.coordinates]
-        _, inertia, _ = consistent_inertia(element.type, c, v,
-                                           [_exact(r) for r in element.reference], [0, 0], sp)
+        inertia = _consistent(model, number)[1]
         for a, i in enumerate(element.coordinates):
             h[i] += mass * inertia[a]
     return h
@@ -266,10 +272,7 @@ def _stresses(model: Model, E_q, qd):
 def _applied_forces(model: Model):
     """Constant nodal loads and gravity ``f`` ``(nx, 1)`` (gravity on point masses and on
     the elements' consistent gravity load)."""
-    from .codegen import consistent_inertia
-
     sp = _sympy()
-    x = coordinate_symbols(model)
     f = sp.zeros(model.n_coordinates, 1)
     for node, load in model.nodal_forces.items():
         for i, value in zip(model.nodes[node].coordinates, load, strict=True):
@@ -283,9 +286,7 @@ def _applied_forces(model: Model):
                 f[i] += _exact(mass) * gk
     for number, mass in _element_masses(model, None).items():
         element = model.elements[number]
-        c = [x[i] for i in element.coordinates]
-        _, _, load = consistent_inertia(element.type, c, [0] * len(c),
-                                        [_exact(r) for r in element.reference], g, sp)
+        load = _consistent(model, number)[2]
         for a, i in enumerate(element.coordinates):
             f[i] += mass * load[a]
     return f
