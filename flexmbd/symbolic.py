@@ -269,9 +269,9 @@ def _stresses(model: Model, E_q, qd):
     return sigma
 
 
-def _applied_forces(model: Model):
+def _applied_forces(model: Model, element_masses=None, nodal_masses=None):
     """Constant nodal loads and gravity ``f`` ``(nx, 1)`` (gravity on point masses and on
-    the elements' consistent gravity load)."""
+    the elements' consistent gravity load), with the masses of :func:`mass_matrix`."""
     sp = _sympy()
     f = sp.zeros(model.n_coordinates, 1)
     for node, load in model.nodal_forces.items():
@@ -280,11 +280,12 @@ def _applied_forces(model: Model):
     g = [_exact(v) for v in model.gravity]
     if not any(model.gravity):
         return f
-    for node, mass in model.nodal_masses.items():
+    masses = {**model.nodal_masses, **(nodal_masses or {})}
+    for node, mass in masses.items():
         if model.nodes[node].kind == "translational":
             for i, gk in zip(model.nodes[node].coordinates, g, strict=True):
-                f[i] += _exact(mass) * gk
-    for number, mass in _element_masses(model, None).items():
+                f[i] += (mass if isinstance(mass, sp.Basic) else _exact(mass)) * gk
+    for number, mass in _element_masses(model, element_masses).items():
         element = model.elements[number]
         load = _consistent(model, number)[2]
         for a, i in enumerate(element.coordinates):
@@ -310,7 +311,8 @@ def equations_of_motion(model: Model, lumped: bool | None = None, element_masses
     rates = dict(zip(coordinate_symbols(model, "xd"), F_q * qd, strict=True))
     h = velocity_inertia(model, element_masses).xreplace(rates) if lumped is not True \
         else sp.zeros(model.n_coordinates, 1)
-    forces = _applied_forces(model) - h - M * quadratic_accelerations(model)
+    forces = (_applied_forces(model, element_masses, nodal_masses) - h
+              - M * quadratic_accelerations(model))
     rhs = F_q.T * forces - E_q.T * _stresses(model, E_q, qd)
     return F_q.T * M * F_q, rhs
 

@@ -111,3 +111,19 @@ def test_the_generated_flexible_slider_crank_reproduces_the_engine():
     _, generated, engine, _ = symbolic_course.flexible_generated(revolutions=0.25, points=21)
     assert np.abs(engine).max() > 5e-3  # the rod really bends in this quarter revolution
     np.testing.assert_allclose(generated, engine, atol=1e-8, rtol=0)
+
+
+def test_mass_symbols_carry_into_the_gravity_load():
+    from flexmbd.examples import slider_crank_dynamics
+
+    model = slider_crank_dynamics.build_model(gravity=True)
+    m2, m5 = sp.symbols("m2 m5", positive=True)
+    tau = symbolic.driving_forces(model, element_masses={2: m2}, nodal_masses={5: m5})[0]
+    numbers = {m2: slider_crank_dynamics.M2, m5: slider_crank_dynamics.M5}
+    x = fm.solve_position(model, np.array([0.7]))
+    values = dict(zip(symbolic.coordinate_symbols(model), x, strict=True))
+    values.update({symbolic.generalized_symbols(model, "d")[0]: 3.0,
+                   symbolic.generalized_symbols(model, "dd")[0]: 2.0, **numbers})
+    run = fm.inverse_dynamics(model, [0.0], inputs={"x2.1": fm.Polynomial(0.7, 3.0, 2.0)})
+    assert float(tau.xreplace(values)) == pytest.approx(float(run.driving[0, 0]), rel=1e-12)
+    assert tau.xreplace({m2: 0, m5: 0}) == 0  # no mass, no torque: gravity scales with them
