@@ -98,7 +98,8 @@ def example_parser(doc: str, prog: str | None) -> argparse.ArgumentParser:
 
 
 #: the example metavar of each kind of output file
-_METAVARS = {"table": "FILE.csv", "plot": "FILE.png", "movie": "FILE.mp4"}
+_METAVARS = {"table": "FILE.csv", "plot": "FILE.png", "movie": "FILE.mp4",
+             "table or study": "FILE.csv|.parquet"}
 
 
 def add_file_option(parser: argparse.ArgumentParser, flag: str, what: str, text: str) -> None:

@@ -20,11 +20,20 @@ section 10: ``v = (M - A) . n_AB`` with ``M`` the middle node or, for odd
 revolution. A rod that "breaks" (try ``--alpha 2e6``) ends the run with the
 time of failure; the points before it are still written.
 
-Run: ``flexmbd example slider-crank-flex --nbeams 4 --plot v.png --movie rod.gif``.
+Several beam counts (``--nbeams 1..10`` or ``1,2,4,8``) run EXERCISES 4 part 2's
+convergence study as a parameter study on Dask (:func:`flexmbd.sweep`; a local
+cluster, or ``--scheduler ADDRESS``): ``--plot`` draws the ``v/l2`` histories
+together beside the peak ``|v/l2|`` against the number of beams, ``--out
+FILE.parquet`` keeps the table (resumed when run again).
+
+Run: ``flexmbd example slider-crank-flex --nbeams 4 --plot v.png --movie rod.gif``, or
+``flexmbd example slider-crank-flex --nbeams 1..10 --plot study.png``.
 """
 
 from __future__ import annotations
 
+import argparse
+import functools
 import math
 import sys
 
@@ -33,6 +42,7 @@ from flexmbd.examples._support import (
     FINITE,
     POSITIVE,
     Check,
+    add_file_option,
     add_output_options,
     count,
     example_parser,
@@ -227,8 +237,9 @@ def describe(result: fm.SimulationResult) -> None:
 def main(argv: list[str] | None = None, prog: str | None = None) -> int:
     """Run the example with command-line arguments ``argv``; returns the exit code."""
     parser = example_parser(__doc__, prog)
-    parser.add_argument("--nbeams", type=count(1), default=1,
-                        help="beams along the rod (default 1)")
+    parser.add_argument("--nbeams", type=beam_counts, default=[1],
+                        help="beams along the rod (default 1); a range 1..10 or a list 1,2,4 "
+                             "runs the study of EXERCISES 4 part 2 as a sweep on Dask")
     parser.add_argument("--eps1flex", action="store_true", help="flexible elongation")
     parser.add_argument("--revolutions", type=POSITIVE, default=2.0,
                         help="crank turns (default 2)")
@@ -245,8 +256,20 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
                         help="relative tolerance of RK45 and the other error-controlled methods")
     parser.add_argument("--exaggeration", type=FINITE, default=EXAGGERATION,
                         help="deflection scale in the movie (default 10)")
-    add_output_options(parser, table=True)
+    add_file_option(parser, "--out", "table or study",
+                    "write the result table as CSV; of a study, its Parquet table (written as "
+                    "cases finish; the same command resumes it)")
+    add_output_options(parser)
+    parser.add_argument("--scheduler", metavar="ADDRESS",
+                        help="run a study on this Dask scheduler instead of a local cluster")
     args = parse(parser, argv)
+    if len(args.nbeams) > 1:
+        return study_main(parser, args)
+    if args.scheduler:
+        parser.error("--scheduler runs a study: give several --nbeams, e.g. 1..10")
+    if args.out and not args.out.endswith(".csv"):
+        parser.error("--out of one run is a .csv table (a .parquet table is a study's)")
+    args.nbeams = args.nbeams[0]
 
     model = build_model(args.nbeams, args.eps1flex, args.omega, args.alpha)
     print(model.summary())
@@ -277,6 +300,93 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
     finish_outputs(args, result, draw, movie_title=f"{model.name} (deflection x "
                    f"{args.exaggeration:g})", exaggeration=args.exaggeration)
     return 0 if ok and result.success else 1
+
+
+def beam_counts(text: str) -> list[int]:
+    """An argparse type: a number of beams, or several (``1..10``, ``1,2,4``), each >= 1."""
+    from flexmbd.studies import parse_values
+
+    try:
+        values = parse_values(text, "--nbeams")
+    except fm.FlexmbdError as error:
+        raise argparse.ArgumentTypeError(str(error).removeprefix("--nbeams: ")) from None
+    if not all(isinstance(n, int) and n >= 1 for n in values):
+        raise argparse.ArgumentTypeError(f"{text}: beam counts are whole numbers of at least 1")
+    return values
+
+
+def crank_angle(result: fm.SimulationResult) -> np.ndarray:
+    """The crank angle ``phi2`` [rad] at the output times, shape ``(nt,)``."""
+    return result["x2.1"]
+
+
+def deflection(result: fm.SimulationResult) -> np.ndarray:
+    """``v/l2`` at the output times, shape ``(nt,)`` (:func:`midpoint_deflection`)."""
+    return midpoint_deflection(result.model, result.x)
+
+
+def peak_deflection(result: fm.SimulationResult) -> float:
+    """The largest ``|v/l2|`` of the run."""
+    return float(np.max(np.abs(deflection(result)), initial=0.0))
+
+
+def study(nbeams: list[int], eps1flex: bool = False, revolutions: float = 2.0, *,
+          client=None, out: str | None = None, progress: bool | None = None, **options):
+    """EXERCISES 4 part 2 as a sweep over ``nbeams`` (:func:`flexmbd.sweep`): an xarray
+    Dataset with the histories ``phi`` [rad] and ``v_over_l2`` along ``(case, step)`` and
+    the metric ``peak`` (largest ``|v/l2|``) per case; ``options`` go to :func:`run`."""
+    analysis = functools.partial(run, revolutions=revolutions, **options)
+    builder = functools.partial(build_model, omega=options.get("omega", OMEGA),
+                                alpha=options.get("alpha", 0.0))
+    return fm.sweep(builder, {"nbeams": nbeams, "eps1flex": [eps1flex]}, analysis,
+                    {"phi": crank_angle, "v_over_l2": deflection, "peak": peak_deflection},
+                    client, out=out, progress=progress)
+
+
+def study_main(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
+    """``--nbeams`` with several values: the study, its table and its plot."""
+    if args.movie:
+        parser.error("--movie animates one run; give one --nbeams value")
+    if args.out and not args.out.endswith(".parquet"):
+        parser.error("--out of a study is a .parquet table, written as cases finish")
+    where = args.scheduler or "a local Dask cluster"
+    print(f"study: v/l2 for {', '.join(map(str, args.nbeams))} beams"
+          f"{', flexible elongation' if args.eps1flex else ''}, on {where}")
+    try:
+        data = study(args.nbeams, args.eps1flex, args.revolutions, client=args.scheduler,
+                     out=args.out, progress=True, omega=args.omega, alpha=args.alpha,
+                     method=args.method, steps_per_revolution=args.steps_per_revolution,
+                     rtol=args.rtol)
+    except KeyboardInterrupt:
+        if args.out:
+            print(f"interrupted: the finished cases are in {args.out}; run the same command "
+                  f"to resume", file=sys.stderr)
+        raise
+    if args.out:
+        print(f"table written to {args.out}")
+    ok = data["status"].values == "ok"
+    nbeams, peak = data["nbeams"].values, data["peak"].values
+    finest = peak[ok][np.argmax(nbeams[ok])] if ok.any() else np.nan
+    print(f"\n{'nbeams':>6}  {'peak |v/l2|':>12}  {'vs finest':>10}  {'time [s]':>8}  status")
+    for k in range(len(nbeams)):
+        status = "ok" if ok[k] else str(data["error"].values[k])
+        print(f"{nbeams[k]:>6}  {peak[k]:>12.6f}  {peak[k] / finest - 1:>+10.2e}  "
+              f"{data['wall_time'].values[k]:>8.3f}  {status}")
+    if (args.plot or args.show) and ok.any():
+        phi = np.degrees(data["phi"].values[np.argmax(ok)])
+        curves = {f"{n} beam{'s' * int(n > 1)}": v for n, v, good in
+                  zip(nbeams, data["v_over_l2"].values, ok, strict=True) if good}
+        plot.plot_study(phi, curves, nbeams[ok], peak[ok], xlabel="crank angle [deg]",
+                        ylabel="mid-point deflection v/l2 [-]", parameter_label="beams",
+                        metric_label="peak |v/l2| [-]",
+                        title=f"flexible slider-crank: v/l2 against the number of beams"
+                              f"{' (flexible elongation)' if args.eps1flex else ''}",
+                        filename=args.plot, window=args.show)
+        if args.plot:
+            print(f"plot saved to {args.plot}")
+        if args.show:
+            plot.show()
+    return 0 if ok.all() else 1
 
 
 if __name__ == "__main__":

@@ -45,8 +45,8 @@ from .settings import RunSettings
 __version__ = "0.2.0"
 
 
-#: names loaded on first use, by module: the SPACAR syntax tables, and the linearized
-#: analyses, which need SciPy (``import flexmbd`` loads numpy only)
+#: names loaded on first use, by module: the SPACAR syntax tables, the linearized
+#: analyses, which need SciPy, and parameter studies (``import flexmbd`` loads numpy only)
 _LAZY = {
     "dat": ("read_dat", "write_dat"),
     "linearization": ("Linearization", "linearize"),
@@ -54,6 +54,7 @@ _LAZY = {
               "vibration_modes"),
     "statespace": ("StateSpace", "state_space"),
     "statics": ("StaticResult", "static_equilibrium"),
+    "studies": ("sweep",),
 }
 
 
@@ -127,6 +128,7 @@ __all__ = [
     "solve_position",
     "state_space",
     "static_equilibrium",
+    "sweep",
     "velocities",
     "vibration_modes",
     "write_dat",

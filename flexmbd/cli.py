@@ -48,6 +48,9 @@ def _parser() -> argparse.ArgumentParser:
     from .course_cli import add_commands as add_course_commands
 
     add_course_commands(commands)
+    from .studies.cli import add_command as add_sweep_command
+
+    add_sweep_command(commands)
     return parser
 
 
@@ -100,6 +103,10 @@ def main(argv: list[str] | None = None) -> int:
             return run(args)
         if rest:
             parser.error(f"unrecognized arguments: {' '.join(rest)}")
+        if args.command == "sweep":
+            from .studies.cli import run as run_sweep
+
+            return run_sweep(args)
         if args.command == "exercise":
             from .course_cli import run as run_course
 

@@ -72,7 +72,9 @@ def run(args: argparse.Namespace) -> int:
     print(model.summary())
     if args.command == "modes" and args.along:
         return _modes_along(args, model, settings)
-    statics = _equilibrium(model, settings, getattr(args, "steps", None))
+    from .statics import file_equilibrium
+
+    statics = file_equilibrium(model, settings, getattr(args, "steps", None))
     if not statics.success:
         print(statics.message)
         if args.command == "static" and args.out:
@@ -80,20 +82,6 @@ def run(args: argparse.Namespace) -> int:
         return 1
     return {"static": _static, "modes": _modes, "buckling": _buckling,
             "statespace": _statespace}[args.command](args, model, settings, statics)
-
-
-def _equilibrium(model: Model, settings: RunSettings, steps: int | None):
-    """The file's static equilibrium (a :class:`~flexmbd.statics.StaticResult`)."""
-    from .statics import static_equilibrium
-
-    steps = settings.load_steps if steps is None else steps
-    if steps is not None and steps < 0:
-        raise ArgumentError("--steps", f"must be 0 or more, got {steps}")
-    given = settings.load_increment or settings.input_increment
-    return static_equilibrium(model, load_increment=dict(settings.load_increment) or None,
-                              input_increment=settings.input_increment,
-                              steps=steps if given else 0, tolerance=settings.tolerance,
-                              max_iterations=settings.max_iterations or 25, on_failure="return")
 
 
 def _watched(model: Model, settings: RunSettings) -> list[str]:

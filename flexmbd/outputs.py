@@ -16,16 +16,19 @@ PLOT_TYPES = (".png", ".pdf", ".svg", ".jpg")
 MOVIE_TYPES = (".gif", ".mp4")
 TABLE_TYPES = (".csv",)
 MATRIX_TYPES = (".npz",)
+STUDY_TYPES = (".parquet",)
 TYPES = {"results": RESULT_TYPES, "plot": PLOT_TYPES, "movie": MOVIE_TYPES,
-         "table": TABLE_TYPES, "matrices": MATRIX_TYPES}
+         "table": TABLE_TYPES, "matrices": MATRIX_TYPES, "study": STUDY_TYPES,
+         "table or study": TABLE_TYPES + STUDY_TYPES}
 _NEEDS = {".h5": ("h5py", "hdf5", "write .csv or .npz"),
           ".hdf5": ("h5py", "hdf5", "write .csv or .npz"),
-          ".mp4": ("imageio_ffmpeg", "movie", "save a .gif, which needs nothing extra")}
+          ".mp4": ("imageio_ffmpeg", "movie", "save a .gif, which needs nothing extra"),
+         ".parquet": ("pyarrow", "dask", "run without a table file")}
 
 
 def check_output(path: str | os.PathLike, what: str, option: str) -> Path:
-    """Refuse an output file ``path`` holding ``what`` (``"results"``, ``"plot"``,
-    ``"movie"``, ``"table"``, ``"matrices"``) that could not be written, naming the
+    """Refuse an output file ``path`` holding ``what`` (a key of :data:`TYPES`: ``"results"``,
+    ``"plot"``, ``"movie"``, ``"table"``, ...) that could not be written, naming the
     ``option`` that gave it.
 
     Raises:

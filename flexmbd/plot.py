@@ -304,6 +304,35 @@ def plot_panels(x: np.ndarray, panels: list[dict[str, np.ndarray]], *, xlabel: s
     return fig
 
 
+def plot_study(x: np.ndarray, histories: dict[str, np.ndarray], parameter: np.ndarray,
+               metric: np.ndarray, *, xlabel: str, ylabel: str, parameter_label: str,
+               metric_label: str, title: str | None = None,
+               filename: str | Path | None = None, window: bool = False):
+    """A parameter study side by side: the cases' histories ``{label: y}`` (each shaped
+    like ``x``) on the left, one metric per case ``(n,)`` against the varied parameter
+    ``(n,)`` on the right (its convergence).
+
+    Returns the ``matplotlib.figure.Figure``; saved to ``filename`` when given.
+    """
+    fig = _new_figure(window, figsize=(11, 4.5))
+    left, right = fig.subplots(1, 2, gridspec_kw={"width_ratios": [3, 2]})
+    for label, y in histories.items():
+        left.plot(x, y, label=label, linewidth=1)
+    left.set_xlabel(xlabel)
+    left.set_ylabel(ylabel)
+    left.legend(fontsize="small", ncol=2)
+    right.plot(parameter, metric, "o-")
+    right.set_xlabel(parameter_label)
+    right.set_ylabel(metric_label)
+    for ax in (left, right):
+        ax.grid(True, alpha=0.3)
+    if title:
+        fig.suptitle(title)
+    fig.tight_layout()
+    save_figure(fig, filename)
+    return fig
+
+
 def save_figure(fig, filename: str | Path | None) -> None:
     """Save ``fig`` when ``filename`` is given; a file that cannot be written is an
     :class:`~flexmbd.errors.OutputError`, not a traceback."""

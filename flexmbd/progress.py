@@ -70,3 +70,51 @@ def _log_lines(description: str, start: float, span: float) -> Callable[[float],
                   f"{now - began:.0f} s elapsed", file=sys.stderr, flush=True)
 
     return advance
+
+
+@contextmanager
+def case_counter(total: int, done: int, enabled: bool | None = None,
+                 description: str = "sweep") -> Iterator[Callable[[bool], None]]:
+    """Yield ``finished(ok)``, to be called as each case of a study finishes, which shows
+    the cases done, failed and remaining out of ``total`` (``done`` of them finished
+    before, in an earlier run).
+
+    ``enabled=None`` shows a bar on an interactive terminal only; ``enabled=True`` also
+    writes a line every :data:`LOG_INTERVAL` seconds where stderr is not a terminal.
+    """
+    enabled = flag(enabled, "progress", allow_none=True)
+    terminal = sys.stderr.isatty()
+    counts = {"done": done, "failed": 0}
+
+    def line() -> str:
+        return (f"{counts['done']} of {total} cases done, {counts['failed']} failed, "
+                f"{total - counts['done']} remaining")
+
+    if not (terminal if enabled is None else enabled):
+        yield lambda ok: None
+        return
+    if not terminal:
+        last = time.monotonic()
+
+        def finished(ok: bool) -> None:
+            nonlocal last
+            counts["done"] += 1
+            counts["failed"] += not ok
+            if time.monotonic() - last >= LOG_INTERVAL or counts["done"] == total:
+                last = time.monotonic()
+                print(f"{description}: {line()}", file=sys.stderr, flush=True)
+        yield finished
+        return
+    from tqdm import tqdm
+
+    bar = tqdm(total=total, initial=done, desc=description, unit="case", leave=False)
+
+    def finished(ok: bool) -> None:
+        counts["failed"] += not ok
+        bar.set_postfix(failed=counts["failed"], refresh=False)
+        bar.update(1)
+
+    try:
+        yield finished
+    finally:
+        bar.close()

@@ -24,6 +24,7 @@ from .errors import ArgumentError, ConvergenceError, FlexmbdError, SimulationErr
 from .linearization import Linearization, equilibrium_state, linearize, static_tangent
 from .model import Model
 from .results import SimulationResult, check_on_failure, conclude
+from .settings import RunSettings
 
 __all__ = ["StaticResult", "static_equilibrium"]
 
@@ -139,6 +140,25 @@ def static_equilibrium(
         done, model.n_coordinates), **arrays)
     return conclude(result, error, on_failure,
                     f"converged {done} load step{'s' if done != 1 else ''}")
+
+
+def file_equilibrium(model: Model, settings: RunSettings, steps: int | None = None
+                     ) -> StaticResult:
+    """The static equilibrium a SPACAR input file asks for: its loads, the load and input
+    increments of ``DELXF``, ``DELINPX``, ``DELINPE`` in ``steps`` load steps (default
+    ``ITERSTEP``'s), its tolerance and iteration limit; failures are returned.
+
+    Raises:
+        ArgumentError: ``steps`` below 0 (named ``--steps``, as the command line gives it).
+    """
+    steps = settings.load_steps if steps is None else steps
+    if steps is not None and steps < 0:
+        raise ArgumentError("--steps", f"must be 0 or more, got {steps}")
+    given = settings.load_increment or settings.input_increment
+    return static_equilibrium(model, load_increment=dict(settings.load_increment) or None,
+                              input_increment=settings.input_increment,
+                              steps=steps if given else 0, tolerance=settings.tolerance,
+                              max_iterations=settings.max_iterations or 25, on_failure="return")
 
 
 class _Solver:

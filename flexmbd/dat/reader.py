@@ -69,6 +69,15 @@ def read_dat(path: str | Path) -> DatFile:
     Raises:
         InputFileError: naming the file, the line and the reason.
     """
+    return dat_from_text(read_text(path), path)
+
+
+def read_text(path: str | Path) -> str:
+    """The text of a SPACAR input file, refused when it cannot be one (too large, binary).
+
+    Raises:
+        InputFileError: naming the file and the reason.
+    """
     if not isinstance(path, (str, os.PathLike)):
         raise InputFileError(f"the file name must be a str or a path, got {path!r}")
     path = Path(path)
@@ -85,7 +94,7 @@ def read_dat(path: str | Path) -> DatFile:
         line = data[:data.index(b"\0")].count(b"\n") + 1
         raise InputFileError("this is not a text file (it holds NUL bytes); a SPACAR input "
                              "file is text", str(path), line)
-    return dat_from_text(data.decode("utf-8", errors="replace"), path)
+    return data.decode("utf-8", errors="replace")
 
 
 def dat_from_text(text: str, path: str | Path | None = None) -> DatFile:

@@ -1,0 +1,199 @@
+"""Parameter studies: every case of a grid built, analysed and reduced to a table row, on a
+Dask cluster (local by default) or in this process."""
+
+from __future__ import annotations
+
+import math
+import os
+import uuid
+from collections.abc import Callable
+from importlib.util import find_spec
+from pathlib import Path
+
+from ..errors import ArgumentError, OptionalDependencyError
+from ..outputs import check_output
+from ..progress import case_counter
+from .case import ANALYSES, Study, check_outputs, describe
+from .cluster import connected
+from .grid import cases as grid_cases
+from .grid import check_name
+from .store import Journal, table
+
+
+def sweep(build, grid, analysis, outputs, client=None, *,
+          out: str | os.PathLike | None = None, restart: bool = False,
+          progress: bool | None = None):
+    """Run a parameter study: one analysis per case of ``grid``, one table row per case.
+
+    Args:
+        build: ``build(**parameters)`` returning a :class:`~flexmbd.Model` or a ``(model,
+            settings)`` pair; or the path of a SPACAR file, whose values the parameters
+            name as ``KEYWORD:NUMBER...:POSITION`` (``"ESTIFF:2:2"`` is EI of element 2;
+            see :class:`~flexmbd.dat.parameters.DatTemplate`).
+        grid: ``{name: values}`` for every combination, or a list of ``{name: value}``
+            cases.
+        analysis: a function of the model returning a result (``lambda model:
+            fm.simulate(model, times)``), or one of ``"auto"`` (the file's dynamics,
+            else kinematics), ``"kinematic"``, ``"dynamic"``, ``"inverse"`` (over the
+            file's TIMESTEP), ``"static"``, ``"modes"``, ``"buckling"`` (at the file's
+            equilibrium).
+        outputs: what to keep of each result: ``{name: function of the result}`` (a
+            number is a metric, a 1-D array a history), or result columns (``"x5.1"``, a
+            history) and statistics of them (``"absmax:e2.2"``; also initial, final, max,
+            min, mean, rms), each its own name. Modes keep ``f1 .. f6`` [Hz].
+        client: ``None`` for a local Dask cluster with one single-threaded worker
+            process per core, started and stopped here; a ``dask.distributed.Client`` or
+            a scheduler address (``"tcp://host:8786"``) to run on that cluster;
+            ``"serial"`` to run in this process, without Dask.
+        out: a ``.parquet`` file written as cases finish. When it holds cases of the
+            same study (an interrupted run), only the missing cases run.
+        restart: discard what ``out`` holds and run every case.
+        progress: a bar with the cases done, failed and remaining (``None``: on a
+            terminal only).
+
+    Returns:
+        A pandas DataFrame, one row per case in grid order: ``case``, the parameters,
+        the metrics, ``status`` (``"ok"`` or ``"failed"``), ``error`` (the message of a
+        failed case) and ``wall_time`` [s]. When histories are kept, an xarray Dataset
+        instead: the same columns along ``case`` and each history along ``(case,
+        step)``, NaN-padded to the longest.
+
+    A case that fails is a row with its message, never a failed study. On an
+    interrupt, what finished is written to ``out`` before ``KeyboardInterrupt`` is
+    raised again (with the table so far as its ``partial_result``).
+
+    Raises:
+        ArgumentError: a grid, analysis, output, file or parameter name that cannot
+            work, before any case runs.
+        OptionalDependencyError: pandas, pyarrow or Dask missing: ``pip install
+            'flexmbd[dask]'``.
+    """
+    _require("pandas", "study tables")
+    cases = grid_cases(grid)
+    outputs = check_outputs(outputs)
+    for name in outputs:
+        check_name(name, "outputs")
+        if name in cases[0]:
+            raise ArgumentError("outputs", f"{name!r} is also a parameter; name it otherwise")
+    build = _check_build(build, cases)
+    if not (callable(analysis) or analysis in ANALYSES):
+        raise ArgumentError("analysis", f"must be a function of the model or one of "
+                                        f"{', '.join(ANALYSES)}, got {analysis!r}")
+    journal = None
+    if out is not None:
+        check_output(out, "study", "out")
+        journal = Journal(out, cases, list(outputs))
+        if restart:
+            journal.discard()
+    if not (client is None or client == "serial" or isinstance(client, str) or
+            hasattr(client, "submit")):
+        raise ArgumentError("client", f"must be None, 'serial', a scheduler address or a "
+                                      f"dask.distributed.Client, got {client!r}")
+    study = Study(build, analysis, outputs)
+    rows = journal.load() if journal else []
+    finished = {row["case"] for row in rows}
+    pending = [(k, case) for k, case in enumerate(cases) if k not in finished]
+    try:
+        with case_counter(len(cases), len(rows), progress) as counted:
+            def record(row: dict) -> None:
+                rows.append(row)
+                if journal:
+                    journal.add(row)
+                counted(row["status"] == "ok")
+
+            if pending:
+                if client == "serial":
+                    for index, case in pending:
+                        record(study.run(index, case))
+                else:
+                    _on_dask(study, pending, record, client)
+    except BaseException as stop:
+        if journal:
+            journal.close(rows)
+        if isinstance(stop, KeyboardInterrupt):
+            stop.partial_result = _result(rows, list(outputs))
+        raise
+    if journal:
+        journal.close(rows)
+    return _result(rows, list(outputs))
+
+
+def _require(module: str, what: str) -> None:
+    if not find_spec(module):
+        raise OptionalDependencyError(f"sweep: {what} need {module}: pip install "
+                                      f"'flexmbd[dask]'")
+
+
+def _check_build(build, cases: list[dict]) -> Callable:
+    """``build`` as a callable; a SPACAR file as its template, with every parameter name
+    located and every value a number before any case runs."""
+    if callable(build):
+        return build
+    if not isinstance(build, (str, os.PathLike)):
+        raise ArgumentError("build", f"must be a function returning a model or the path of a "
+                                     f"SPACAR file, got {type(build).__name__}")
+    from ..dat.parameters import DatTemplate
+
+    template = DatTemplate.read(Path(build))
+    for name in cases[0]:
+        template.locate(name)
+        for case in cases:
+            value = case[name]
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                raise ArgumentError(name, f"a value of the file takes numbers, got {value!r}")
+    return template
+
+
+def _on_dask(study: Study, pending: list[tuple[int, dict]], record, client) -> None:
+    """Run the cases on Dask as futures and ``record`` each row as it finishes; a case
+    whose worker died is recorded as failed. An interrupt cancels what has not run."""
+    _require("distributed", "sweeps on Dask")
+    from dask.distributed import as_completed
+
+    with connected(client) as client:
+        shared = client.scatter(study, broadcast=True)  # sent once, not with every case
+        token = uuid.uuid4().hex[:8]
+        futures = {client.submit(_run, shared, index, case, key=f"flexmbd-{token}-{index}",
+                                 pure=False): (index, case) for index, case in pending}
+        try:
+            for future in as_completed(futures):
+                try:
+                    row = future.result()
+                except Exception as failure:  # a lost worker fails its case
+                    index, case = futures[future]
+                    row = {"case": index, **case, **dict.fromkeys(study.outputs, math.nan),
+                           "status": "failed", "error": f"worker: {describe(failure)}",
+                           "wall_time": math.nan}
+                record(row)
+                future.release()
+        finally:
+            client.cancel(list(futures))
+
+
+def _run(study: Study, index: int, case: dict) -> dict:
+    """One case on a worker."""
+    return study.run(index, case)
+
+
+def _result(rows: list[dict], outputs: list[str]):
+    """The study's DataFrame, or its xarray Dataset when histories were kept."""
+    frame = table(rows, outputs)
+    histories = [name for name in outputs if name in frame and frame[name].dtype == object
+                 and any(hasattr(v, "shape") for v in frame[name])]
+    if not histories:
+        return frame
+    _require("xarray", "histories")
+    import numpy as np
+    import xarray as xr
+
+    steps = max(len(v) for name in histories for v in frame[name])
+    variables = {}
+    for name in histories:
+        padded = np.full((len(frame), steps), np.nan)
+        for k, values in enumerate(frame[name]):
+            padded[k, :len(values)] = values
+        variables[name] = (("case", "step"), padded)
+    scalars = frame.drop(columns=histories)
+    for name in scalars.columns.drop("case"):
+        variables[name] = ("case", scalars[name].to_numpy())
+    return xr.Dataset(variables, coords={"case": scalars["case"].to_numpy()})
