@@ -45,13 +45,14 @@ def connected(client):
 
 
 def local_client():
-    """A client of a new local cluster: one single-threaded worker process per core, no
-    dashboard, quiet logs."""
+    """A client of a new local cluster: one single-threaded worker process per core, quiet
+    logs; the scheduler's web server on a free port (the usual 8787 may be another
+    cluster's)."""
     from dask.distributed import Client, LocalCluster
 
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
     cluster = LocalCluster(n_workers=cores or 1, threads_per_worker=1, processes=True,
-                           dashboard_address=None, silence_logs=logging.ERROR)
+                           dashboard_address=":0", silence_logs=logging.ERROR)
     return Client(cluster)
 
 

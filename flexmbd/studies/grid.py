@@ -58,8 +58,8 @@ def cases(grid) -> list[dict[str, object]]:
     else:
         raise ArgumentError("grid", f"must be a mapping {{name: values}} or a list of "
                                     f"{{name: value}} cases, got {type(grid).__name__}")
-    if not out:
-        raise ArgumentError("grid", "has no cases")
+    if not out or not names:
+        raise ArgumentError("grid", "has no cases: name at least one parameter and its values")
     for name in names:
         check_name(name, "grid")
     return [{name: _scalar(case[name], name) for name in names} for case in out]
@@ -134,7 +134,9 @@ def parse_values(text: str, option: str = "--vary") -> list[int | float]:
             else:
                 raise ArgumentError(option, f"{text}: a range of non-whole numbers needs its "
                                             f"number of values, e.g. {span}/5")
-    except (ValueError, OverflowError):
+    except ArgumentError:
+        raise
+    except (ValueError, OverflowError):  # a word that is not a number
         raise ArgumentError(option, f"{text!r} is not {forms}") from None
     if len(values) > LARGEST_STUDY:
         raise ArgumentError(option, f"{text}: {len(values)} values is more than {LARGEST_STUDY}")
