@@ -78,8 +78,10 @@ def rod_nodes(nbeams: int) -> tuple[list[int], list[int]]:
 
 
 def build_model(nbeams: int = 1, eps1flex: bool = False, omega: float = OMEGA,
-                alpha: float = 0.0, second_order: bool = False) -> fm.Model:
-    """The flexible slider-crank; crank angle ``phi2 = omega t + alpha t^2 / 2`` [rad].
+                alpha: float = 0.0, second_order: bool = False,
+                bending: float = EI) -> fm.Model:
+    """The flexible slider-crank; crank angle ``phi2 = omega t + alpha t^2 / 2`` [rad], rod
+    bending stiffness ``bending`` [N m^2] (the course's EI by default).
 
     With ``second_order`` the rod's beams are :class:`~flexmbd.SecondOrderBeam`: their
     elongation includes the arc length of the bending, so the rod's axial force changes
@@ -97,7 +99,7 @@ def build_model(nbeams: int = 1, eps1flex: bool = False, omega: float = OMEGA,
         b.add_beam(element, positions[k], angles[k], positions[k + 1], angles[k + 1],
                    second_order=second_order)
         b.set_mass(element, M2 / L2)
-        b.set_stiffness(element, axial=EA, bending=EI)
+        b.set_stiffness(element, axial=EA, bending=bending)
         b.dynamic_deformation(element, *((1, 2, 3) if eps1flex else (2, 3)))
     b.fix(1).fix(5, "y")
     b.add_point_mass(5, M2 / 2)
@@ -260,13 +262,18 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
                     "write the result table as CSV; of a study, its Parquet table (written as "
                     "cases finish; the same command resumes it)")
     add_output_options(parser)
-    parser.add_argument("--scheduler", metavar="ADDRESS",
-                        help="run a study on this Dask scheduler instead of a local cluster")
+    where = parser.add_mutually_exclusive_group()
+    where.add_argument("--scheduler", metavar="ADDRESS",
+                       help="run a study on this Dask scheduler instead of a local cluster")
+    where.add_argument("--serial", action="store_true",
+                       help="run a study's cases one by one in this process, without Dask "
+                            "(faster for a few short cases: no cluster to start)")
     args = parse(parser, argv)
     if len(args.nbeams) > 1:
         return study_main(parser, args)
-    if args.scheduler:
-        parser.error("--scheduler runs a study: give several --nbeams, e.g. 1..10")
+    if args.scheduler or args.serial:
+        parser.error(f"{'--scheduler' if args.scheduler else '--serial'} is for a study: give "
+                     f"several --nbeams, e.g. 1..10")
     if args.out and not args.out.endswith(".csv"):
         parser.error("--out of one run is a .csv table (a .parquet table is a study's)")
     args.nbeams = args.nbeams[0]
@@ -349,11 +356,12 @@ def study_main(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int
         parser.error("--movie animates one run; give one --nbeams value")
     if args.out and not args.out.endswith(".parquet"):
         parser.error("--out of a study is a .parquet table, written as cases finish")
-    where = args.scheduler or "a local Dask cluster"
+    where = "this process" if args.serial else args.scheduler or "a local Dask cluster"
     print(f"study: v/l2 for {', '.join(map(str, args.nbeams))} beams"
           f"{', flexible elongation' if args.eps1flex else ''}, on {where}")
     try:
-        data = study(args.nbeams, args.eps1flex, args.revolutions, client=args.scheduler,
+        data = study(args.nbeams, args.eps1flex, args.revolutions,
+                     client="serial" if args.serial else args.scheduler,
                      out=args.out, progress=True, omega=args.omega, alpha=args.alpha,
                      method=args.method, steps_per_revolution=args.steps_per_revolution,
                      rtol=args.rtol)

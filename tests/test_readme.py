@@ -17,4 +17,5 @@ def test_the_readme_has_python_examples():
 def test_readme_block_runs(index, tmp_path, monkeypatch):
     pytest.importorskip("sympy")  # the first block shows the symbolic path
     monkeypatch.chdir(tmp_path)  # blocks may write files
-    exec(compile(BLOCKS[index], f"README.md block {index + 1}", "exec"), {})
+    # as a script runs: a block's `if __name__ == "__main__":` part runs too
+    exec(compile(BLOCKS[index], f"README.md block {index + 1}", "exec"), {"__name__": "__main__"})

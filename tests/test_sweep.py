@@ -16,11 +16,11 @@ import cloudpickle
 import numpy as np
 import pandas as pd
 import pytest
+from flexmbd.examples import EXAMPLES_DIR
+from flexmbd.examples import slider_crank_flex as flex
 
 import flexmbd as fm
 from flexmbd.dat.parameters import DatTemplate
-from flexmbd.examples import EXAMPLES_DIR
-from flexmbd.examples import slider_crank_flex as flex
 from flexmbd.studies import cases, parse_values
 from flexmbd.studies.case import Study
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
 
 from ..errors import ArgumentError
 from ..outputs import check_output
@@ -83,6 +84,10 @@ def run(args: argparse.Namespace) -> int:
     where = ("this process" if args.serial else args.scheduler or "a local Dask cluster")
     print(f"sweep of {args.file}: {cases} case{'s' * (cases > 1)} of {args.analysis} analysis "
           f"on {where}; keeping {', '.join(outputs)}")
+    out = Path(args.out)
+    if (out.exists() or out.with_name(out.name + ".partial").exists()) and not args.restart:
+        print(f"resuming: the cases already in {args.out} are not run again (--restart runs "
+              f"every case)")
     try:
         result = sweep(template, grid, args.analysis, outputs, client, out=args.out,
                        restart=args.restart, progress=True)
