@@ -379,10 +379,12 @@ def test_an_unguarded_script_is_told_how_to_fix_it(tmp_path):
     script = tmp_path / "study.py"
     script.write_text("import flexmbd as fm\n"
                       "from flexmbd.examples import slider_crank_flex as flex\n"
-                      "fm.sweep(flex.build_model, {'nbeams': [1]}, flex.run, ['x5.1'])\n")
+                      "fm.sweep(flex.build_model, {'nbeams': [1]}, flex.run, ['x5.1'],\n"
+                      "         out='t.parquet')\n")
     done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True,
-                          timeout=120)
+                          timeout=120, cwd=tmp_path)
     assert done.returncode == 1
+    assert not (tmp_path / "t.parquet").exists()  # nothing ran: no table to resume
     assert 'study.py, line 3: a study on a local cluster' in done.stderr
     assert 'if __name__ == "__main__":' in done.stderr
 

@@ -134,4 +134,5 @@ def default_metrics(template, grid: dict, analysis: str) -> list[str]:
 
 
 def _rows(result) -> int:
-    return len(result["case"])
+    """Cases in a study's DataFrame or Dataset."""
+    return int(result.sizes.get("case", 0)) if hasattr(result, "sizes") else len(result)

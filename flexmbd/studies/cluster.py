@@ -27,7 +27,6 @@ def connected(client):
         yield client
         return
     if client is None:
-        check_main_guard()
         own = local_client()
     else:
         try:

@@ -120,8 +120,10 @@ class Journal:
         self.pending, self.last_flush = [], time.monotonic()
 
     def close(self, rows: list[dict]) -> None:
-        """Write all ``rows`` (earlier and new) to the table and remove the parts."""
-        _write(table(rows, self.outputs), self.path)
+        """Write all ``rows`` (earlier and new) to the table and remove the parts; with no
+        rows (a study stopped before its first case), write nothing."""
+        if rows:
+            _write(table(rows, self.outputs), self.path)
         self.pending = []
         shutil.rmtree(self.parts, ignore_errors=True)
 

@@ -14,7 +14,7 @@ from ..errors import ArgumentError, OptionalDependencyError
 from ..outputs import check_output
 from ..progress import case_counter
 from .case import ANALYSES, Study, check_outputs, describe
-from .cluster import connected
+from .cluster import check_main_guard, connected
 from .grid import cases as grid_cases
 from .grid import check_name
 from .store import Journal, table
@@ -89,6 +89,8 @@ def sweep(build, grid, analysis, outputs, client=None, *,
             hasattr(client, "submit")):
         raise ArgumentError("client", f"must be None, 'serial', a scheduler address or a "
                                       f"dask.distributed.Client, got {client!r}")
+    if client is None:
+        check_main_guard()
     study = Study(build, analysis, outputs)
     rows = journal.load() if journal else []
     finished = {row["case"] for row in rows}
