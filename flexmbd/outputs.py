@@ -23,7 +23,7 @@ TYPES = {"results": RESULT_TYPES, "plot": PLOT_TYPES, "movie": MOVIE_TYPES,
 _NEEDS = {".h5": ("h5py", "hdf5", "write .csv or .npz"),
           ".hdf5": ("h5py", "hdf5", "write .csv or .npz"),
           ".mp4": ("imageio_ffmpeg", "movie", "save a .gif, which needs nothing extra"),
-         ".parquet": ("pyarrow", "dask", "run without a table file")}
+         ".parquet": ("pyarrow", "dask", None)}
 
 
 def check_output(path: str | os.PathLike, what: str, option: str) -> Path:
@@ -59,8 +59,8 @@ def check_output(path: str | os.PathLike, what: str, option: str) -> Path:
     module, extra, instead = _NEEDS.get(path.suffix.lower(), (None, None, None))
     if module and not find_spec(module):
         raise OptionalDependencyError(f"{option} {path.name}: writing {path.suffix} needs "
-                                      f"{module}: pip install 'flexmbd[{extra}]' (or "
-                                      f"{instead})")
+                                      f"{module}: pip install 'flexmbd[{extra}]'" +
+                                      (f" (or {instead})" if instead else ""))
     return path
 
 
