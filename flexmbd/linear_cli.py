@@ -84,16 +84,14 @@ def run(args: argparse.Namespace) -> int:
             "statespace": _statespace}[args.command](args, model, settings, statics)
 
 
-def _watched(model: Model, settings: RunSettings) -> list[str]:
-    """The columns a static table shows: OUTX, else the dynamic degrees of freedom."""
-    if settings.outputs:
-        return list(settings.outputs)
-    return [label for label, given in zip(model.q_labels, model.q_is_input, strict=True)
-            if not given][:6]
+def watched_columns(model: Model, settings: RunSettings) -> list[str]:
+    """The columns a static table shows: OUTX, else the first six dynamic degrees of
+    freedom."""
+    return list(settings.outputs or model.dynamic_q_labels[:6])
 
 
 def _static(args, model, settings, statics) -> int:
-    columns = _watched(model, settings)
+    columns = watched_columns(model, settings)
     print(statics.message)
     print(_table(["load", *columns], [statics["load"], *(statics[c] for c in columns)]))
     if args.out:

@@ -221,6 +221,13 @@ class Model:
         return len(self.q_labels)
 
     @property
+    def dynamic_q_labels(self) -> tuple[str, ...]:
+        """Labels of the entries of ``q`` that are not prescribed: the dynamic degrees of
+        freedom, in the order of ``q``."""
+        return tuple(label for label, given in zip(self.q_labels, self.q_is_input, strict=True)
+                     if not given)
+
+    @property
     def has_mass(self) -> bool:
         """Whether any element or node carries mass (dynamics needs it)."""
         return bool(self.nodal_masses) or any(

@@ -52,8 +52,7 @@ def default_mode(model: Model) -> str:
 def check_mode(model: Model, mode: str) -> None:
     """A kinematic analysis moves only what is prescribed: it would hold the dynamic
     degrees of freedom of a model frozen, which is never what ``--mode kinematic`` means."""
-    dynamic = [label for label, given in zip(model.q_labels, model.q_is_input, strict=True)
-               if not given]
+    dynamic = model.dynamic_q_labels
     if mode == "kinematic" and dynamic:
         shown = ", ".join(dynamic[:6]) + (f" and {len(dynamic) - 6} more" if len(dynamic) > 6
                                           else "")
@@ -109,8 +108,7 @@ def default_columns(result: KinematicResult, mode: str) -> list[str]:
         return ["f" + model.coordinate_labels[i][1:] for i in model.input_coordinates] or \
                [label for label in result.columns() if label.startswith("sig")][:4]
     if mode == "dynamic":
-        return [label for label, given in zip(model.q_labels, model.q_is_input, strict=True)
-                if not given]
+        return list(model.dynamic_q_labels)
     dependent = np.flatnonzero(model.coordinate_class == CoordinateClass.DEPENDENT)
     return [model.coordinate_labels[i] for i in dependent[:4]]
 

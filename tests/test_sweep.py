@@ -178,6 +178,23 @@ def test_named_modes_analysis_against_the_file_edited_by_hand():
     assert data["f1"][1] < data["f1"][0]  # a softer beam at the base: a slower sway
 
 
+def test_sweep_command_keeps_as_many_frequencies_as_the_file_has_modes(tmp_path, capsys):
+    """The one-beam slider-crank has two dynamic degrees of freedom (the crank angle is an
+    input): the default metrics of a modes study are f1 and f2, equal to the file's modes."""
+    from flexmbd.cli import main
+    from flexmbd.modes import vibration_modes
+    from flexmbd.statics import file_equilibrium
+
+    out = tmp_path / "modes.parquet"
+    assert main(["sweep", str(FLEX_DAT), "--analysis", "modes", "--vary", "ESTIFF:2:2=20",
+                 "--serial", "--out", str(out)]) == 0
+    table = pd.read_parquet(out)
+    assert [c for c in table.columns if c.startswith("f")] == ["f1", "f2"]
+    model, settings = DatTemplate.read(FLEX_DAT)(**{"ESTIFF:2:2": 20})
+    modes = vibration_modes(file_equilibrium(model, settings).linearization())
+    np.testing.assert_allclose(table[["f1", "f2"]].to_numpy()[0], modes.frequencies, rtol=1e-12)
+
+
 @pytest.mark.parametrize("call, words", [
     (dict(outputs={"nbeams": "peak"}), "also a parameter"),
     (dict(outputs={"peak": "median:x5.1"}), "not one of"),

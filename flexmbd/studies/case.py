@@ -138,7 +138,7 @@ def named_analysis(name: str, model: Model, settings: RunSettings):
         from ..modes import buckling, vibration_modes
 
         found = {"modes": vibration_modes, "buckling": buckling}[name]
-        return found(statics.linearization(), min(MODE_COUNT, model.n_dof))
+        return found(statics.linearization(), min(MODE_COUNT, len(model.dynamic_q_labels)))
     mode = default_mode(model) if name == "auto" else name
     check_mode(model, mode)
     times = settings.output_times()

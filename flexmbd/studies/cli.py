@@ -122,12 +122,12 @@ def default_metrics(template, grid: dict, analysis: str) -> list[str]:
     model, settings = split_build(template(**first))
     if analysis in ("modes", "buckling"):
         prefix = "f" if analysis == "modes" else "lambda"
-        return [f"{prefix}{k}" for k in range(1, min(MODE_COUNT, model.n_dof) + 1)]
+        count = min(MODE_COUNT, len(model.dynamic_q_labels))
+        return [f"{prefix}{k}" for k in range(1, count + 1)]
     if analysis == "static":
-        columns = list(settings.outputs) or [label for label, given in
-                                             zip(model.q_labels, model.q_is_input, strict=True)
-                                             if not given]
-        return [f"final:{c}" for c in columns[:4]]
+        from ..linear_cli import watched_columns
+
+        return [f"final:{c}" for c in watched_columns(model, settings)[:4]]
     mode = default_mode(model) if analysis == "auto" else analysis
     columns = default_columns(empty_result(model, mode), mode)[:4]
     return [f"{stat}:{c}" for c in columns for stat in ("absmax", "final")]
