@@ -110,6 +110,16 @@ def negated_rows(function, rows: list[int]):
     return wrong
 
 
+def model_answer(of, function: str):
+    """A part's answer: ``function`` of :mod:`flexmbd.kinematics` (deformations, jacobian)
+    on the model ``of()`` at the coordinates ``x`` a part is called with."""
+    def answer(x):
+        from .. import kinematics
+
+        return getattr(kinematics, function)(of(), np.asarray(x, dtype=float))
+    return answer
+
+
 def model_reference(of, function: str):
     """A part's SymPy reference: ``function`` of :mod:`flexmbd.symbolic` (deformations,
     jacobian, quadratic_velocity) applied to the model ``of()``, called with the model's

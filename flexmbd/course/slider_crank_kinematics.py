@@ -12,7 +12,7 @@ import math
 import numpy as np
 
 from .. import kinematics as kin
-from .parts import Exercise, Mistake, lettered, model_reference, negated_rows
+from .parts import Exercise, Mistake, lettered, model_answer, model_reference, negated_rows
 
 DRAWN = math.pi / 3  #: the drawn configuration, phi2 = 60 degrees
 
@@ -61,12 +61,8 @@ _QUADRATIC = ("accelerations need the quadratic velocity term: xdd = F_q phi2dd 
               "phi2d^2, i.e. D_c xdd_c = -D_m phi2dd - (D_xx xd) xd")
 
 
-def _deformations(x):
-    return kin.deformations(model(), np.asarray(x, dtype=float))
-
-
-def _jacobian(x):
-    return kin.jacobian(model(), np.asarray(x, dtype=float))
+_deformations = model_answer(model, "deformations")
+_jacobian = model_answer(model, "jacobian")
 
 
 EXERCISE = Exercise(

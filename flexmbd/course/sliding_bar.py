@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from .. import kinematics as kin
-from .parts import Exercise, Mistake, lettered, model_reference, negated_rows
+from .parts import Exercise, Mistake, lettered, model_answer, model_reference, negated_rows
 
 L0 = 2.0  #: bar length [m]
 DRAWN = math.radians(30.0)  #: the drawn configuration's angle
@@ -86,16 +86,9 @@ _QUADRATIC = ("the acceleration needs the quadratic velocity term: D_c xdd_c = -
 _ELONGATION = "the elongation is the length minus l0, e1 = |r_q - r_p| - l0"
 
 
-def _elongation(x):
-    return kin.deformations(truss(), np.asarray(x, dtype=float))
-
-
-def _beam_deformations(x):
-    return kin.deformations(rigid_beam(), np.asarray(x, dtype=float))
-
-
-def _beam_jacobian(x):
-    return kin.jacobian(rigid_beam(), np.asarray(x, dtype=float))
+_elongation = model_answer(truss, "deformations")
+_beam_deformations = model_answer(rigid_beam, "deformations")
+_beam_jacobian = model_answer(rigid_beam, "jacobian")
 
 
 EXERCISE = Exercise(
@@ -110,7 +103,7 @@ EXERCISE = Exercise(
         dict(function="truss_jacobian", arguments="x", returns="D_x (1, 4): de1/dx",
              hint="differentiate e1 with respect to each of x_p, y_p, x_q, y_q: a row "
                   "(1, 4)",
-             answer=lambda x: kin.jacobian(truss(), np.asarray(x, dtype=float)),
+             answer=model_answer(truss, "jacobian"),
              cases=_any_truss_x, symbolic=model_reference(truss, "jacobian")),
         dict(function="truss_position", arguments="x_p",
              returns="y_q [m] by Newton-Raphson from y_q = 1",
