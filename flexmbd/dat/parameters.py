@@ -116,6 +116,17 @@ class DatTemplate:
                                       f"name a value after it")
         return Slot(statement.line, 1 + index, argument)
 
+    def check(self, cases: list[dict[str, object]]) -> None:
+        """Check a study's cases before any runs: every name located, every value a number.
+
+        Raises:
+            ArgumentError: see :meth:`locate` and :meth:`text_with`.
+        """
+        for name in cases[0]:
+            self.locate(name)
+            for case in cases:
+                _number(name, case[name])
+
     def text_with(self, values: dict[str, float]) -> str:
         """The file's text with the named values replaced.
 
@@ -124,8 +135,7 @@ class DatTemplate:
         """
         lines = self.text.splitlines(keepends=True)
         for name, value in values.items():
-            if isinstance(value, bool) or not isinstance(value, (int, float)):
-                raise ArgumentError(name, f"takes a number, got {value!r}")
+            _number(name, value)
             slot = self.locate(name)
             raw = lines[slot.line - 1]
             body = _COMMENT.split(raw, maxsplit=1)[0]
@@ -141,6 +151,12 @@ class DatTemplate:
             InputFileError: the varied file is not valid (e.g. a negative stiffness).
         """
         return dat_from_text(self.text_with(values), self.path)
+
+
+def _number(name: str, value) -> None:
+    """Refuse a value of a file that is not a number (a bool, a string)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ArgumentError(name, f"takes a number, got {value!r}")
 
 
 def _split(name: str) -> tuple[str, tuple[int, ...], int]:

@@ -73,8 +73,6 @@ def run(args: argparse.Namespace) -> int:
             raise ArgumentError("--vary", f"{name} is varied twice")
         grid[name] = parse_values(values, f"--vary {name}")
     template = DatTemplate.read(args.file)
-    for name in grid:
-        template.locate(name)
     outputs = {**{m: m for m in args.metric or default_metrics(template, grid, args.analysis)},
                **{c: c for c in args.keep}}
     client = "serial" if args.serial else args.scheduler

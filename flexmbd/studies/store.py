@@ -31,11 +31,16 @@ def table(rows: list[dict], outputs: list[str]):
     import pandas as pd
 
     frame = pd.DataFrame(sorted(rows, key=lambda row: row["case"]))
-    for name in outputs:
-        if name in frame and any(isinstance(v, (np.ndarray, list)) for v in frame[name]):
-            frame[name] = [np.asarray(v, dtype=float) if isinstance(v, (np.ndarray, list))
-                           else np.zeros(0) for v in frame[name]]
+    for name in history_columns(frame, outputs):
+        frame[name] = [np.asarray(v, dtype=float) if isinstance(v, (np.ndarray, list))
+                       else np.zeros(0) for v in frame[name]]
     return frame.reset_index(drop=True)
+
+
+def history_columns(frame, outputs: list[str]) -> list[str]:
+    """The outputs that are histories: a column where some case kept an array."""
+    return [name for name in outputs if name in frame and
+            any(isinstance(v, (np.ndarray, list)) for v in frame[name])]
 
 
 class Journal:

@@ -17,7 +17,7 @@ from .case import ANALYSES, Study, check_outputs, describe
 from .cluster import check_main_guard, connected
 from .grid import cases as grid_cases
 from .grid import check_name
-from .store import Journal, table
+from .store import Journal, history_columns, table
 
 
 def sweep(build, grid, analysis, outputs, client=None, *,
@@ -127,23 +127,18 @@ def _require(module: str, what: str) -> None:
 
 
 def _check_build(build, cases: list[dict]) -> Callable:
-    """``build`` as a callable; a SPACAR file as its template, with every parameter name
-    located and every value a number before any case runs."""
-    if callable(build):
-        return build
-    if not isinstance(build, (str, os.PathLike)):
-        raise ArgumentError("build", f"must be a function returning a model or the path of a "
-                                     f"SPACAR file, got {type(build).__name__}")
+    """``build`` as a callable; a SPACAR file (a path or its template) checked against the
+    cases before any runs: every parameter name located, every value a number."""
     from ..dat.parameters import DatTemplate
 
-    template = DatTemplate.read(Path(build))
-    for name in cases[0]:
-        template.locate(name)
-        for case in cases:
-            value = case[name]
-            if isinstance(value, bool) or not isinstance(value, (int, float)):
-                raise ArgumentError(name, f"a value of the file takes numbers, got {value!r}")
-    return template
+    if isinstance(build, (str, os.PathLike)):
+        build = DatTemplate.read(Path(build))
+    if isinstance(build, DatTemplate):
+        build.check(cases)
+    elif not callable(build):
+        raise ArgumentError("build", f"must be a function returning a model or the path of a "
+                                     f"SPACAR file, got {type(build).__name__}")
+    return build
 
 
 def _on_dask(study: Study, pending: list[tuple[int, dict]], record, client) -> None:
@@ -180,8 +175,7 @@ def _run(study: Study, index: int, case: dict) -> dict:
 def _result(rows: list[dict], outputs: list[str]):
     """The study's DataFrame, or its xarray Dataset when histories were kept."""
     frame = table(rows, outputs)
-    histories = [name for name in outputs if name in frame and frame[name].dtype == object
-                 and any(hasattr(v, "shape") for v in frame[name])]
+    histories = history_columns(frame, outputs)
     if not histories:
         return frame
     _require("xarray", "histories")
