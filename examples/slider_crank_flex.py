@@ -350,6 +350,23 @@ def study(nbeams: list[int], eps1flex: bool = False, revolutions: float = 2.0, *
                     client, out=out, progress=progress)
 
 
+def plot_convergence(data, eps1flex: bool = False, *, filename: str | None = None,
+                     window: bool = False):
+    """The study's figure: the ``v/l2`` histories of the finished cases together, beside
+    the peak ``|v/l2|`` against the number of beams. Returns the matplotlib figure."""
+    ok = data["status"].values == "ok"
+    nbeams, peak = data["nbeams"].values, data["peak"].values
+    phi = np.degrees(data["phi"].values[np.argmax(ok)])
+    curves = {f"{n} beam{'s' * int(n > 1)}": v for n, v, good in
+              zip(nbeams, data["v_over_l2"].values, ok, strict=True) if good}
+    return plot.plot_study(phi, curves, nbeams[ok], peak[ok], xlabel="crank angle [deg]",
+                           ylabel="mid-point deflection v/l2 [-]", parameter_label="beams",
+                           metric_label="peak |v/l2| [-]",
+                           title=f"flexible slider-crank: v/l2 against the number of beams"
+                                 f"{' (flexible elongation)' if eps1flex else ''}",
+                           filename=filename, window=window)
+
+
 def study_main(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
     """``--nbeams`` with several values: the study, its table and its plot."""
     if args.movie:
@@ -381,15 +398,7 @@ def study_main(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int
         print(f"{nbeams[k]:>6}  {peak[k]:>12.6f}  {peak[k] / finest - 1:>+10.2e}  "
               f"{data['wall_time'].values[k]:>8.3f}  {status}")
     if (args.plot or args.show) and ok.any():
-        phi = np.degrees(data["phi"].values[np.argmax(ok)])
-        curves = {f"{n} beam{'s' * int(n > 1)}": v for n, v, good in
-                  zip(nbeams, data["v_over_l2"].values, ok, strict=True) if good}
-        plot.plot_study(phi, curves, nbeams[ok], peak[ok], xlabel="crank angle [deg]",
-                        ylabel="mid-point deflection v/l2 [-]", parameter_label="beams",
-                        metric_label="peak |v/l2| [-]",
-                        title=f"flexible slider-crank: v/l2 against the number of beams"
-                              f"{' (flexible elongation)' if args.eps1flex else ''}",
-                        filename=args.plot, window=args.show)
+        plot_convergence(data, args.eps1flex, filename=args.plot, window=args.show)
         if args.plot:
             print(f"plot saved to {args.plot}")
         if args.show:

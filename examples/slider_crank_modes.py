@@ -116,6 +116,17 @@ def table(along: fm.ModesAlong) -> dict[str, np.ndarray]:
     return {"t": columns.pop("t"), "phi": along.result["x2.1"], **columns}
 
 
+def plot_frequencies(model: fm.Model, columns: dict[str, np.ndarray], *,
+                     filename: str | None = None, window: bool = False):
+    """One panel per frequency [Hz] of :func:`table`'s ``columns`` against the crank angle
+    (each swings by a few per cent, too little to share an axis). Returns the figure."""
+    names = [k for k in columns if k not in ("t", "phi")]
+    return plot.plot_panels(np.degrees(columns["phi"]), [{k: columns[k]} for k in names],
+                            xlabel="crank angle [deg]", ylabels=[f"{k} [Hz]" for k in names],
+                            title=f"{model.name}: frequencies along a revolution",
+                            filename=filename, window=window)
+
+
 def main(argv: list[str] | None = None, prog: str | None = None) -> int:
     """Run the example with command-line arguments ``argv``; returns the exit code."""
     parser = example_parser(__doc__, prog)
@@ -153,12 +164,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
     print(f"f1 from {first.min():.5g} to {first.max():.5g} Hz; at rest {rest[0, 0]:.5g} Hz")
     ok = print_checks("\nchecks:", checks(args.nbeams, along, rest, not args.simulated))
 
-    def draw(filename, window):  # one panel per frequency: each swings by a few per cent
-        names = [k for k in columns if k not in ("t", "phi")]
-        plot.plot_panels(np.degrees(columns["phi"]), [{k: columns[k]} for k in names],
-                         xlabel="crank angle [deg]", ylabels=[f"{k} [Hz]" for k in names],
-                         title=f"{model.name}: frequencies along a revolution",
-                         filename=filename, window=window)
+    def draw(filename, window):
+        plot_frequencies(model, columns, filename=filename, window=window)
 
     finish_outputs(args, path, draw, movie_title=model.name)
     return 0 if ok else 1

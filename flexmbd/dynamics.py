@@ -60,7 +60,8 @@ def mass_matrix(model: Model, x: np.ndarray) -> np.ndarray:
 
 
 def reduced_mass_matrix(model: Model, x: np.ndarray) -> np.ndarray:
-    """``Mbar = F_q^T M F_q`` ``(nq, nq)`` at the configuration ``x`` (THEORY 7): the mass
+    """``Mbar = F_q^T M F_q`` ``(nq, nq)`` [kg, kg m, kg m^2] at the configuration ``x``
+    ``(nx,)`` [m, rad] (THEORY 7): the mass
     matrix of the generalized coordinates ``q = [x(m); e(m)]``."""
     x = coordinates(model, x)
     F_q = first_order_transfer(model, x)

@@ -370,7 +370,8 @@ def q_index(model: Model, label: str, argument: str = "label") -> int:
 
 
 def initial_q(model: Model) -> np.ndarray:
-    """``q`` of the initial configuration: ``x(m)`` from ``x0``, ``e(m) = 0``."""
+    """``q`` ``(nq,)`` [m, rad] of the initial configuration: ``x(m)`` from ``x0``,
+    ``e(m) = 0``."""
     return np.concatenate([np.asarray(model.x0)[model.independent_coordinates],
                            np.zeros(len(model.independent_deformations))])
 

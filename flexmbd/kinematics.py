@@ -53,22 +53,26 @@ def generalized(model: Model, q, name: str = "q") -> np.ndarray:
 
 
 def deformations(model: Model, x: np.ndarray) -> np.ndarray:
-    """Deformation parameters ``e = D(x)``, shape ``(ne,)``."""
+    """Deformation parameters ``e = D(x)`` [m, rad], shape ``(ne,)``, at the coordinates
+    ``x`` [m, rad] ``(nx,)``."""
     return _engine.deformations_and_jacobian(model, coordinates(model, x))[0]
 
 
 def jacobian(model: Model, x: np.ndarray) -> np.ndarray:
-    """``D_x = dD/dx``, shape ``(ne, nx)`` (dense)."""
+    """``D_x = dD/dx``, shape ``(ne, nx)`` (dense), at ``x`` [m, rad] ``(nx,)``; an entry is
+    [m/m], [m/rad], [rad/m] or [rad/rad] by the deformation and the coordinate."""
     return dense_jacobian(model, coordinates(model, x))
 
 
 def hessian(model: Model, x: np.ndarray) -> np.ndarray:
-    """``D_xx``, shape ``(ne, nx, nx)`` (dense; meant for small models and checks)."""
+    """``D_xx``, shape ``(ne, nx, nx)``, at ``x`` [m, rad] ``(nx,)`` (dense; meant for small
+    models and checks)."""
     return dense_hessian(model, coordinates(model, x))
 
 
 def quadratic_velocity(model: Model, x: np.ndarray, xd: np.ndarray) -> np.ndarray:
-    """``(D_xx xdot) xdot`` per deformation, shape ``(ne,)`` (THEORY section 2)."""
+    """``(D_xx xdot) xdot`` per deformation [m/s^2, rad/s^2], shape ``(ne,)``, at ``x``
+    ``(nx,)`` [m, rad] with rates ``xd`` ``(nx,)`` [m/s, rad/s] (THEORY section 2)."""
     return _engine.quadratic_velocity(model, coordinates(model, x), coordinates(model, xd, "xd"))
 
 
@@ -141,7 +145,9 @@ class PositionSolution:
 
 def partition_jacobian(model: Model, x: np.ndarray, time: float | None = None
                        ) -> PartitionedJacobian:
-    """Split ``D_x`` at ``x`` into ``x(o)``, ``x(c)``, ``x(m)`` columns and factorise ``D_c``.
+    """Split ``D_x`` at ``x`` ``(nx,)`` [m, rad] into ``x(o)``, ``x(c)``, ``x(m)`` columns
+    and factorise ``D_c``: a :class:`PartitionedJacobian` whose blocks have one row per
+    deformation ``(ne, ...)`` and one column per coordinate of their class.
 
     Raises:
         SingularConfigurationError: ``D_c`` is singular at ``x``.
@@ -167,7 +173,8 @@ def _partition(engine: Engine, x: np.ndarray, time: float | None) -> Partitioned
 def position_analysis(model: Model, q: np.ndarray, x_guess: np.ndarray | None = None, *,
                       time: float | None = None, tolerance: float | None = None,
                       max_iterations: int = _engine.MAX_ITERATIONS) -> PositionSolution:
-    """:func:`solve_position` that also returns the partitioned Jacobian at the solution."""
+    """:func:`solve_position` that also returns the partitioned Jacobian at the solution:
+    a :class:`PositionSolution` with ``x`` ``(nx,)`` [m, rad] and its ``jacobian``."""
     engine = Engine(model, tolerance, max_iterations)
     guess = None if x_guess is None else coordinates(model, x_guess, "x_guess")
     x = engine.positions(generalized(model, q), guess, time)
@@ -189,15 +196,17 @@ def _rates(model: Model, x: np.ndarray, qd: np.ndarray, qdd: np.ndarray
 
 
 def velocities(model: Model, x: np.ndarray, qd: np.ndarray) -> np.ndarray:
-    """``xdot`` ``(nx,)`` from ``qdot = [xdot(m); edot(m)]`` by the partitioned solve
+    """``xdot`` ``(nx,)`` [m/s, rad/s] at ``x`` ``(nx,)`` [m, rad] from
+    ``qdot = [xdot(m); edot(m)]`` ``(nq,)`` by the partitioned solve
     ``D_c xdot(c) = [0; edot(m)] - [de(o)/dx(m); de(m)/dx(m)] xdot(m)`` (THEORY 4)."""
     qd = generalized(model, qd, "qd")
     return _rates(model, coordinates(model, x), qd, np.zeros(model.n_dof))["xd"]
 
 
 def accelerations(model: Model, x: np.ndarray, xd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
-    """``xddot`` ``(nx,)`` from ``qddot`` with the quadratic velocity terms of the velocities
-    ``xd`` (THEORY 4)."""
+    """``xddot`` ``(nx,)`` [m/s^2, rad/s^2] at ``x`` ``(nx,)`` [m, rad] from ``qddot``
+    ``(nq,)`` with the quadratic velocity terms of the velocities ``xd`` ``(nx,)``
+    [m/s, rad/s] (THEORY 4)."""
     x, xd = coordinates(model, x), coordinates(model, xd, "xd")
     e_rates = jacobian(model, x) @ xd
     qd = np.concatenate([xd[model.independent_coordinates],
@@ -207,7 +216,8 @@ def accelerations(model: Model, x: np.ndarray, xd: np.ndarray, qdd: np.ndarray) 
 
 def first_order_transfer(model: Model, x: np.ndarray) -> np.ndarray:
     """``F_q = dx/dq`` ``(nx, nq)``: ``xdot = F_q qdot``; column ``j`` is the velocity for
-    a unit rate of ``q_j`` (THEORY 4)."""
+    a unit rate of ``q_j`` (THEORY 4). ``x`` ``(nx,)`` [m, rad]; an entry has the unit of its
+    coordinate per unit of its entry of ``q`` (m/m, m/rad, rad/rad, ...)."""
     x = coordinates(model, x)
     engine, q = Engine(model), _q_at(model, x)
     zero = np.zeros(model.n_dof)
@@ -217,7 +227,8 @@ def first_order_transfer(model: Model, x: np.ndarray) -> np.ndarray:
 
 def deformation_transfer(model: Model, x: np.ndarray, F_q: np.ndarray | None = None
                          ) -> np.ndarray:
-    """``E_q = D_x F_q`` ``(ne, nq)``: ``edot = E_q qdot``."""
+    """``E_q = D_x F_q`` ``(ne, nq)`` at ``x`` ``(nx,)`` [m, rad]: ``edot = E_q qdot``; an
+    entry has the unit of its deformation per unit of its entry of ``q``."""
     x = coordinates(model, x)
     if F_q is None:
         F_q = first_order_transfer(model, x)
@@ -225,7 +236,8 @@ def deformation_transfer(model: Model, x: np.ndarray, F_q: np.ndarray | None = N
 
 
 def second_order_transfer(model: Model, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``F_qq`` ``(nx, nq, nq)`` and ``E_qq`` ``(ne, nq, nq)``, the derivatives of F_q, E_q.
+    """``F_qq`` ``(nx, nq, nq)`` and ``E_qq`` ``(ne, nq, nq)``, the derivatives of F_q, E_q,
+    at ``x`` ``(nx,)`` [m, rad]; units of ``x`` (``e``) per unit of ``q`` squared.
 
     ``xddot = F_q qddot + (F_qq qdot) qdot``: the accelerations at ``qddot = 0`` are the
     quadratic form ``(F_qq qdot) qdot`` (and ``(E_qq qdot) qdot``), whose entries follow

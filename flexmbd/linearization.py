@@ -64,9 +64,9 @@ class Linearization:
         driving: ``tau = Mbar qddot - g`` ``(nq,)``: the load each entry of ``q`` needs to
             follow the state; zero on dynamic entries at an equilibrium or along a solution.
         reactions: loads of supports and drives ``(nx,)`` (THEORY 8).
-        F_q: ``dx/dq`` ``(nx, nq)``; E_q: ``de/dq`` ``(ne, nq)``.
+        F_q: ``dx/dq`` ``(nx, nq)``.
+        E_q: ``de/dq`` ``(ne, nq)``.
         M0, C0, D0, K0, N0, G0: ``(nq, nq)``, see the module docstring.
-        dynamic: positions in ``q`` of the dynamic degrees of freedom.
     """
 
     model: Model
@@ -91,6 +91,7 @@ class Linearization:
 
     @property
     def dynamic(self) -> np.ndarray:
+        """Indices of the dynamic entries of ``q`` (not inputs), shape ``(nd,)``."""
         return np.flatnonzero(~np.asarray(self.model.q_is_input))
 
     def block(self, name: str, rows: str = "d", columns: str = "d") -> np.ndarray:

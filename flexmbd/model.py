@@ -209,10 +209,12 @@ class Model:
     # --- sizes --------------------------------------------------------------------------
     @property
     def n_coordinates(self) -> int:
+        """``nx``, the number of nodal coordinates."""
         return len(self.x0)
 
     @property
     def n_deformations(self) -> int:
+        """``ne``, the number of deformation parameters."""
         return len(self.deformation_class)
 
     @property

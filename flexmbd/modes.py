@@ -72,7 +72,9 @@ class Buckling:
 
 
 def vibration_modes(linearization: Linearization, count: int | None = None) -> Modes:
-    """The ``count`` lowest vibration modes (all by default) of a linearized state.
+    """The ``count`` lowest vibration modes (all by default) of a linearized state: a
+    :class:`Modes` with ``frequencies`` ``(k,)`` [Hz] and ``shapes`` ``(nd, k)`` over the
+    ``nd`` dynamic degrees of freedom.
 
     Raises:
         SingularConfigurationError: the reduced mass matrix is not positive definite (a
@@ -187,7 +189,7 @@ class ModesAlong:
     omega2: np.ndarray
 
     def columns(self) -> dict[str, np.ndarray]:
-        """``t`` and ``f1 .. fk`` [Hz], for a table or a result file."""
+        """The columns ``t`` [s] and ``f1`` to ``fk`` [Hz], for a table or a result file."""
         return {"t": self.t, **{f"f{k + 1}": self.frequencies[:, k]
                                 for k in range(self.frequencies.shape[1])}}
 
@@ -197,7 +199,7 @@ def modes_along(result: KinematicResult, count: int = 6, progress: bool | None =
     """The ``count`` lowest vibration frequencies at every row of a motion (a simulation,
     an inverse-dynamics or a kinematic result): the linearization about each state
     ``(x, qdot, qddot)`` with its inertia terms ``N0`` (SPACAR's linearization along a
-    trajectory)."""
+    trajectory). Returns a :class:`ModesAlong` with ``frequencies`` ``(nt, count)`` [Hz]."""
     if not isinstance(result, KinematicResult):
         raise ArgumentError("result", f"must be a flexmbd result (simulate, "
                                       f"kinematic_analysis, ...), got {type(result).__name__}")
@@ -226,7 +228,8 @@ def modes_along(result: KinematicResult, count: int = 6, progress: bool | None =
 
 def buckling(linearization: Linearization, count: int | None = None) -> Buckling:
     """Load factors ``lambda`` with ``(K0 + lambda G0) phi = 0`` (``eig(-K0, G0)``): the
-    multiples of the state's loads at which the structure buckles.
+    multiples of the state's loads at which the structure buckles: a :class:`Buckling`
+    with ``count`` factors ``(k,)`` [-], ascending, and their shapes.
 
     Raises:
         ArgumentError: the state has no geometric stiffness (no loads, no stresses).

@@ -149,7 +149,9 @@ class KinematicResult:
 class SimulationResult(KinematicResult):
     """A forward simulation or inverse-dynamics run: kinematics plus dynamics.
 
-    Additional attributes:
+    It has the attributes of :class:`KinematicResult` and these.
+
+    Attributes:
         q, qd, qdd: generalized coordinates ``[x(m); e(m)]`` and their derivatives
             ``(nt, nq)``, labelled by ``model.q_labels``.
         sigma: generalized stresses ``(nt, ne)`` [N, N m]: the elastic law on dynamic

@@ -34,7 +34,10 @@ class StateSpace:
     """``z' = A z + B u``, ``y = C z + D u`` (module docstring).
 
     Attributes:
-        A ``(2 nd, 2 nd)``, B ``(2 nd, ni)``, C ``(no, 2 nd)``, D ``(no, ni)``.
+        A: state matrix ``(2 nd, 2 nd)`` for ``nd`` dynamic degrees of freedom.
+        B: input matrix ``(2 nd, ni)`` for ``ni`` inputs.
+        C: output matrix ``(no, 2 nd)`` for ``no`` outputs.
+        D: feedthrough ``(no, ni)``.
         inputs: labels of the loaded coordinates (``"x5.2"``) [N, N m].
         outputs: labels of the outputs: coordinates (``"x5.2"``) [m, rad] and rates
             (``"xd5.2"``) [m/s, rad/s].
@@ -115,7 +118,9 @@ def state_space(linearization: Linearization, inputs, outputs=(), rate_outputs=(
             by ``M Phi diag(2 zeta omega) Phi^T M``; default the model's damping.
 
     Returns:
-        :class:`StateSpace`.
+        :class:`StateSpace` with ``A`` ``(2 nd, 2 nd)``, ``B`` ``(2 nd, ni)``, ``C``
+        ``(no, 2 nd)`` and ``D`` ``(no, ni)``; inputs in [N, N m], outputs in [m, rad] and
+        rates in [m/s, rad/s].
     """
     lin = linearization
     model, dynamic = lin.model, lin.dynamic

@@ -37,10 +37,11 @@ class StaticResult(SimulationResult):
     """Equilibria along load steps: the columns of a :class:`SimulationResult` (rates zero)
     with the load factor in place of time.
 
-    Additional attributes:
-        applied: loads on top of the model's own at each row ``(n, nx)`` [N, N m].
     The column ``"load"`` (also ``t``) is the load factor, 0 for the model's loads and 1
     with the full increments.
+
+    Attributes:
+        applied: loads on top of the model's own at each row ``(n, nx)`` [N, N m].
     """
 
     applied: np.ndarray | None = None

@@ -1,6 +1,7 @@
 """Reading a planar SPACAR input file into a model and its run settings.
 
-Readings chosen where the format leaves room (documented in the README):
+Readings chosen where the format leaves room (the user guide's page on SPACAR files
+lists them with every keyword, its table made from :mod:`flexmbd.dat.syntax`):
 
 * element lines name their nodes in the order of the element type's roles; the
   types come from :data:`flexmbd.elements.ELEMENT_TYPES` (SPACAR's ``PLBEAM``,

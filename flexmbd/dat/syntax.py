@@ -37,12 +37,14 @@ class Argument:
 @dataclass(frozen=True)
 class Syntax:
     """Arguments of a keyword: required ones, optional ones, then any number of ``rest``
-    (at least ``min_rest``)."""
+    (at least ``min_rest``), and what the keyword means (the user guide's table of
+    keywords is made from these)."""
 
     required: tuple[Argument, ...]
     optional: tuple[Argument, ...] = ()
     rest: Argument | None = None
     min_rest: int = 0
+    meaning: str = ""
 
     def usage(self, keyword: str) -> str:
         words = [keyword, *(a.name for a in self.required),
@@ -59,49 +61,90 @@ def _args(spec: str) -> tuple[Argument, ...]:
                  (word.split(":") for word in spec.split()))
 
 
-def _syntax(required: str, optional: str = "", rest: str = "", min_rest: int = 0) -> Syntax:
-    return Syntax(_args(required), _args(optional), _args(rest)[0] if rest else None, min_rest)
+def _syntax(required: str, optional: str = "", rest: str = "", min_rest: int = 0, *,
+            meaning: str) -> Syntax:
+    return Syntax(_args(required), _args(optional), _args(rest)[0] if rest else None, min_rest,
+                  meaning)
+
+
+def _element_meaning(etype) -> str:
+    deformations = ", ".join(f"{k + 1} {name}" for k, name in enumerate(etype.deformation_names))
+    return f"a {etype.name} element and its nodes; deformations: {deformations}"
 
 
 #: block 1: elements (their nodes as the element types name them), positions and the
 #: classification of coordinates and deformations
 KINEMATICS = {
-    **{keyword: _syntax(" ".join(["element:int", *(f"{r.name}:int" for r in etype.roles)]))
+    **{keyword: _syntax(" ".join(["element:int", *(f"{r.name}:int" for r in etype.roles)]),
+                        meaning=_element_meaning(etype))
        for keyword, etype in ELEMENT_TYPES.items()},
-    "X": _syntax("node:int x:float y:float"),
-    "FIX": _syntax("node:int", rest="direction:int"),
-    "INPUTX": _syntax("node:int", rest="direction:int"),
-    "DYNX": _syntax("node:int", rest="direction:int"),
-    "INPUTE": _syntax("element:int", rest="deformation:int"),
-    "DYNE": _syntax("element:int", rest="deformation:int"),
-    "RLSE": _syntax("element:int", rest="deformation:int"),
+    "X": _syntax("node:int x:float y:float",
+                 meaning="initial position [m] of a translational node"),
+    "FIX": _syntax("node:int", rest="direction:int",
+                   meaning="fixes coordinates of a node (all when no direction is given)"),
+    "INPUTX": _syntax("node:int", rest="direction:int",
+                      meaning="makes coordinates of a node kinematic inputs (prescribed)"),
+    "DYNX": _syntax("node:int", rest="direction:int",
+                    meaning="makes coordinates of a node dynamic degrees of freedom"),
+    "INPUTE": _syntax("element:int", rest="deformation:int",
+                      meaning="makes deformations of an element kinematic inputs (a driven "
+                              "hinge, a prescribed elongation)"),
+    "DYNE": _syntax("element:int", rest="deformation:int",
+                    meaning="makes deformations of an element dynamic degrees of freedom "
+                            "(flexible)"),
+    "RLSE": _syntax("element:int", rest="deformation:int",
+                    meaning="releases deformations of an element: calculated from the "
+                            "coordinates, neither rigid nor a degree of freedom"),
 }
 
 #: block 2: properties, loads, input laws, initial values and run settings
 DYNAMICS = {
-    "EM": _syntax("element:int rhoA:float", "rhoI:float"),
-    "EMLUMP": _syntax("element:int rhoA:float"),  # flexmbd: lumped instead of consistent
-    "ESTIFF": _syntax("element:int", rest="stiffness:float", min_rest=1),
-    "EDAMP": _syntax("element:int", rest="damping:float", min_rest=1),
-    "ESIG": _syntax("element:int deformation:int sigma0:float"),
-    "XM": _syntax("node:int mass:float"),
-    "XF": _syntax("node:int", rest="load:float", min_rest=1),
-    "GRAVITY": _syntax("gx:float gy:float"),
-    "INPUTX": _syntax("node:int direction:int x0:float", "v0:float a0:float"),
-    "INPUTE": _syntax("element:int deformation:int e0:float", "v0:float a0:float"),
-    "STARTDE": _syntax("element:int deformation:int e0:float", "edot0:float"),
-    "STARTDX": _syntax("node:int direction:int x0:float", "xdot0:float"),
-    "TIMESTEP": _syntax("t_end:float steps:int"),
+    "EM": _syntax("element:int rhoA:float", "rhoI:float",
+                  meaning="mass per length [kg/m] of an element, consistent (rhoI must be 0)"),
+    "EMLUMP": _syntax("element:int rhoA:float",  # flexmbd: lumped instead of consistent
+                      meaning="flexmbd's own: mass per length [kg/m], lumped at the nodes"),
+    "ESTIFF": _syntax("element:int", rest="stiffness:float", min_rest=1,
+                      meaning="stiffness values of an element in its type's order (a beam: "
+                              "EA [N], EI [N m^2], optionally GA_s [N])"),
+    "EDAMP": _syntax("element:int", rest="damping:float", min_rest=1,
+                     meaning="damping values of an element in its type's order"),
+    "ESIG": _syntax("element:int deformation:int sigma0:float",
+                    meaning="pre-stress of a deformation [N or N m]"),
+    "XM": _syntax("node:int mass:float",
+                  meaning="a point mass [kg] on a translational node, a rotary inertia "
+                          "[kg m^2] on a rotational one"),
+    "XF": _syntax("node:int", rest="load:float", min_rest=1,
+                  meaning="constant load on a node: Fx Fy [N], or a moment [N m]"),
+    "GRAVITY": _syntax("gx:float gy:float", meaning="gravitational acceleration [m/s^2]"),
+    "INPUTX": _syntax("node:int direction:int x0:float", "v0:float a0:float",
+                      meaning="law x0 + v0 t + a0 t^2/2 of an input coordinate"),
+    "INPUTE": _syntax("element:int deformation:int e0:float", "v0:float a0:float",
+                      meaning="law e0 + v0 t + a0 t^2/2 of an input deformation"),
+    "STARTDE": _syntax("element:int deformation:int e0:float", "edot0:float",
+                       meaning="initial value and rate of a dynamic deformation"),
+    "STARTDX": _syntax("node:int direction:int x0:float", "xdot0:float",
+                       meaning="initial value and rate of a dynamic coordinate"),
+    "TIMESTEP": _syntax("t_end:float steps:int",
+                        meaning="end time [s] and number of output intervals (steps + 1 rows)"),
     # SPACAR's order: iteration limit, load steps, tolerance, then solver flags
-    "ITERSTEP": _syntax("max_iterations:int", "load_steps:int tolerance:float", rest="flag:float"),
-    "ERROR": _syntax("atol:float rtol:float"),
+    "ITERSTEP": _syntax("max_iterations:int", "load_steps:int tolerance:float", rest="flag:float",
+                        meaning="Newton iteration limit, static load steps and position "
+                                "tolerance [m, rad]; SPACAR's solver flags are not used"),
+    "ERROR": _syntax("atol:float rtol:float",
+                     meaning="absolute and relative tolerance of the integrator"),
     # static load steps and the linear model (SPACAR's modes 9 and 10)
-    "DELXF": _syntax("node:int", rest="load:float", min_rest=1),
-    "DELINPX": _syntax("node:int direction:int delta:float"),
-    "DELINPE": _syntax("element:int deformation:int delta:float"),
-    "INPUTF": _syntax("node:int", rest="direction:int"),
-    "OUTX": _syntax("node:int", rest="direction:int"),
-    "OUTXP": _syntax("node:int", rest="direction:int"),
+    "DELXF": _syntax("node:int", rest="load:float", min_rest=1,
+                     meaning="load increment over the static load steps, as XF"),
+    "DELINPX": _syntax("node:int direction:int delta:float",
+                       meaning="increment of an input coordinate over the load steps"),
+    "DELINPE": _syntax("element:int deformation:int delta:float",
+                       meaning="increment of an input deformation over the load steps"),
+    "INPUTF": _syntax("node:int", rest="direction:int",
+                      meaning="force inputs of the state-space model"),
+    "OUTX": _syntax("node:int", rest="direction:int",
+                    meaning="position outputs of the state-space model"),
+    "OUTXP": _syntax("node:int", rest="direction:int",
+                     meaning="velocity outputs of the state-space model"),
 }
 
 #: spatial (3D) keywords of SPACAR that flexmbd does not read

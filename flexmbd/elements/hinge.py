@@ -28,4 +28,5 @@ class Hinge(ElementType):
 
     @classmethod
     def elastic_law(cls, p, stiffness, damping):
+        """The torsional spring ``k`` [N m/rad] and damper ``c`` [N m s/rad], ``(n, 1, 1)``."""
         return stiffness["hinge"][:, None, None].copy(), damping["hinge"][:, None, None].copy()

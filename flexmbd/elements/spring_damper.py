@@ -38,6 +38,7 @@ class SpringDamper(ElementType):
 
     @classmethod
     def elastic_law(cls, p, stiffness, damping):
+        """The spring ``k`` [N/m] and damper ``c`` [N s/m], each ``(n, 1, 1)``."""
         return stiffness["spring"][:, None, None].copy(), damping["spring"][:, None, None].copy()
 
     @classmethod

@@ -1,0 +1,74 @@
+"""Sphinx configuration of the flexmbd documentation.
+
+Build: ``pip install -e '.[docs]' && sphinx-build -W -b html docs docs/_build/html``.
+The gallery runs every script of ``examples/gallery`` at build time; with
+``FLEXMBD_DOCS_QUICK=1`` in the environment the scripts take fewer steps and
+frames (the test suite builds the docs that way).
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+import matplotlib
+
+import flexmbd
+
+matplotlib.use("Agg")
+# the gallery saves each animation's thumbnail with the default writer: Pillow needs no binary
+matplotlib.rcParams["animation.writer"] = "pillow"
+sys.path.insert(0, str(Path(__file__).parent / "_ext"))
+
+project = "flexmbd"
+author = "the flexmbd developers"
+copyright = "2026, the flexmbd developers"
+release = flexmbd.__version__
+version = release
+
+extensions = [
+    "myst_parser",
+    "sphinx.ext.autodoc",
+    "sphinx.ext.autosummary",
+    "sphinx.ext.napoleon",
+    "sphinx.ext.mathjax",
+    "sphinx_gallery.gen_gallery",
+    "flexmbd_tables",
+]
+
+source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
+exclude_patterns = ["_build", "gallery/*.ipynb", "gallery/*.py", "gallery/*.zip",
+                    "gallery/*.md5", "gallery/*.codeobj.json"]
+root_doc = "index"
+
+# MyST: $...$ maths, ::: fences, anchors for links to headings of other pages
+myst_enable_extensions = ["dollarmath", "colon_fence", "deflist"]
+myst_heading_anchors = 3
+
+# API reference: one page per name of flexmbd.__all__, from the docstrings
+autosummary_generate = True
+autodoc_default_options = {"members": True, "show-inheritance": True}
+autodoc_member_order = "bysource"
+autodoc_typehints = "signature"
+napoleon_google_docstring = True
+napoleon_numpy_docstring = False
+
+sphinx_gallery_conf = {
+    "examples_dirs": "../examples/gallery",
+    "gallery_dirs": "gallery",
+    "filename_pattern": r"plot_",
+    "matplotlib_animations": (True, "jshtml"),
+    "within_subsection_order": "FileNameSortKey",
+    "download_all_examples": False,
+    "remove_config_comments": True,
+    "show_memory": False,
+    "plot_gallery": "True",
+}
+
+html_theme = "furo"
+html_title = f"flexmbd {release}"
+html_static_path: list[str] = []
+# quick builds say so on every page, so a reduced gallery is never mistaken for the real one
+if os.environ.get("FLEXMBD_DOCS_QUICK") == "1":
+    html_title += " (quick build: reduced gallery resolution)"

@@ -1,0 +1,165 @@
+"""The documentation: it builds without warnings, its links resolve, its code runs, and its
+API reference and tables follow the library.
+
+The build (``sphinx-build -W``, gallery included, at the reduced resolution of
+``FLEXMBD_DOCS_QUICK=1``) runs once per session into a temporary directory; it writes
+the generated API pages and gallery into ``docs/generated`` and ``docs/gallery``, which
+git ignores.
+"""
+
+from __future__ import annotations
+
+import html.parser
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+from urllib.parse import unquote, urlsplit
+
+import pytest
+
+import flexmbd as fm
+from flexmbd.dat import syntax
+
+ROOT = Path(__file__).resolve().parents[1]
+DOCS = ROOT / "docs"
+PAGES = sorted(p for p in DOCS.rglob("*.md") if not p.is_relative_to(DOCS / "_build"))
+GUIDE_PAGES = [p for p in PAGES if p.name != "benchmarks-record.md"]
+
+
+# --- the build ---------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def site(tmp_path_factory) -> Path:
+    """The HTML site, built as the README says, with warnings as errors."""
+    out = tmp_path_factory.mktemp("html")
+    env = {**os.environ, "FLEXMBD_DOCS_QUICK": "1", "MPLBACKEND": "Agg"}
+    done = subprocess.run([sys.executable, "-m", "sphinx", "-W", "-E", "-q", "-b", "html",
+                           str(DOCS), str(out)], capture_output=True, text=True, env=env,
+                          timeout=600)
+    assert done.returncode == 0, f"sphinx-build failed:\n{done.stderr[-5000:]}"
+    return out
+
+
+def test_docs_build_without_warnings(site):
+    assert (site / "index.html").is_file()
+    assert (site / "api.html").is_file()
+
+
+class _Links(html.parser.HTMLParser):
+    """The ids and the href/src targets of one HTML page."""
+
+    def __init__(self):
+        super().__init__()
+        self.ids: set[str] = set()
+        self.targets: list[str] = []
+
+    def handle_starttag(self, tag, attrs):
+        attrs = dict(attrs)
+        if "id" in attrs:
+            self.ids.add(attrs["id"])
+        if tag == "a" and attrs.get("name"):
+            self.ids.add(attrs["name"])
+        for key in ("href", "src"):
+            if attrs.get(key):
+                self.targets.append(attrs[key])
+
+
+def _parse(page: Path) -> _Links:
+    links = _Links()
+    links.feed(page.read_text(encoding="utf-8", errors="replace"))
+    return links
+
+
+def test_internal_links_resolve(site):
+    """Every relative link of every page reaches a file of the site, and its #anchor an id
+    of that file; no link leaves the site except to a public web page."""
+    pages = {p: _parse(p) for p in site.rglob("*.html")}
+    broken = []
+    for page, links in pages.items():
+        for target in links.targets:
+            parts = urlsplit(target)
+            if parts.scheme in ("http", "https", "mailto", "data", "javascript"):
+                continue
+            assert not parts.scheme, f"{page.name}: link {target!r}"
+            path = (page.parent / unquote(parts.path)).resolve() if parts.path else page
+            if not path.is_relative_to(site.resolve()) or not path.exists():
+                broken.append(f"{page.relative_to(site)}: {target}")
+                continue
+            if parts.fragment and path.suffix == ".html":
+                ids = pages[path].ids if path in pages else _parse(path).ids
+                if unquote(parts.fragment) not in ids:
+                    broken.append(f"{page.relative_to(site)}: {target} (no such anchor)")
+    assert not broken, "broken links:\n" + "\n".join(sorted(set(broken)))
+
+
+def test_api_reference_lists_every_public_name(site):
+    """A page per name of ``flexmbd.__all__``, linked from the API reference."""
+    api = (site / "api.html").read_text()
+    missing = [name for name in fm.__all__ if name != "__version__"
+               and f'href="generated/flexmbd.{name}.html' not in api]
+    assert not missing, f"not in the API reference: {missing}"
+
+
+def test_gallery_runs_every_example_with_pictures_and_animations(site):
+    scripts = sorted((ROOT / "examples" / "gallery").glob("plot_*.py"))
+    assert len(scripts) >= 5
+    animations = 0
+    for script in scripts:
+        page = site / "gallery" / f"{script.stem}.html"
+        text = page.read_text()
+        assert "sphx-glr-single-img" in text or "sphx-glr-multi-img" in text, \
+            f"{script.name} made no picture"
+        animations += "sphx-glr-animation" in text
+    assert animations >= 2
+
+
+# --- without a build -----------------------------------------------------------------------
+def test_api_source_lists_exactly_the_public_names():
+    """``docs/api.rst`` names every entry of ``flexmbd.__all__`` once and nothing else
+    (besides the modules it documents), so a new or removed name fails here first."""
+    text = (DOCS / "api.rst").read_text()
+    names = re.findall(r"^   ([A-Za-z_][A-Za-z0-9_]*)$", text, flags=re.M)
+    modules = {"plot", "symbolic"}
+    listed = [n for n in names if n not in modules]
+    assert sorted(listed) == sorted(n for n in fm.__all__ if n != "__version__")
+    assert len(listed) == len(set(listed))
+
+
+def test_every_keyword_has_a_meaning():
+    """The user guide's keyword tables are made from these (docs/_ext/flexmbd_tables.py)."""
+    for table in (syntax.KINEMATICS, syntax.DYNAMICS):
+        for keyword, spec in table.items():
+            assert spec.meaning, keyword
+
+
+def test_nothing_points_outside_the_repository():
+    """The README and the docs link into the repository or to public pages, never to
+    files next to it (a clone has nothing there)."""
+    texts = {p: p.read_text() for p in [ROOT / "README.md", *PAGES, DOCS / "api.rst"]}
+    for path, text in texts.items():
+        assert "../shared" not in text, path
+        for target in re.findall(r"\]\(([^)\s]+)\)", text):
+            parts = urlsplit(target)
+            if parts.scheme in ("http", "https", "mailto") or not parts.path:
+                continue
+            resolved = (path.parent / parts.path).resolve()
+            assert resolved.is_relative_to(ROOT), f"{path.name}: {target}"
+            assert resolved.exists(), f"{path.name}: {target} does not exist"
+
+
+# --- the guide's code ------------------------------------------------------------------------
+def _blocks(page: Path) -> list[str]:
+    return re.findall(r"```python\n(.*?)```", page.read_text(), flags=re.S)
+
+
+@pytest.mark.parametrize("page", [p for p in GUIDE_PAGES if _blocks(p)],
+                         ids=lambda p: str(p.relative_to(DOCS)))
+def test_guide_code_runs(page, tmp_path, monkeypatch):
+    """The Python blocks of a page run in order, in one namespace, as a reader would paste
+    them (a block's ``if __name__ == "__main__":`` part too)."""
+    pytest.importorskip("sympy")
+    monkeypatch.chdir(tmp_path)  # blocks write files
+    namespace = {"__name__": "__main__"}
+    for k, block in enumerate(_blocks(page), start=1):
+        exec(compile(block, f"{page.relative_to(DOCS)} block {k}", "exec"), namespace)
