@@ -8,6 +8,7 @@ frames (the test suite builds the docs that way).
 
 from __future__ import annotations
 
+import logging
 import os
 import sys
 from pathlib import Path
@@ -19,6 +20,7 @@ import flexmbd
 matplotlib.use("Agg")
 # the gallery saves each animation's thumbnail with the default writer: Pillow needs no binary
 matplotlib.rcParams["animation.writer"] = "pillow"
+logging.getLogger("matplotlib.animation").setLevel(logging.WARNING)  # "saving with ..." lines
 sys.path.insert(0, str(Path(__file__).parent / "_ext"))
 
 project = "flexmbd"
@@ -64,6 +66,8 @@ sphinx_gallery_conf = {
     "remove_config_comments": True,
     "show_memory": False,
     "plot_gallery": "True",
+    # every build runs every script, so a quick build's pictures never stand in for a full one
+    "run_stale_examples": True,
 }
 
 html_theme = "furo"
