@@ -18,8 +18,6 @@ import matplotlib
 import flexmbd
 
 matplotlib.use("Agg")
-# the gallery saves each animation's thumbnail with the default writer: Pillow needs no binary
-matplotlib.rcParams["animation.writer"] = "pillow"
 logging.getLogger("matplotlib.animation").setLevel(logging.WARNING)  # "saving with ..." lines
 sys.path.insert(0, str(Path(__file__).parent / "_ext"))
 
@@ -68,6 +66,8 @@ sphinx_gallery_conf = {
     "plot_gallery": "True",
     # every build runs every script, so a quick build's pictures never stand in for a full one
     "run_stale_examples": True,
+    # matplotlib's defaults, then Pillow for the animations' thumbnails (no ffmpeg needed)
+    "reset_modules": ("matplotlib", "gallery_setup.pillow_writer"),
 }
 
 html_theme = "furo"
