@@ -9,7 +9,18 @@ it with the functions below; every analysis runs on the compiled core
 
 from .builder import ModelBuilder
 from .dynamics import inverse_dynamics, mass_matrix, reduced_mass_matrix, simulate
-from .elements import Beam, Hinge, RigidBeam, SecondOrderBeam, SpringDamper, Truss
+from .elements import (
+    Beam,
+    EulerNormalization,
+    Hinge,
+    RigidBeam,
+    SecondOrderBeam,
+    SpatialBeam,
+    SpatialHinge,
+    SpatialTruss,
+    SpringDamper,
+    Truss,
+)
 from .errors import (
     ArgumentError,
     ColumnError,
@@ -80,6 +91,7 @@ __all__ = [
     "CoordinateClass",
     "Custom",
     "DeformationClass",
+    "EulerNormalization",
     "Expression",
     "FlexmbdError",
     "Hinge",
@@ -99,6 +111,9 @@ __all__ = [
     "SimulationError",
     "SimulationResult",
     "SingularConfigurationError",
+    "SpatialBeam",
+    "SpatialHinge",
+    "SpatialTruss",
     "SpringDamper",
     "StateSpace",
     "StaticResult",

@@ -20,15 +20,21 @@ from . import checks
 from .diagnosis import diagnose_rank, negative_mass_problem
 from .elements import (
     ELEMENT_TYPES,
-    ROTATIONAL,
+    SPATIAL_ROTATIONAL,
+    SPATIAL_TRANSLATIONAL,
     TRANSLATIONAL,
     Beam,
     ElementType,
+    EulerNormalization,
     Hinge,
     RigidBeam,
     SecondOrderBeam,
+    SpatialBeam,
+    SpatialHinge,
+    SpatialTruss,
     Truss,
 )
+from .elements.base import is_translational
 from .engine import dense_jacobian
 from .errors import ArgumentError, ModelError, Problem
 from .model import (
@@ -81,7 +87,7 @@ class _Request:
 
 
 class ModelBuilder:
-    """Describe a planar mechanism in SPACAR terms, then :meth:`build` it.
+    """Describe a mechanism, planar or spatial, in SPACAR terms, then :meth:`build` it.
 
     Example (the sliding bar of EXERCISES 1 as a truss)::
 
@@ -95,7 +101,12 @@ class ModelBuilder:
     Node and element numbers are positive integers of your choice. A node's
     kind (translational or rotational) follows from the elements that use it;
     translational nodes need a position, rotational nodes start at angle 0.
-    Directions are SPACAR numbers (1, 2) or names (``"x"``, ``"y"``, ``"phi"``);
+    Spatial models use the spatial types (:meth:`add_spatial_beam`, ...): their
+    translational nodes have a position ``(x, y, z)`` and their rotational nodes four
+    Euler parameters, ``(1, 0, 0, 0)`` at the start, each normalized by an Euler element
+    the builder adds after the user's elements. A model is planar or spatial, not both.
+    Directions are SPACAR numbers (1, 2) or names (``"x"``, ``"y"``, ``"phi"``;
+    ``"z"``, ``"lam0"`` .. ``"lam3"`` in space);
     without directions a request covers all coordinates of the node (all
     deformations of the element). Coordinates not classified are dependent;
     deformations not classified are rigid. All methods return the builder.
@@ -103,29 +114,34 @@ class ModelBuilder:
 
     def __init__(self, name: str = "model"):
         self.name = name
-        self._positions: dict[int, tuple[float, float]] = {}
-        self._elements: list[tuple[int, type[ElementType], tuple[int, ...]]] = []
+        self._positions: dict[int, tuple[float, ...]] = {}
+        self._elements: list[tuple[int, type[ElementType], tuple[int, ...], dict]] = []
         self._coordinate_requests: list[_Request] = []
         self._deformation_requests: list[_Request] = []
         self._masses: dict[int, tuple[float, bool]] = {}
         self._values: dict[tuple[int, str], dict[str, float]] = {}  # (element, what) -> values
         self._prestress: dict[int, dict[int, float]] = {}
         self._nodal_masses: dict[int, float] = {}
+        self._nodal_inertias: dict[int, tuple[float, ...]] = {}
+        self._section_inertias: dict[int, tuple[float, ...]] = {}
         self._nodal_forces: dict[int, tuple[float, ...]] = {}
-        self._gravity: tuple[float, float] = (0.0, 0.0)
+        self._gravity: tuple[float, ...] = ()
         self._problems: list[str] = []
 
     # --- nodes and elements -----------------------------------------------------
-    def add_node(self, number: int, x: float, y: float) -> ModelBuilder:
-        """Translational node ``number`` at ``(x, y)`` [m] in the initial configuration."""
+    def add_node(self, number: int, x: float, y: float, z: float | None = None
+                 ) -> ModelBuilder:
+        """Translational node ``number`` at ``(x, y)`` [m] in the initial configuration, or
+        at ``(x, y, z)`` for a spatial model."""
         if number in self._positions:
             self._problems.append(Problem(f"node {number} is given a position twice",
                                           ("node", number)))
+        given = (x, y) if z is None else (x, y, z)
         try:
-            position = (float(x), float(y))
+            position = tuple(float(v) for v in given)
         except (TypeError, ValueError):
-            self._problems.append(Problem(f"node {number}: position ({x!r}, {y!r}) is not two "
-                                          f"numbers", ("node", number)))
+            self._problems.append(Problem(f"node {number}: position {given!r} is not "
+                                          f"{len(given)} numbers", ("node", number)))
             return self
         if not all(abs(v) <= LARGEST_POSITION for v in position):
             self._problems.append(Problem(f"node {number}: position {position} is not finite "
@@ -134,14 +150,20 @@ class ModelBuilder:
         self._positions[number] = position
         return self
 
-    def add_element(self, number: int, element_type: type[ElementType] | str, nodes
-                    ) -> ModelBuilder:
+    def add_element(self, number: int, element_type: type[ElementType] | str, nodes,
+                    **data) -> ModelBuilder:
         """Element ``number`` of ``element_type`` on ``nodes`` (in the type's node order).
         The type is a class (:class:`~flexmbd.Truss`, ...) or its name or SPACAR keyword
-        (``"truss"``, ``"PLTRUSS"``, ``"rigid beam"``)."""
+        (``"truss"``, ``"PLTRUSS"``, ``"rigid beam"``, ``"BEAM"``). ``data`` are the
+        type's :attr:`~flexmbd.elements.base.ElementType.element_data` (a spatial beam's
+        ``orientation``, a spatial hinge's ``axis``)."""
         element_type = _element_type(element_type)
+        if element_type is not None and element_type.automatic:
+            self._problems.append(f"add_element {number}: the {element_type.name} elements "
+                                  f"are added by the builder, one per spatial rotational node")
+            return self
         if element_type is None:
-            known = ", ".join(f"{t.name!r}" for t in ELEMENT_TYPES.values())
+            known = ", ".join(f"{t.name!r}" for t in ELEMENT_TYPES.values() if not t.automatic)
             self._problems.append(f"add_element {number}: the element type must be one of "
                                   f"{known} (or its class or keyword)")
             return self
@@ -158,7 +180,24 @@ class ModelBuilder:
                 f"({roles}), got {len(nodes)}"
             )
             return self
-        self._elements.append((number, element_type, nodes))
+        values = {}
+        for name, default in element_type.element_data.items():
+            value = data.pop(name, default)
+            if value is None:
+                self._problems.append(f"{element_type.name} {number} needs its {name}")
+                return self
+            try:
+                values[name] = tuple(float(v) for v in np.ravel(value))
+            except (TypeError, ValueError):
+                self._problems.append(f"{element_type.name} {number}: {name} {value!r} is not "
+                                      f"numbers")
+                return self
+        if data:
+            takes = ", ".join(element_type.element_data) or "nothing besides its nodes"
+            self._problems.append(f"{element_type.name} {number}: unknown data "
+                                  f"{', '.join(data)}; it takes {takes}")
+            return self
+        self._elements.append((number, element_type, nodes, values))
         return self
 
     def add_truss(self, number: int, p: int, q: int) -> ModelBuilder:
@@ -183,6 +222,28 @@ class ModelBuilder:
     def add_hinge(self, number: int, phi_p: int, phi_q: int) -> ModelBuilder:
         """Hinge between rotational nodes ``phi_p`` and ``phi_q`` (PLHINGE)."""
         return self.add_element(number, Hinge, (phi_p, phi_q))
+
+    def add_spatial_truss(self, number: int, p: int, q: int) -> ModelBuilder:
+        """Spatial truss between translational nodes ``p`` and ``q`` (TRUSS)."""
+        return self.add_element(number, SpatialTruss, (p, q))
+
+    def add_spatial_beam(self, number: int, p: int, lam_p: int, q: int, lam_q: int,
+                         orientation, *, bending_linked: bool = True) -> ModelBuilder:
+        """Spatial beam from ``p`` to ``q`` with rotational nodes ``lam_p``, ``lam_q``
+        (BEAM). ``orientation`` (3 numbers) is a vector across the beam that fixes its
+        local ``y`` axis (``EIy`` bends about it). ``bending_linked`` keeps SPACAR's
+        second-order terms of the bending on the elongation and the torsion
+        (THEORY-SPATIAL 3); off, the deformations are the basic ones."""
+        linked = 1.0 if checks.flag(bending_linked, "bending_linked") else 0.0
+        return self.add_element(number, SpatialBeam, (p, lam_p, q, lam_q),
+                                orientation=orientation, bending_linked=linked)
+
+    def add_spatial_hinge(self, number: int, lam_p: int, lam_q: int, axis=(0.0, 0.0, 1.0)
+                          ) -> ModelBuilder:
+        """Spatial hinge between rotational nodes ``lam_p`` and ``lam_q`` about ``axis``
+        (3 numbers, in the reference configuration; HINGE): its rotation ``e1`` and two
+        misalignments ``e2, e3``."""
+        return self.add_element(number, SpatialHinge, (lam_p, lam_q), axis=axis)
 
     # --- classification -----------------------------------------------------------
     def _law(self, law, command: str, number: int):
@@ -253,10 +314,26 @@ class ModelBuilder:
 
     # --- properties (SPACAR block 2) ------------------------------------------------
     def set_mass(self, element: int, mass_per_length: float,
-                 formulation: Literal["consistent", "lumped"] = "consistent") -> ModelBuilder:
+                 formulation: Literal["consistent", "lumped"] = "consistent", *,
+                 section_inertia=None) -> ModelBuilder:
         """Distributed mass ``rhoA`` [kg/m] of an element that has mass: truss, beam, rigid
         beam (EM). ``formulation`` is ``"consistent"`` (default) or ``"lumped"`` (THEORY 5).
+
+        A spatial beam also takes ``section_inertia = (Jxx, Jyy, Jzz, Jyz)`` [kg m] per
+        unit length (torsional ``rho (Iy + Iz)``, ``rho Iy``, ``rho Iz``, ``rho Iyz``), lumped
+        on its two rotational nodes (THEORY-SPATIAL 4).
         """
+        if section_inertia is not None:
+            try:
+                inertia = tuple(float(v) for v in section_inertia)
+            except (TypeError, ValueError):
+                inertia = ()
+            if len(inertia) != 4 or not all(map(math.isfinite, inertia)):
+                self._problems.append(f"set_mass element {element}: section_inertia "
+                                      f"{section_inertia!r} is not four finite numbers "
+                                      f"(Jxx, Jyy, Jzz, Jyz)")
+                return self
+            self._section_inertias[element] = inertia
         if formulation not in MASS_FORMULATIONS:
             self._problems.append(f"set_mass element {element}: formulation {formulation!r} "
                                   f"is not 'consistent' or 'lumped'")
@@ -310,9 +387,26 @@ class ModelBuilder:
         self._nodal_masses[node] = self._nodal_masses.get(node, 0.0) + float(mass)
         return self
 
+    def add_rotary_inertia(self, node: int, Ixx: float, Ixy: float, Ixz: float, Iyy: float,
+                           Iyz: float, Izz: float) -> ModelBuilder:
+        """Inertia tensor [kg m^2] of a rigid body on a spatial rotational node (XM with six
+        values), in the node's body frame, which is the global frame in the reference
+        configuration. Off-diagonal entries are tensor components (minus the products of
+        inertia), as SPACAR prints them. Repeated calls add up."""
+        values = (Ixx, Ixy, Ixz, Iyy, Iyz, Izz)
+        if not all(_finite_number(v) for v in values):
+            self._problems.append(f"add_rotary_inertia node {node}: {values!r} are not six "
+                                  f"finite numbers")
+            return self
+        old = self._nodal_inertias.get(node, (0.0,) * 6)
+        self._nodal_inertias[node] = tuple(a + float(b) for a, b in zip(old, values,
+                                                                       strict=True))
+        return self
+
     def add_force(self, node: int, *components: float) -> ModelBuilder:
         """Constant applied load (XF): ``(Fx, Fy)`` [N] on a translational node or a
-        torque ``M`` [N m] on a rotational node; repeated calls add up."""
+        torque ``M`` [N m] on a rotational node; in space ``(Fx, Fy, Fz)`` or a moment
+        ``(Mx, My, Mz)`` [N m] in global axes. Repeated calls add up."""
         if not all(_finite_number(c) for c in components):
             self._problems.append(f"add_force node {node}: {components!r} are not finite numbers")
             return self
@@ -322,12 +416,14 @@ class ModelBuilder:
         self._nodal_forces[node] = tuple(float(c) for c in components)
         return self
 
-    def set_gravity(self, gx: float, gy: float) -> ModelBuilder:
-        """Gravitational acceleration ``(gx, gy)`` [m/s^2] (GRAVITY), e.g. ``(0, -9.81)``."""
-        if not (_finite_number(gx) and _finite_number(gy)):
-            self._problems.append(f"set_gravity: ({gx!r}, {gy!r}) is not two finite numbers")
+    def set_gravity(self, gx: float, gy: float, gz: float | None = None) -> ModelBuilder:
+        """Gravitational acceleration ``(gx, gy)`` [m/s^2] (GRAVITY), e.g. ``(0, -9.81)``;
+        ``(gx, gy, gz)`` for a spatial model."""
+        given = (gx, gy) if gz is None else (gx, gy, gz)
+        if not all(_finite_number(g) for g in given):
+            self._problems.append(f"set_gravity: {given!r} is not {len(given)} finite numbers")
             return self
-        self._gravity = (float(gx), float(gy))
+        self._gravity = tuple(float(g) for g in given)
         return self
 
     # --- building -------------------------------------------------------------------
@@ -341,8 +437,9 @@ class ModelBuilder:
         """
         # structural problems stop the assembly; every other one is collected with them
         structural: list[str] = []
-        kinds = self._node_kinds(structural)
         structural += self._element_problems()
+        structural += self._family_problems()
+        kinds = self._node_kinds(structural)
         if structural:
             raise ModelError(self._problems + structural)
         problems = list(self._problems)
@@ -360,40 +457,59 @@ class ModelBuilder:
     def _node_kinds(self, problems: list[str]) -> dict[int, str]:
         """Kind of every node from its use by elements; reports conflicts."""
         users: dict[int, dict[str, list[str]]] = defaultdict(lambda: defaultdict(list))
-        for number, etype, nodes in self._elements:
+        for number, etype, nodes, _ in self._elements:
             for node, kind in zip(nodes, etype.node_kinds(), strict=True):
                 users[node][kind].append(f"{etype.name} {number}")
         kinds: dict[int, str] = {}
         for node, by_kind in users.items():
             if len(by_kind) > 1:
-                problems.append(
-                    f"node {node} is used as translational by "
-                    f"{', '.join(by_kind[TRANSLATIONAL])} and as rotational by "
-                    f"{', '.join(by_kind[ROTATIONAL])}"
-                )
+                problems.append(f"node {node} is used as " + " and as ".join(
+                    f"{kind} by {', '.join(names)}" for kind, names in by_kind.items()))
                 continue
             kind = next(iter(by_kind))
             kinds[node] = kind
-            if kind == TRANSLATIONAL and node not in self._positions:
+            position = self._positions.get(node)
+            width = 3 if kind == SPATIAL_TRANSLATIONAL else 2
+            if is_translational(kind) and position is None:
                 problems.append(
                     f"node {node} (used by {', '.join(by_kind[kind])}) has no position: "
-                    f"give it one with add_node({node}, x, y)"
+                    f"give it one with add_node({node}, x, y{', z' if width == 3 else ''})"
                 )
-            if kind == ROTATIONAL and node in self._positions:
+            elif is_translational(kind) and len(position) != width:
                 problems.append(Problem(
-                    f"node {node} is rotational (used by {', '.join(by_kind[kind])}) "
+                    f"node {node} is {kind} (used by {', '.join(by_kind[kind])}) and needs "
+                    f"{width} coordinates, got the position {position}", ("node", node)))
+            if not is_translational(kind) and position is not None:
+                problems.append(Problem(
+                    f"node {node} is {kind} (used by {', '.join(by_kind[kind])}) "
                     f"but was given a position", ("node", node)))
-        for node in self._positions:
-            kinds.setdefault(node, TRANSLATIONAL)  # a free point mass, say
+        for node, position in self._positions.items():  # a free point mass, say
+            kinds.setdefault(node, SPATIAL_TRANSLATIONAL if len(position) == 3
+                             else TRANSLATIONAL)
         for node in kinds:
             if not isinstance(node, (int, np.integer)) or isinstance(node, bool) or node < 1:
                 problems.append(f"node number {node!r} is not a positive integer")
         return kinds
 
+    def _family_problems(self) -> list[str]:
+        """A model is planar or spatial: name one element (or position) of each kind."""
+        planar = [(n, t) for n, t, _, _ in self._elements if not t.is_spatial()]
+        spatial = [(n, t) for n, t, _, _ in self._elements if t.is_spatial()]
+        if planar and spatial:
+            (n1, t1), (n2, t2) = min(planar), min(spatial)
+            return [f"the model mixes planar and spatial elements ({t1.name} {n1}, "
+                    f"{t2.name} {n2}): build it of one kind"]
+        dims = {len(p) for p in self._positions.values()} | (
+            {len(self._gravity)} if self._gravity else set())
+        if len(dims) > 1:
+            return ["positions and gravity mix two and three coordinates: a model is planar "
+                    "(x, y) or spatial (x, y, z)"]
+        return []
+
     def _element_problems(self) -> list[str]:
         problems = []
         seen: dict[int, str] = {}
-        for number, etype, nodes in self._elements:
+        for number, etype, nodes, _ in self._elements:
             if not isinstance(number, (int, np.integer)) or isinstance(number, bool) or number < 1:
                 problems.append(f"element number {number!r} is not a positive integer")
             if number in seen:
@@ -413,7 +529,8 @@ class ModelBuilder:
             kind = kinds[number]
             first = len(x0)
             position = self._positions.get(number)
-            values = list(position) if kind == TRANSLATIONAL else [0.0]
+            values = (list(position) if is_translational(kind)
+                      else [1.0, 0.0, 0.0, 0.0] if kind == SPATIAL_ROTATIONAL else [0.0])
             x0 += values
             labels += [f"x{number}.{k}" for k in range(1, len(values) + 1)]
             nodes[number] = Node(number, kind, position,
@@ -423,18 +540,32 @@ class ModelBuilder:
         elements: dict[int, Element] = {}
         deformation_labels: list[str] = []
         default_class: list[DeformationClass] = []
-        for number, etype, element_nodes in sorted(self._elements, key=lambda e: e[0]):
+        for number, etype, element_nodes, data in sorted(self._elements, key=lambda e: e[0]):
             coords = tuple(i for n in element_nodes for i in nodes[n].coordinates)
             first = len(deformation_labels)
             nd = etype.n_deformations()
             deformation_labels += [f"e{number}.{k}" for k in range(1, nd + 1)]
             default_class += [DeformationClass.RELEASED if etype.released_by_default
                               else DeformationClass.RIGID] * nd
+            problems += [Problem(f"{etype.name} {number}: {text}", ("element", number))
+                         for text in etype.check_data(x0_array[list(coords)], data)]
+            arrays = {name: np.array([value]) for name, value in data.items()}
             reference = tuple(float(v) for v in
-                              etype.reference_parameters(x0_array[list(coords)])[0])
+                              etype.reference_parameters(x0_array[list(coords)], arrays)[0])
             elements[number] = Element(number, etype, element_nodes, coords,
-                                       tuple(range(first, first + nd)), reference)
+                                       tuple(range(first, first + nd)), reference, data)
         self._check_lengths(elements, self._positions, problems)
+        element_properties = self._element_properties(elements, problems)
+        first_euler = max(elements, default=0) + 1
+        euler_nodes = [n for n in sorted(nodes) if nodes[n].kind == SPATIAL_ROTATIONAL]
+        inertias = self._node_inertias(elements, element_properties)
+        for number, node in enumerate(euler_nodes, start=first_euler):
+            data = {"inertia": inertias.get(node, (0.0,) * 6)}
+            elements[number] = Element(number, EulerNormalization, (node,),
+                                       nodes[node].coordinates,
+                                       (len(deformation_labels),), data["inertia"], data)
+            deformation_labels.append(f"e{number}.1")
+            default_class.append(DeformationClass.RIGID)
 
         coordinate_class = np.full(len(x0), CoordinateClass.DEPENDENT, dtype=int)
         deformation_class = np.array(default_class, dtype=int)
@@ -442,7 +573,6 @@ class ModelBuilder:
         self._classify_coordinates(nodes, labels, coordinate_class, laws, problems)
         self._classify_deformations(elements, deformation_labels, deformation_class, laws,
                                     problems)
-        element_properties = self._element_properties(elements, problems)
         self._check_nodal_loads(nodes, problems)
         return Model(
             name=self.name,
@@ -456,9 +586,35 @@ class ModelBuilder:
             input_laws=MappingProxyType(laws),
             element_properties=MappingProxyType(element_properties),
             nodal_masses=MappingProxyType(dict(self._nodal_masses)),
+            nodal_inertias=MappingProxyType(dict(self._nodal_inertias)),
             nodal_forces=MappingProxyType(dict(self._nodal_forces)),
-            gravity=self._gravity,
+            gravity=self._gravity or ((0.0,) * (3 if self._spatial() else 2)),
         )
+
+    def _spatial(self) -> bool:
+        return any(t.is_spatial() for _, t, _, _ in self._elements) or any(
+            len(p) == 3 for p in self._positions.values())
+
+    def _node_inertias(self, elements, properties) -> dict[int, tuple[float, ...]]:
+        """``Jb`` of every spatial rotational node with inertia: its ``XM`` plus the lumped
+        rotary inertia ``(l0/2) R0 Jsec R0^T`` of each spatial beam with a section inertia
+        (THEORY-SPATIAL 4), as ``(Jxx, Jxy, Jxz, Jyy, Jyz, Jzz)``."""
+        tensors: dict[int, np.ndarray] = defaultdict(lambda: np.zeros((3, 3)))
+        for node, (xx, xy, xz, yy, yz, zz) in self._nodal_inertias.items():
+            tensors[node] += np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+        for number, inertia in self._section_inertias.items():
+            element = elements.get(number)
+            if element is None or element.type is not SpatialBeam:
+                continue
+            jxx, jyy, jzz, jyz = inertia
+            frame = np.array(element.reference[1:10]).reshape(3, 3).T  # columns ex0, ey0, ez0
+            section = np.array([[jxx, 0.0, 0.0], [0.0, jyy, jyz], [0.0, jyz, jzz]])
+            lumped = 0.5 * element.reference[0] * frame @ section @ frame.T
+            for node in (element.nodes[1], element.nodes[3]):
+                tensors[node] += lumped
+        return {node: tuple(float(t[i, j]) for i, j in ((0, 0), (0, 1), (0, 2), (1, 1),
+                                                        (1, 2), (2, 2)))
+                for node, t in tensors.items()}
 
     @staticmethod
     def _check_lengths(elements: dict[int, Element], positions, problems: list[str]) -> None:
@@ -472,7 +628,7 @@ class ModelBuilder:
                        default=0.0)
             if ends and element.reference and element.reference[0] <= _ZERO_LENGTH * size:
                 translational = [n for n, r in zip(element.nodes, element.type.roles,
-                                                   strict=True) if r.kind == TRANSLATIONAL]
+                                                   strict=True) if is_translational(r.kind)]
                 problems.append(Problem(f"{element.type.name} {number} has zero length: its "
                                         f"nodes {translational[0]} and {translational[1]} "
                                         f"coincide", ("element", number)))
@@ -480,7 +636,8 @@ class ModelBuilder:
     def _element_properties(self, elements, problems) -> dict[int, ElementProperties]:
         """Properties by element, each checked against what the element's type takes."""
         out = {}
-        numbers = {*self._masses, *self._prestress, *(n for n, _ in self._values)}
+        numbers = {*self._masses, *self._prestress, *(n for n, _ in self._values),
+                   *self._section_inertias}
         for number in sorted(numbers):
             if number not in elements:
                 problems.append(f"properties given for element {number}, which is not in "
@@ -497,6 +654,11 @@ class ModelBuilder:
                     problems.append(f"set_mass element {number}: mass per length {rho_a} is "
                                     f"negative")
                 fields.update(mass_per_length=rho_a, lumped=lumped)
+            if number in self._section_inertias:
+                if etype is not SpatialBeam:
+                    problems.append(f"set_mass element {number}: a {etype.name} takes no "
+                                    f"section inertia (a spatial beam does)")
+                fields["section_inertia"] = self._section_inertias[number]
             for what, declared in (("stiffness", etype.stiffness_values),
                                    ("damping", etype.damping_values)):
                 values = self._values.get((number, what), {})
@@ -527,14 +689,30 @@ class ModelBuilder:
 
     def _check_nodal_loads(self, nodes, problems) -> None:
         for what, table in (("add_point_mass", self._nodal_masses),
-                            ("add_force", self._nodal_forces)):
+                            ("add_force", self._nodal_forces),
+                            ("add_rotary_inertia", self._nodal_inertias)):
             for number, value in table.items():
                 if number not in nodes:
                     problems.append(f"{what}: node {number} is not in the model")
-                elif what == "add_force" and len(value) != len(nodes[number].coordinates):
+                    continue
+                kind = nodes[number].kind
+                wanted = 3 if kind == SPATIAL_ROTATIONAL else len(nodes[number].coordinates)
+                if what == "add_force" and kind == SPATIAL_ROTATIONAL:
+                    # a global moment is the generalized force 2 E(lam)^T M, which turns
+                    # with the node: the engine's constant loads cannot carry it yet
+                    problems.append(f"add_force node {number}: moments on spatial rotational "
+                                    f"nodes are not supported yet; apply the moment as a "
+                                    f"force couple on translational nodes")
+                elif what == "add_force" and len(value) != wanted:
                     problems.append(
-                        f"add_force node {number}: a {nodes[number].kind} node takes "
-                        f"{len(nodes[number].coordinates)} component(s), got {len(value)}")
+                        f"add_force node {number}: a {kind} node takes "
+                        f"{wanted} component(s), got {len(value)}")
+                elif what == "add_point_mass" and kind == SPATIAL_ROTATIONAL:
+                    problems.append(f"add_point_mass node {number}: a spatial rotational node "
+                                    f"takes an inertia tensor: use add_rotary_inertia")
+                elif what == "add_rotary_inertia" and kind != SPATIAL_ROTATIONAL:
+                    problems.append(f"add_rotary_inertia node {number}: only spatial rotational "
+                                    f"nodes take an inertia tensor; this one is {kind}")
 
     def _classify_coordinates(self, nodes, labels, classes, laws, problems):
         assigned: dict[int, str] = {}
@@ -543,7 +721,13 @@ class ModelBuilder:
                 problems.append(f"{req.command}: node {req.number} is not in the model")
                 continue
             node = nodes[req.number]
-            if req.k is None:
+            if req.k is None and node.kind == SPATIAL_ROTATIONAL:
+                ks = range(2, 5)  # lam1 .. lam3, as SPACAR: lam0 follows from the norm
+                if req.law is not None:
+                    problems.append(f"{req.command} node {req.number}: a law needs exactly one "
+                                    f"direction of this {node.kind} node")
+                    continue
+            elif req.k is None:
                 ks = range(1, len(node.coordinates) + 1)
                 if req.law is not None and len(ks) > 1:
                     problems.append(f"{req.command} node {req.number}: a law needs exactly one "
@@ -573,6 +757,10 @@ class ModelBuilder:
                 problems.append(f"{req.command}: element {req.number} is not in the model")
                 continue
             element = elements[req.number]
+            if element.type.automatic:
+                problems.append(f"{req.command}: element {req.number} is the "
+                                f"{element.type.name} of node {element.nodes[0]}, rigid always")
+                continue
             nd = len(element.deformations)
             if req.k is None:
                 ks = range(1, nd + 1)

@@ -61,6 +61,18 @@ def consistent_inertia(cls: type[ElementType], c: list, v: list, p: list, g: lis
     return mass, inertia, gravity
 
 
+def rotary_inertia(cls: type[ElementType], c: list, v: list, p: list, sp):
+    """For a type with a body angular velocity ``omega' = W cdot`` and inertia tensor ``J``
+    (the Euler element, THEORY-SPATIAL 4): the mass ``W^T J W`` ``(nc, nc)`` and the
+    velocity term ``W^T (J Wdot v + omega' x J omega')`` ``(nc, 1)``, by the principle of
+    virtual work like the consistent inertia of a material point."""
+    W = sp.Matrix(cls.body_angular_velocity(c, sp))
+    J = sp.Matrix(cls.inertia_tensor(p))
+    omega = W * sp.Matrix(v)
+    w_dot_v = omega.jacobian(c) * sp.Matrix(v)
+    return W.T * J * W, W.T * (J * w_dot_v + omega.cross(J * omega))
+
+
 def derive(cls: type[ElementType], sp) -> dict[str, tuple[list, list]]:
     """The kernels of one type as ``{name: (arguments, expressions)}``."""
     nc, nd = cls.n_coordinates(), cls.n_deformations()
@@ -79,8 +91,12 @@ def derive(cls: type[ElementType], sp) -> dict[str, tuple[list, list]]:
         "hessian": (["c", "p"], [h[a, b] for h in hessians for a in range(nc)
                                   for b in range(nc)]),
     }
-    if cls.has_mass:
-        g = list(sp.symbols("g0:2", real=True))
+    if cls.has_mass and cls.body_angular_velocity(c, sp) is not None:
+        mass, inertia = rotary_inertia(cls, c, v, p, sp)
+        kernels["mass"] = (["c", "p"], list(mass))
+        kernels["inertia"] = (["c", "v", "p"], list(inertia))
+    elif cls.has_mass:
+        g = list(sp.symbols(f"g0:{cls.dimension()}", real=True))
         mass, inertia, gravity = consistent_inertia(cls, c, v, p, g, sp)
         kernels["mass"] = (["c", "p"], list(mass))
         kernels["inertia"] = (["c", "v", "p"], list(inertia))

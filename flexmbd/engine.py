@@ -29,7 +29,8 @@ import numpy as np
 from . import checks
 from .assembly import Assembly
 from .diagnosis import at_time, massless_message, singular_message
-from .elements import ELEMENT_TYPES, TRANSLATIONAL
+from .elements import ELEMENT_TYPES
+from .elements.base import is_translational
 from .errors import (
     ArgumentError,
     ConvergenceError,
@@ -213,10 +214,13 @@ def compile_model(model: Model) -> dict[str, object]:
     # per type: properties, the elastic law on dynamic and released deformations, and
     # where the entries of its Jacobian blocks and element matrices land
     elastic_def = np.asarray(model.carries_elastic_stress)
-    gravity = np.asarray(model.gravity, dtype=float)
+    gravity = np.zeros(3)  # the core takes three components; a planar model has two
+    gravity[:len(model.gravity)] = model.gravity
     kinds = _coordinate_kinds(model)
-    translational = np.array([kinds[i][0] == TRANSLATIONAL for i in range(nx)], dtype=bool)
-    direction = np.array([kinds[i][1] for i in range(nx)], dtype=int)
+    translational = np.array([is_translational(kinds[i][0]) for i in range(nx)], dtype=bool)
+    # gravity on each coordinate of a translational node (what lumped masses weigh)
+    gravity_of = np.array([gravity[kinds[i][1]] if translational[i] else 0.0
+                           for i in range(nx)])
     emass, consistent = np.zeros(len(elements)), np.zeros(len(elements), dtype=i32)
     lumped_diag, S, C = np.zeros(c_off[-1]), np.zeros(law_off[-1]), np.zeros(law_off[-1])
     sigma0, f_const = np.zeros(ne), np.zeros(nx)
@@ -251,14 +255,14 @@ def compile_model(model: Model) -> dict[str, object]:
                        | np.any(sigma0[defs] != 0.0, axis=1))
         rho = np.array([q.mass_per_length if q else 0.0 for q in props])
         lumped = np.array([bool(q and q.lumped) for q in props])
-        mass = rho * p[:, 0] if etype.has_mass else np.zeros(len(ks))
+        mass = etype.element_mass(p, rho) if etype.has_mass else np.zeros(len(ks))
         emass[ks] = np.where(lumped, 0.0, mass)
         consistent[ks] = (mass != 0.0) & ~lumped
         if np.any(lumped & (mass != 0.0)):
             diag = np.where(lumped[:, None], etype.lumped_masses(p, np.where(lumped, mass, 0.0)),
                             0.0)
             lumped_diag[c_off[ks][:, None] + np.arange(n_c)] = diag
-            weight = np.where(translational[coords], diag * gravity[direction[coords]], 0.0)
+            weight = diag * gravity_of[coords]
             np.add.at(f_const, coords, weight)
         # entries of the Jacobian blocks (n, nd, nc) and element matrices (n, nc, nc)
         src = j_off[ks][:, None, None] + np.arange(n_d)[:, None] * n_c + np.arange(n_c)
@@ -275,8 +279,8 @@ def compile_model(model: Model) -> dict[str, object]:
     for number, mass in model.nodal_masses.items():
         node = model.nodes[number]
         nodal_mass[list(node.coordinates)] += mass
-        if node.kind == TRANSLATIONAL:
-            f_const[list(node.coordinates)] += mass * gravity
+        if is_translational(node.kind):
+            f_const[list(node.coordinates)] += mass * gravity[:len(node.coordinates)]
     for number, load in model.nodal_forces.items():
         f_const[list(model.nodes[number].coordinates)] += load
     sm_coord = np.flatnonzero((free_of >= 0) & (nodal_mass != 0.0))
@@ -310,7 +314,8 @@ def compile_model(model: Model) -> dict[str, object]:
         "row_of_def": row_of_def, "dep": ints(dep), "free_of": free_of,
         "dyn_coord": ints(dyn_coord), "dyn_def": ints(dyn_def),
         "supported": ints(np.sort(np.concatenate([model.fixed, model.input_coordinates]))),
-        "elastic_def": ints(elastic_def), "nodal_mass": nodal_mass, "f_const": f_const,
+        "elastic_def": ints(elastic_def), "periodic": ints(_periodic(model)),
+        "nodal_mass": nodal_mass, "f_const": f_const,
         "gravity": gravity, "x0": np.asarray(model.x0, dtype=float),
         "coord_scale": np.asarray(model.coordinate_scale, dtype=float),
         "coord_size": _coordinate_size(model),
@@ -335,12 +340,20 @@ def _collect(lists: tuple[list, list, list], src: np.ndarray, rows: np.ndarray,
         target.append(values[keep])
 
 
+def _periodic(model: Model) -> np.ndarray:
+    """Mask ``(ne,)`` of the deformations that are angles modulo ``2 pi``."""
+    mask = np.zeros(model.n_deformations, dtype=bool)
+    for element in model.elements.values():
+        mask[[element.deformations[k] for k in element.type.periodic]] = True
+    return mask
+
+
 def _coordinate_size(model: Model) -> np.ndarray:
     """Per coordinate the size a change of it is measured against (a predicted move, a
     continuation step): the model size for a translation, 1 rad for an angle."""
     scale = np.ones(model.n_coordinates)
     for node in model.nodes.values():
-        if node.kind == TRANSLATIONAL:
+        if is_translational(node.kind):
             scale[list(node.coordinates)] = model.characteristic_length
     return scale
 

@@ -7,7 +7,9 @@ plain numpy arrays, and every run builds its own workspace
 
 Numbering follows SPACAR: node and element numbers are the user's; coordinate
 ``k`` of node ``n`` is labelled ``x<n>.<k>`` (``k = 1, 2`` for ``x, y`` of a
-translational node, ``k = 1`` for the angle of a rotational node) and
+translational node, ``k = 1`` for the angle of a rotational node; in space
+``k = 1, 2, 3`` for ``x, y, z`` and ``k = 1 .. 4`` for the Euler parameters
+``lam0 .. lam3`` of a rotational node) and
 deformation ``k`` of element ``e`` is labelled ``e<e>.<k>``. Internally every
 array is indexed from 0 in the order of increasing node (element) number.
 """
@@ -21,7 +23,8 @@ from enum import IntEnum
 
 import numpy as np
 
-from .elements import ROTATIONAL, ElementType
+from .elements import ElementType
+from .elements.base import SPATIAL_KINDS, is_translational
 from .errors import LabelError
 from .motion import Law
 
@@ -44,7 +47,9 @@ class DeformationClass(IntEnum):
     RELEASED = 3  #: ``e(c)``, computed from the coordinates
 
 
-DIRECTION_NAMES = {"translational": ("x", "y"), "rotational": ("phi",)}
+DIRECTION_NAMES = {"translational": ("x", "y"), "rotational": ("phi",),
+                   "spatial translational": ("x", "y", "z"),
+                   "spatial rotational": ("lam0", "lam1", "lam2", "lam3")}
 
 
 @dataclass(frozen=True)
@@ -53,15 +58,16 @@ class Node:
 
     number: int
     kind: str
-    position: tuple[float, float] | None
+    position: tuple[float, ...] | None
     coordinates: tuple[int, ...]
 
 
 @dataclass(frozen=True)
 class Element:
     """An element: number, type, node numbers in connection order, global coordinate and
-    deformation indices, and its reference parameters (``l0`` [m], ``beta0`` [rad], as
-    many as the type uses; see :meth:`ElementType.reference_parameters`)."""
+    deformation indices, its reference parameters (``l0`` [m], ``beta0`` [rad], as
+    many as the type uses; see :meth:`ElementType.reference_parameters`) and the data it
+    was given besides its nodes (a spatial beam's ``orientation``, by name)."""
 
     number: int
     type: type[ElementType]
@@ -69,6 +75,7 @@ class Element:
     coordinates: tuple[int, ...]
     deformations: tuple[int, ...]
     reference: tuple[float, ...]
+    data: Mapping[str, tuple[float, ...]] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -84,6 +91,8 @@ class ElementProperties:
             :attr:`ElementType.damping_values`.
         prestress: ``sigma0`` per deformation [N or N m] (tuple of the element's
             length), or ``None``.
+        section_inertia: a spatial beam's ``(Jxx, Jyy, Jzz, Jyz)`` [kg m] per unit
+            length, lumped on its rotational nodes, or ``None``.
     """
 
     mass_per_length: float = 0.0
@@ -91,6 +100,7 @@ class ElementProperties:
     stiffness: Mapping[str, float] = field(default_factory=dict)
     damping: Mapping[str, float] = field(default_factory=dict)
     prestress: tuple[float, ...] | None = None
+    section_inertia: tuple[float, ...] | None = None
 
 
 def frozen_array(a) -> np.ndarray:
@@ -102,7 +112,8 @@ def frozen_array(a) -> np.ndarray:
 
 @dataclass(frozen=True, eq=False)
 class Model:
-    """An immutable planar mechanism (build it with :class:`flexmbd.ModelBuilder`).
+    """An immutable mechanism, planar or spatial (build it with
+    :class:`flexmbd.ModelBuilder`).
 
     Attributes:
         name: a name for messages and plots.
@@ -116,10 +127,13 @@ class Model:
         input_laws: default law of each prescribed coordinate or deformation, by label.
         element_properties: mass, stiffness, damping and pre-stress by element number.
         nodal_masses: point mass [kg] of a translational node or rotary inertia
-            [kg m^2] of a rotational node, by node number.
+            [kg m^2] of a planar rotational node, by node number.
+        nodal_inertias: inertia tensor ``(Ixx, Ixy, Ixz, Iyy, Iyz, Izz)`` [kg m^2] of a
+            spatial rotational node as given (``XM``); the Euler elements carry it with
+            the beams' rotary inertia.
         nodal_forces: constant applied force ``(Fx, Fy)`` [N] or torque ``(M,)`` [N m]
-            by node number.
-        gravity: ``(gx, gy)`` [m/s^2].
+            by node number; in space ``(Fx, Fy, Fz)`` or a global moment ``(Mx, My, Mz)``.
+        gravity: ``(gx, gy)`` [m/s^2], ``(gx, gy, gz)`` for a spatial model.
 
     The index sets below (``fixed``, ``dependent``, ...) are computed once, when the
     model is made, and are read-only like everything else.
@@ -137,7 +151,8 @@ class Model:
     element_properties: Mapping[int, ElementProperties] = field(default_factory=dict)
     nodal_masses: Mapping[int, float] = field(default_factory=dict)
     nodal_forces: Mapping[int, tuple[float, ...]] = field(default_factory=dict)
-    gravity: tuple[float, float] = (0.0, 0.0)
+    gravity: tuple[float, ...] = (0.0, 0.0)
+    nodal_inertias: Mapping[int, tuple[float, ...]] = field(default_factory=dict)
 
     #: ``x(o)``
     fixed: np.ndarray = field(init=False, repr=False)
@@ -200,7 +215,7 @@ class Model:
         sets["characteristic_length"] = float(length) if length > 0 else 1.0
         scale = np.ones(len(self.x0))
         for node in self.nodes.values():
-            if node.kind == ROTATIONAL:
+            if not is_translational(node.kind):
                 scale[list(node.coordinates)] = 1.0 / sets["characteristic_length"]
         sets["coordinate_scale"] = frozen_array(scale)
         for name, value in sets.items():
@@ -230,10 +245,16 @@ class Model:
                      if not given)
 
     @property
+    def is_spatial(self) -> bool:
+        """Whether the model is spatial (its nodes have ``x, y, z`` and Euler parameters)."""
+        return any(node.kind in SPATIAL_KINDS for node in self.nodes.values())
+
+    @property
     def has_mass(self) -> bool:
         """Whether any element or node carries mass (dynamics needs it)."""
         return bool(self.nodal_masses) or any(
-            p.mass_per_length for p in self.element_properties.values())
+            p.mass_per_length or p.section_inertia for p in self.element_properties.values()
+        ) or any(any(v != 0.0 for v in inertia) for inertia in self.nodal_inertias.values())
 
     # --- labels and look-up ---------------------------------------------------------------
     def coordinate_index(self, label: str | tuple[int, int | str]) -> int:

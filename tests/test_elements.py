@@ -13,7 +13,7 @@ import sympy as sp
 
 from flexmbd import _core, codegen
 from flexmbd.elements import ELEMENT_TYPES, Beam, RigidBeam
-from flexmbd.elements.base import ROTATIONAL
+from flexmbd.elements.base import COORDINATES_PER_NODE, ROTATIONAL, SPATIAL_ROTATIONAL
 
 TYPES = list(ELEMENT_TYPES.values())
 NUMBER = {cls: k for k, cls in enumerate(TYPES)}
@@ -32,15 +32,22 @@ def kernel(cls, name, c, p, v=None, g=None):
 
 
 def random_element(cls, rng):
-    """Reference parameters from a random initial configuration, and a state near it."""
+    """Reference parameters from a random initial configuration (with random element
+    data: orientation vectors, axes, inertia), and a state near it."""
     nc = cls.n_coordinates()
     c0 = rng.uniform(-2.0, 2.0, nc)
     at = 0
-    for role in cls.roles:  # rotational nodes start at 0 by definition
+    for role in cls.roles:  # rotational nodes start at 0, Euler parameters at (1, 0, 0, 0)
         if role.kind == ROTATIONAL:
             c0[at] = 0.0
-        at += 1 if role.kind == ROTATIONAL else 2
-    p = cls.reference_parameters(c0[None])[0]
+        elif role.kind == SPATIAL_ROTATIONAL:
+            c0[at:at + 4] = (1.0, 0.0, 0.0, 0.0)
+        at += COORDINATES_PER_NODE[role.kind]
+    data = {name: rng.uniform(-1.0, 1.0, (1, len(default or (0.0,) * 3)))
+            for name, default in cls.element_data.items()}
+    if "bending_linked" in data:
+        data["bending_linked"] = np.ones((1, 1))
+    p = cls.reference_parameters(c0[None], data)[0]
     return c0, p, c0 + rng.normal(scale=0.3, size=nc), rng.normal(size=nc)
 
 
@@ -104,17 +111,25 @@ def test_hessian_and_quadratic_velocity_match_the_definition(cls, seed):
 
 @pytest.mark.parametrize("cls", TYPES, ids=lambda c: c.name)
 def test_kernels_match_symbolic_derivatives_of_the_definition(cls):
-    _, p, c, _ = random_element(cls, np.random.default_rng(5))
+    """SymPy differentiates the definition along random directions ``v``, ``w`` through
+    the state: ``d/ds D(c + s v + t w)`` is ``D_x v`` and ``d2/ds dt`` is ``v^T D_xx w``
+    (a full symbolic Hessian of the spatial beam would take a minute)."""
+    rng = np.random.default_rng(5)
+    _, p, c, _ = random_element(cls, rng)
     nd, nc = cls.n_deformations(), cls.n_coordinates()
-    symbols = sp.symbols(f"c0:{nc}")
-    params = sp.symbols(f"p0:{cls.reference}") if cls.reference else ()
-    exprs = sp.Matrix(cls.deformations(list(symbols), list(params), sp))
-    jac = sp.lambdify((symbols, params), exprs.jacobian(symbols), "numpy")
-    hess = sp.lambdify((symbols, params), [sp.hessian(e, symbols) for e in exprs], "numpy")
-    np.testing.assert_allclose(kernel(cls, "deform_jac", c, p)[nd:].reshape(nd, nc),
-                               np.array(jac(c, p), float), atol=1e-13)
-    np.testing.assert_allclose(kernel(cls, "hessian", c, p).reshape(nd, nc, nc),
-                               np.array(hess(c, p), float), atol=1e-12)
+    v, w = rng.normal(size=(2, nc))
+    s, t = sp.symbols("s t", real=True)
+    path = [sp.Float(ck) + s * sp.Float(vk) + t * sp.Float(wk)
+            for ck, vk, wk in zip(c, v, w, strict=True)]
+    exprs = sp.Matrix(cls.deformations(path, [sp.Float(pk) for pk in p], sp))
+    at_zero = {s: 0, t: 0}
+    slope = np.array(exprs.diff(s).subs(at_zero).evalf(), dtype=float).ravel()
+    cross = np.array(exprs.diff(s).diff(t).subs(at_zero).evalf(), dtype=float).ravel()
+    jac = kernel(cls, "deform_jac", c, p)[nd:].reshape(nd, nc)
+    hess = kernel(cls, "hessian", c, p).reshape(nd, nc, nc)
+    np.testing.assert_allclose(jac @ v, slope, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(np.einsum("dij,i,j->d", hess, v, w), cross, rtol=1e-11,
+                               atol=1e-11)
 
 
 def test_beam_bending_signs_follow_theory():

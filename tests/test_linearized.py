@@ -394,7 +394,8 @@ def test_the_assembled_arrays_equal_the_element_by_element_ones():
         b.set_stiffness(k, **values)
     b.set_damping(2, axial=0.3, bending=0.1).set_damping(6, spring=0.2)
     model = b.build()
-    assert {e.type for e in model.elements.values()} == set(fm.elements.ELEMENT_TYPES.values())
+    assert {e.type for e in model.elements.values()} == {
+        t for t in fm.elements.ELEMENT_TYPES.values() if not t.is_spatial()}
     rng = np.random.default_rng(5)
     x = model.x0 + 0.1 * rng.standard_normal(model.n_coordinates)
     sigma = rng.standard_normal(model.n_deformations)
@@ -419,6 +420,46 @@ def test_the_assembled_arrays_equal_the_element_by_element_ones():
     spring = model.deformation_index("e6.1")
     assert assembly.law_times("C", A)[spring] == pytest.approx(0.2 * A[spring], rel=1e-14)
     assert not np.any(assembly.law_times("S", A)[model.deformation_index("e4.1")])
+
+
+def test_the_assembled_arrays_equal_the_element_by_element_ones_in_space():
+    """The same for a spatial model of every spatial element type (the Euler elements
+    are added by the builder), and its elastic law: EA/l0, GIt/l0^3, EIy and EIz pairs."""
+    from flexmbd.engine import deformations_and_jacobian, dense_hessian
+
+    b = fm.ModelBuilder("every spatial element type")
+    for n, xyz in {1: (0, 0, 0), 3: (1, 0.2, 0.1), 5: (2, -0.1, 0.3)}.items():
+        b.add_node(n, *xyz)
+    b.add_spatial_beam(1, 1, 2, 3, 4, orientation=(0, 0, 1))
+    b.add_spatial_beam(2, 3, 6, 5, 7, orientation=(0.2, 1, 0), bending_linked=False)
+    b.add_spatial_truss(3, 1, 5).add_spatial_hinge(4, 4, 6, axis=(1, 1, 0))
+    b.release(1).release(2).release(3).release(4)
+    for node in (1, 2, 3, 4, 5, 6, 7):
+        b.fix(node)  # rotational nodes: lam1..3; the Euler elements solve for lam0
+    b.set_stiffness(1, axial=5.0, torsion=0.7, bending_y=2.0, bending_z=3.0)
+    b.set_stiffness(3, axial=1.0).set_stiffness(4, hinge=0.5, tilt_y=1.0, tilt_z=2.0)
+    model = b.build()
+    assert {e.type for e in model.elements.values()} == {
+        t for t in fm.elements.ELEMENT_TYPES.values() if t.is_spatial()}
+    rng = np.random.default_rng(6)
+    x = model.x0 + 0.1 * rng.standard_normal(model.n_coordinates)
+    sigma = rng.standard_normal(model.n_deformations)
+    assembly = Engine(model).assembly
+    e, D_x = assembly.deformations_and_jacobian(x)
+    e_each, D_x_each = deformations_and_jacobian(model, x)
+    assert np.array_equal(e, e_each) and np.array_equal(D_x, D_x_each)
+    A = rng.standard_normal((model.n_coordinates, 3))
+    H = np.einsum("i,ijk->jk", sigma, dense_hessian(model, x))
+    assert np.allclose(assembly.stress_hessian_times(x, sigma, A), H @ A, rtol=1e-13,
+                       atol=1e-13)
+    A = rng.standard_normal((model.n_deformations, 2))
+    rows = [model.deformation_index(f"e1.{k}") for k in range(1, 7)]
+    l0 = float(np.linalg.norm([1, 0.2, 0.1]))
+    pair = np.array([[4, -2], [-2, 4]]) / l0**3
+    S_beam = np.zeros((6, 6))
+    S_beam[0, 0], S_beam[1, 1] = 5.0 / l0, 0.7 / l0**3
+    S_beam[2:4, 2:4], S_beam[4:6, 4:6] = 2.0 * pair, 3.0 * pair
+    assert np.allclose(assembly.law_times("S", A)[rows], S_beam @ A[rows], rtol=1e-14)
 
 
 def test_the_layers_of_a_scatter_hold_each_index_once():

@@ -321,21 +321,26 @@ def test_the_output_grid_does_not_change_the_answer(times):
 
 
 def deformation_units_from_definition(etype) -> tuple[str, ...]:
-    """A deformation that changes with a translational coordinate at unit rate is a
-    length ("m"); one that depends on rotations alone is an angle ("rad")."""
+    """A deformation that changes with a translational coordinate, or scales with the
+    element's length ``l0``, is a length ("m"); one that depends on rotations alone is an
+    angle ("rad"), or dimensionless ("-", declared as such: an Euler normalization)."""
     import sympy as sp
 
-    from flexmbd.elements.base import COORDINATES_PER_NODE, TRANSLATIONAL
+    from flexmbd.elements.base import COORDINATES_PER_NODE, is_translational
 
     c = sp.symbols(f"c0:{etype.n_coordinates()}", real=True)
-    p = [sp.Rational(3, 2), sp.Rational(1, 5)][:etype.reference]
+    p = list(sp.symbols(f"p0:{etype.reference}", real=True))
     translations, at = [], 0
     for role in etype.roles:
-        if role.kind == TRANSLATIONAL:
-            translations += [c[at], c[at + 1]]
+        if is_translational(role.kind):
+            translations += list(c[at:at + COORDINATES_PER_NODE[role.kind]])
         at += COORDINATES_PER_NODE[role.kind]
-    return tuple("m" if any(sp.diff(e, t) != 0 for t in translations) else "rad"
-                 for e in etype.deformations(list(c), p, sp))
+    if etype.ends() is not None:
+        translations.append(p[0])  # l0
+    return tuple("m" if any(sp.diff(e, t) != 0 for t in translations)
+                 else "-" if declared == "-" else "rad"
+                 for e, declared in zip(etype.deformations(list(c), p, sp),
+                                        etype.deformation_units, strict=True))
 
 
 def test_plots_of_a_run_label_their_axes_with_units(tmp_path):

@@ -103,9 +103,11 @@ typedef struct {
     int *dyn_coord, *dyn_def;            /* dynamic coordinates, dynamic deformations */
     int *supported, nsupported;          /* fixed and input coordinates */
     int *elastic_def;                    /* per deformation: carries the elastic law */
+    int *periodic;                       /* per deformation: an angle modulo 2 pi, kept
+                                            continuous (a spatial hinge's rotation) */
     double *nodal_mass;                  /* nx: point masses and rotary inertias */
     double *f_const;                     /* nx: constant loads, constant-mass gravity */
-    double gravity[2];
+    double gravity[3];                   /* (gx, gy) of a planar model, (gx, gy, gz) */
     int gravity_on;
     /* D_c in the band: entries from the Jacobian blocks, scaled */
     int dc_kl, dc_ku, ndc_map;

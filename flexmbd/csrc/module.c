@@ -143,7 +143,7 @@ static void Core_dealloc(Core *c)
                    m->b_off, m->param, m->emass, m->varying, m->S, m->C, m->law_off,
                    m->elastic, m->sigma0, m->mconst, m->fixed, m->x_fixed,
                    m->q_coord, m->q_def, m->q_input, m->q_dyn, m->rows, m->row_of_def, m->dep,
-                   m->free_of, m->dyn_coord, m->dyn_def, m->supported, m->elastic_def,
+                   m->free_of, m->dyn_coord, m->dyn_def, m->supported, m->elastic_def, m->periodic,
                    m->nodal_mass, m->f_const, m->dc_src, m->dc_dst, m->dc_rowband,
                    m->dc_colband, m->dc_w, m->dc_colscale, m->dc_rowscale, m->sd_band,
                    m->sd_a_src, m->sd_a_dst, m->sd_c_src, m->sd_c_dst, m->sd_c_dstt,
@@ -291,6 +291,7 @@ static int Core_init(Core *c, PyObject *args, PyObject *kwds)
         {"dyn_coord", (void **)&m->dyn_coord, 'i', 0},
         {"dyn_def", (void **)&m->dyn_def, 'i', 0},
         {"elastic_def", (void **)&m->elastic_def, 'i', 0},
+        {"periodic", (void **)&m->periodic, 'i', 0},
         {"nodal_mass", (void **)&m->nodal_mass, 'd', 0},
         {"f_const", (void **)&m->f_const, 'd', 0}, {"dc_src", (void **)&m->dc_src, 'i', 0},
         {"dc_rowband", (void **)&m->dc_rowband, 'i', 0},
@@ -321,7 +322,8 @@ static int Core_init(Core *c, PyObject *args, PyObject *kwds)
     m->nsd_c = (int)nsc;
     m->gravity[0] = gravity[0];
     m->gravity[1] = gravity[1];
-    m->gravity_on = gravity[0] != 0.0 || gravity[1] != 0.0;
+    m->gravity[2] = gravity[2];
+    m->gravity_on = gravity[0] != 0.0 || gravity[1] != 0.0 || gravity[2] != 0.0;
     for (int k = 0; k < m->nel; k++)
         if (m->etype[k] < 0 || m->etype[k] >= FM_N_TYPES) {
             PyErr_SetString(PyExc_ValueError, "core spec: unknown element type");

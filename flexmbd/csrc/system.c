@@ -98,6 +98,19 @@ size_t fm_element_values(const FmModel *m, int hessian, const double *x, double 
     return at;
 }
 
+/* A periodic deformation's `value` (in (-pi, pi]) plus the multiple of 2 pi nearest to its
+ * reference (THEORY-SPATIAL 3): the target of its D_c row (0 when rigid, q when input or
+ * dynamic), so that the Newton residual is the shortest turn; its last value when
+ * released, so that it is continuous through any number of turns. */
+static double unwrapped(const FmModel *m, const FmState *s, int d, double value)
+{
+    const int row = m->row_of_def[d];
+    const double reference = row < 0 ? s->e[d]
+                             : row < m->nrigid ? 0.0 : s->q[m->nxm + row - m->nrigid];
+    const double two_pi = 6.283185307179586;
+    return value + two_pi * nearbyint((reference - value) / two_pi);
+}
+
 /* e at s->x, and D_x with it when `jacobian`. */
 static void element_pass(const FmModel *m, FmState *s, int jacobian)
 {
@@ -113,8 +126,10 @@ static void element_pass(const FmModel *m, FmState *s, int jacobian)
         } else {
             kern->deform(c, p, out);
         }
-        for (int i = 0; i < nd; i++)
-            s->e[m->d_idx[d0 + i]] = out[i];
+        for (int i = 0; i < nd; i++) {
+            const int d = m->d_idx[d0 + i];
+            s->e[d] = m->periodic[d] ? unwrapped(m, s, d, out[i]) : out[i];
+        }
     }
 }
 

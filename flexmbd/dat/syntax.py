@@ -77,7 +77,7 @@ def _element_meaning(etype) -> str:
 KINEMATICS = {
     **{keyword: _syntax(" ".join(["element:int", *(f"{r.name}:int" for r in etype.roles)]),
                         meaning=_element_meaning(etype))
-       for keyword, etype in ELEMENT_TYPES.items()},
+       for keyword, etype in ELEMENT_TYPES.items() if not etype.is_spatial()},
     "X": _syntax("node:int x:float y:float",
                  meaning="initial position [m] of a translational node"),
     "FIX": _syntax("node:int", rest="direction:int",
@@ -149,7 +149,7 @@ DYNAMICS = {
 
 #: spatial (3D) keywords of SPACAR that flexmbd does not read
 SPATIAL = {"BEAM", "TRUSS", "HINGE", "PINBAR", "CYLINDER", "PLATE", "RBEAM", "SBEAM",
-           "CONTACT", "WHEEL", "BELT", "SPRING", "RNODE", "XSTIFF", "XDAMP"} - set(ELEMENT_TYPES)
+           "CONTACT", "WHEEL", "BELT", "SPRING", "RNODE", "XSTIFF", "XDAMP"} - set(KINEMATICS)
 
 
 @dataclass(frozen=True)

@@ -1,33 +1,50 @@
-"""Planar element types: one file each (see :mod:`flexmbd.elements.base`).
+"""Element types, planar and spatial: one file each (see :mod:`flexmbd.elements.base`).
 
 A new type is a file defining an :class:`ElementType` and one entry in
 :data:`ELEMENT_TYPES`; run ``python -m flexmbd.codegen`` to generate its compiled
 kernels.
 """
 
-from .base import ROTATIONAL, TRANSLATIONAL, ElementType
+from .base import (
+    ROTATIONAL,
+    SPATIAL_ROTATIONAL,
+    SPATIAL_TRANSLATIONAL,
+    TRANSLATIONAL,
+    ElementType,
+)
 from .beam import Beam
+from .euler import EulerNormalization
 from .hinge import Hinge
 from .rigid_beam import RigidBeam
 from .second_order_beam import SecondOrderBeam
+from .spatial_beam import SpatialBeam
+from .spatial_hinge import SpatialHinge
+from .spatial_truss import SpatialTruss
 from .spring_damper import SpringDamper
 from .truss import Truss
 
 #: the element types by SPACAR keyword; the order is the compiled core's type numbers
 ELEMENT_TYPES: dict[str, type[ElementType]] = {
     cls.keyword: cls for cls in (Truss, Beam, RigidBeam, Hinge, SpringDamper,
-                                SecondOrderBeam)
+                                SecondOrderBeam, SpatialTruss, SpatialBeam, SpatialHinge,
+                                EulerNormalization)
 }
 
 __all__ = [
     "ELEMENT_TYPES",
     "ROTATIONAL",
+    "SPATIAL_ROTATIONAL",
+    "SPATIAL_TRANSLATIONAL",
     "TRANSLATIONAL",
     "Beam",
     "ElementType",
+    "EulerNormalization",
     "Hinge",
     "RigidBeam",
     "SecondOrderBeam",
+    "SpatialBeam",
+    "SpatialHinge",
+    "SpatialTruss",
     "SpringDamper",
     "Truss",
 ]

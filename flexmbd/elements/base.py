@@ -33,10 +33,19 @@ import numpy as np
 
 TRANSLATIONAL = "translational"
 ROTATIONAL = "rotational"
-#: number of coordinates carried by a node of each kind
-COORDINATES_PER_NODE = {TRANSLATIONAL: 2, ROTATIONAL: 1}
-#: names of the reference parameters an element type may use, in storage order
-REFERENCE_NAMES = ("length", "angle")
+SPATIAL_TRANSLATIONAL = "spatial translational"
+SPATIAL_ROTATIONAL = "spatial rotational"
+#: number of coordinates carried by a node of each kind: ``(x, y)``, ``phi``,
+#: ``(x, y, z)`` and the Euler parameters ``(lam0, lam1, lam2, lam3)``
+COORDINATES_PER_NODE = {TRANSLATIONAL: 2, ROTATIONAL: 1, SPATIAL_TRANSLATIONAL: 3,
+                        SPATIAL_ROTATIONAL: 4}
+#: the kinds of spatial models; a model holds kinds of one family only
+SPATIAL_KINDS = (SPATIAL_TRANSLATIONAL, SPATIAL_ROTATIONAL)
+
+
+def is_translational(kind: str) -> bool:
+    """Whether nodes of ``kind`` carry a position (planar or spatial)."""
+    return kind in (TRANSLATIONAL, SPATIAL_TRANSLATIONAL)
 
 
 @dataclass(frozen=True)
@@ -57,6 +66,17 @@ def rotational(name: str) -> Role:
     return Role(name, ROTATIONAL)
 
 
+def spatial_translational(name: str) -> Role:
+    """A spatial translational node ``(x, y, z)`` [m]."""
+    return Role(name, SPATIAL_TRANSLATIONAL)
+
+
+def spatial_rotational(name: str) -> Role:
+    """A spatial rotational node: four Euler parameters ``lam`` [-] of its rotation from
+    the reference configuration, where ``lam = (1, 0, 0, 0)``."""
+    return Role(name, SPATIAL_ROTATIONAL)
+
+
 @dataclass(frozen=True)
 class Value:
     """A stiffness or damping value an element type takes.
@@ -74,7 +94,7 @@ class Value:
 
 
 class ElementType:
-    """Base class of the planar element types (see the module docstring).
+    """Base class of the element types, planar and spatial (see the module docstring).
 
     Class attributes:
         name: short name used in messages (``"truss"``).
@@ -83,7 +103,16 @@ class ElementType:
         deformation_names: one name per deformation parameter.
         deformation_units: the SI unit of each (``"m"`` or ``"rad"``); a stress of a
             length is a force [N], of an angle a moment [N m].
-        reference: how many of :data:`REFERENCE_NAMES` the definition uses (0 to 2).
+        reference: how many reference parameters the definition uses: planar types
+            up to two (``l0``, ``beta0``), spatial ones their own layout (see
+            :meth:`reference_parameters`).
+        element_data: the values given with each element besides its nodes, by name,
+            with their defaults (``None``: required): the ``"orientation"`` vector of a
+            spatial beam, the ``"axis"`` of a spatial hinge. :meth:`reference_parameters`
+            turns them into parameters.
+        periodic: deformations that are angles modulo ``2 pi`` (a spatial hinge's
+            rotation); the engine keeps them continuous through any number of turns.
+        automatic: added by the builder, never by a user (the Euler normalization).
         stiffness_values, damping_values: the values of ``ESTIFF`` and ``EDAMP``, in
             their order in a ``.dat`` line.
         has_mass: whether the type takes a distributed mass (``EM``).
@@ -101,6 +130,9 @@ class ElementType:
     damping_values: ClassVar[tuple[Value, ...]] = ()
     has_mass: ClassVar[bool] = False
     released_by_default: ClassVar[bool] = False
+    element_data: ClassVar[dict[str, tuple[float, ...] | None]] = {}
+    periodic: ClassVar[tuple[int, ...]] = ()
+    automatic: ClassVar[bool] = False
 
     # --- sizes -------------------------------------------------------------------------
     @classmethod
@@ -116,20 +148,32 @@ class ElementType:
         return tuple(r.kind for r in cls.roles)
 
     @classmethod
+    def is_spatial(cls) -> bool:
+        """Whether the type belongs to spatial models (its nodes are spatial)."""
+        return any(r.kind in SPATIAL_KINDS for r in cls.roles)
+
+    @classmethod
+    def dimension(cls) -> int:
+        """Coordinates of a position: 2 (planar) or 3 (spatial)."""
+        return 3 if cls.is_spatial() else 2
+
+    @classmethod
     def ends(cls) -> tuple[int, int] | None:
-        """Columns of ``r_p`` and ``r_q`` (each two wide) in the element coordinates, or
-        ``None`` for a type with fewer than two translational nodes."""
+        """Columns of ``r_p`` and ``r_q`` (each :meth:`dimension` wide) in the element
+        coordinates, or ``None`` for a type with fewer than two translational nodes."""
         columns, at = [], 0
         for role in cls.roles:
-            if role.kind == TRANSLATIONAL:
+            if is_translational(role.kind):
                 columns.append(at)
             at += COORDINATES_PER_NODE[role.kind]
         return (columns[0], columns[1]) if len(columns) >= 2 else None
 
     @classmethod
-    def reference_parameters(cls, xe0: np.ndarray) -> np.ndarray:
+    def reference_parameters(cls, xe0: np.ndarray,
+                             data: dict[str, np.ndarray] | None = None) -> np.ndarray:
         """The reference parameters ``(n, reference)`` from the initial element
-        coordinates ``xe0`` ``(n, nc)``: the length ``l0`` [m] and the angle ``beta0``
+        coordinates ``xe0`` ``(n, nc)`` and the :attr:`element_data` (arrays ``(n, k)``
+        by name). Here, for planar types: the length ``l0`` [m] and the angle ``beta0``
         [rad] of the chord from ``r_p`` to ``r_q``."""
         xe0 = np.atleast_2d(np.asarray(xe0, dtype=float))
         ends = cls.ends()
@@ -138,6 +182,12 @@ class ElementType:
         d = xe0[:, ends[1]:ends[1] + 2] - xe0[:, ends[0]:ends[0] + 2]
         both = np.stack([np.hypot(d[:, 0], d[:, 1]), np.arctan2(d[:, 1], d[:, 0])], axis=1)
         return both[:, :cls.reference]
+
+    @classmethod
+    def check_data(cls, xe0: np.ndarray, data: dict[str, np.ndarray]) -> list[str]:
+        """Problems of one element's :attr:`element_data` at its initial coordinates
+        ``xe0`` ``(nc,)`` (an orientation vector along the chord, say); none here."""
+        return []
 
     # --- the single definition --------------------------------------------------------
     @staticmethod
@@ -152,20 +202,41 @@ class ElementType:
 
     @staticmethod
     def material_point(c: list[Any], p: list[Any], xi: Any, m: ModuleType) -> list[Any]:
-        """Position ``(x, y)`` of the material point at ``xi`` in [0, 1] from ``r_p`` to
-        ``r_q``, from which the consistent mass, the velocity-dependent inertia and
-        the gravity load follow (``M = m int N^T N dxi`` with ``N`` its derivative
-        with respect to ``c``, THEORY 5). Types with mass define it."""
+        """Position ``(x, y)`` (``(x, y, z)`` for spatial types) of the material point at
+        ``xi`` in [0, 1] from ``r_p`` to ``r_q``, from which the consistent mass, the
+        velocity-dependent inertia and the gravity load follow (``M = m int N^T N dxi``
+        with ``N`` its derivative with respect to ``c``, THEORY 5). Types with a
+        distributed mass define it."""
         raise NotImplementedError
+
+    @staticmethod
+    def body_angular_velocity(c: list[Any], m: ModuleType) -> list[list[Any]] | None:
+        """For a type that carries a rigid body's rotary inertia (the Euler element of a
+        spatial rotational node): the matrix ``W`` (3 x nc) of its body angular velocity
+        ``omega' = W cdot``. The inertia tensor comes from :meth:`inertia_tensor`; the
+        kernels then hold the mass ``W^T J W`` and the velocity term ``W^T (J Wdot cdot +
+        omega' x J omega')`` (THEORY-SPATIAL 4). ``None`` for the other types."""
+        return None
+
+    @staticmethod
+    def inertia_tensor(p: list[Any]) -> list[list[Any]]:
+        """The body-frame inertia tensor ``J`` (3 x 3) [kg m^2] in the reference parameters
+        of a type with :meth:`body_angular_velocity`."""
+        raise NotImplementedError
+
+    @classmethod
+    def element_mass(cls, p: np.ndarray, mass_per_length: np.ndarray) -> np.ndarray:
+        """The factor ``(n,)`` [kg] of the kernels' mass, per unit mass: ``rhoA l0``."""
+        return mass_per_length * p[:, 0]
 
     @classmethod
     def lumped_masses(cls, p: np.ndarray, mass: np.ndarray) -> np.ndarray:
         """Diagonal of the lumped mass matrix ``(n, nc)`` [kg, kg m^2] for element masses
         ``mass`` ``(n,)``: half the mass at each translational end node."""
         out = np.zeros((len(mass), cls.n_coordinates()))
-        ends = cls.ends()
+        ends, width = cls.ends(), cls.dimension()
         if ends is not None:
-            for column in (*range(ends[0], ends[0] + 2), *range(ends[1], ends[1] + 2)):
+            for column in (*range(ends[0], ends[0] + width), *range(ends[1], ends[1] + width)):
                 out[:, column] = 0.5 * mass
         return out
 
@@ -184,13 +255,14 @@ class ElementType:
     @classmethod
     def outline(cls, xe: np.ndarray, p: np.ndarray, e: np.ndarray,
                 exaggeration: float = 1.0) -> list[np.ndarray]:
-        """Polylines ``(k, 2)`` [m] that draw ``n`` elements at coordinates ``xe``
-        ``(n, nc)`` with deformations ``e`` ``(n, nd)``: by default the chord from
-        ``r_p`` to ``r_q``; nothing for types without two translational nodes."""
-        ends = cls.ends()
+        """Polylines ``(k, 2)`` (``(k, 3)`` for spatial types) [m] that draw ``n``
+        elements at coordinates ``xe`` ``(n, nc)`` with deformations ``e`` ``(n, nd)``:
+        by default the chord from ``r_p`` to ``r_q``; nothing for types without two
+        translational nodes."""
+        ends, width = cls.ends(), cls.dimension()
         if ends is None:
             return []
-        return [np.stack([x[ends[0]:ends[0] + 2], x[ends[1]:ends[1] + 2]]) for x in xe]
+        return [np.stack([x[ends[0]:ends[0] + width], x[ends[1]:ends[1] + width]]) for x in xe]
 
 
 def chord(c: list[Any], p_at: int, q_at: int) -> tuple[Any, Any]:

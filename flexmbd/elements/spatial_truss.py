@@ -1,0 +1,68 @@
+"""Spatial truss (TRUSS): one elongation ``e1 = l - l0`` between two spatial
+translational nodes (THEORY-SPATIAL 3)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .base import (
+    AXIAL_DAMPING,
+    AXIAL_STIFFNESS,
+    ElementType,
+    elongation_law,
+    spatial_translational,
+)
+
+
+def spatial_chord(c, p_at: int, q_at: int) -> list:
+    """``d = r_q - r_p`` for ``r_p`` at ``c[p_at:p_at + 3]`` and ``r_q`` at ``c[q_at:q_at + 3]``."""
+    return [c[q_at + k] - c[p_at + k] for k in range(3)]
+
+
+def spatial_elongation(c, p_at: int, q_at: int, length, m):
+    """``l - l0``: the distance of ``r_p`` and ``r_q`` less ``length``."""
+    d = spatial_chord(c, p_at, q_at)
+    return m.sqrt(d[0] ** 2 + d[1] ** 2 + d[2] ** 2) - length
+
+
+def chord_lengths(xe0: np.ndarray, p_at: int, q_at: int) -> tuple[np.ndarray, np.ndarray]:
+    """The reference chords ``d`` ``(n, 3)`` [m] and their lengths ``(n,)`` of ``n``
+    elements at coordinates ``xe0`` ``(n, nc)``."""
+    d = xe0[:, q_at:q_at + 3] - xe0[:, p_at:p_at + 3]
+    return d, np.linalg.norm(d, axis=1)
+
+
+class SpatialTruss(ElementType):
+    """Two spatial translational nodes; coordinates ``[x_p, y_p, z_p, x_q, y_q, z_q]``.
+
+    Properties: ``EM`` (``rhoA`` [kg/m]), ``ESTIFF`` ``EA`` [N], ``EDAMP`` ``c_A`` [N s].
+    """
+
+    name = "spatial truss"
+    keyword = "TRUSS"
+    roles = (spatial_translational("p"), spatial_translational("q"))
+    deformation_names = ("elongation",)
+    deformation_units = ("m",)
+    reference = 1
+    stiffness_values = (AXIAL_STIFFNESS,)
+    damping_values = (AXIAL_DAMPING,)
+    has_mass = True
+
+    @classmethod
+    def reference_parameters(cls, xe0, data=None):
+        """The length ``l0`` [m] of the initial chord, ``(n, 1)``."""
+        return chord_lengths(np.atleast_2d(np.asarray(xe0, dtype=float)), 0, 3)[1][:, None]
+
+    @staticmethod
+    def deformations(c, p, m):
+        return [spatial_elongation(c, 0, 3, p[0], m)]
+
+    @staticmethod
+    def material_point(c, p, xi, m):
+        """The rod's linear interpolation ``(1 - xi) r_p + xi r_q``."""
+        return [(1 - xi) * c[k] + xi * c[3 + k] for k in range(3)]
+
+    @classmethod
+    def elastic_law(cls, p, stiffness, damping):
+        """``EA / l0`` and ``c_A / l0`` on the elongation."""
+        return elongation_law(p, 1, stiffness["axial"], damping["axial"])
