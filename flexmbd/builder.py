@@ -553,7 +553,8 @@ class ModelBuilder:
             reference = tuple(float(v) for v in
                               etype.reference_parameters(x0_array[list(coords)], arrays)[0])
             elements[number] = Element(number, etype, element_nodes, coords,
-                                       tuple(range(first, first + nd)), reference, data)
+                                       tuple(range(first, first + nd)), reference,
+                                       MappingProxyType(dict(data)))
         self._check_lengths(elements, self._positions, problems)
         element_properties = self._element_properties(elements, problems)
         first_euler = max(elements, default=0) + 1
@@ -563,7 +564,8 @@ class ModelBuilder:
             data = {"inertia": inertias.get(node, (0.0,) * 6)}
             elements[number] = Element(number, EulerNormalization, (node,),
                                        nodes[node].coordinates,
-                                       (len(deformation_labels),), data["inertia"], data)
+                                       (len(deformation_labels),), data["inertia"],
+                                       MappingProxyType(data))
             deformation_labels.append(f"e{number}.1")
             default_class.append(DeformationClass.RIGID)
 

@@ -20,6 +20,7 @@ import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from enum import IntEnum
+from types import MappingProxyType
 
 import numpy as np
 
@@ -75,7 +76,7 @@ class Element:
     coordinates: tuple[int, ...]
     deformations: tuple[int, ...]
     reference: tuple[float, ...]
-    data: Mapping[str, tuple[float, ...]] = field(default_factory=dict)
+    data: Mapping[str, tuple[float, ...]] = field(default_factory=lambda: MappingProxyType({}))
 
 
 @dataclass(frozen=True)
