@@ -602,8 +602,8 @@ class ModelBuilder:
         rotary inertia ``(l0/2) R0 Jsec R0^T`` of each spatial beam with a section inertia
         (THEORY-SPATIAL 4), as ``(Jxx, Jxy, Jxz, Jyy, Jyz, Jzz)``."""
         tensors: dict[int, np.ndarray] = defaultdict(lambda: np.zeros((3, 3)))
-        for node, (xx, xy, xz, yy, yz, zz) in self._nodal_inertias.items():
-            tensors[node] += np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+        for node, values in self._nodal_inertias.items():
+            tensors[node] += np.array(EulerNormalization.inertia_tensor(values))
         for number, inertia in self._section_inertias.items():
             element = elements.get(number)
             if element is None or element.type is not SpatialBeam:

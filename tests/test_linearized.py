@@ -374,12 +374,31 @@ def test_a_degree_of_freedom_without_mass_is_named():
         modes_along(fm.kinematic_analysis(model, [0.0, 1.0]), 1)
 
 
+def assembled_equals_element_by_element(model: fm.Model, rng):
+    """Engine.assembly against the per-element kernels at a random configuration near
+    ``x0``: ``e``, ``D_x``, ``D_x A`` and the stress-weighted Hessian times ``A``; returns the
+    assembly for checks of the elastic law."""
+    from flexmbd.engine import deformations_and_jacobian, dense_hessian
+
+    x = model.x0 + 0.1 * rng.standard_normal(model.n_coordinates)
+    sigma = rng.standard_normal(model.n_deformations)
+    assembly = Engine(model).assembly
+    e, D_x = assembly.deformations_and_jacobian(x)
+    e_each, D_x_each = deformations_and_jacobian(model, x)
+    assert np.array_equal(e, e_each) and np.array_equal(D_x, D_x_each)
+    assert np.array_equal(assembly.deformations(x), e_each)
+    A = rng.standard_normal((model.n_coordinates, 4))
+    assert np.allclose(assembly.jacobian_times(x, A), D_x_each @ A, rtol=1e-14, atol=1e-14)
+    H = np.einsum("i,ijk->jk", sigma, dense_hessian(model, x))
+    assert np.allclose(assembly.stress_hessian_times(x, sigma, A), H @ A, rtol=1e-13,
+                       atol=1e-13)
+    return assembly
+
+
 def test_the_assembled_arrays_equal_the_element_by_element_ones():
     """Engine.assembly (every element in one core call, scattered by index maps) gives
     D_x, the stress Hessian and the elastic law's products of the per-element kernels,
     on a model of every element type at a random configuration."""
-    from flexmbd.engine import deformations_and_jacobian, dense_hessian
-
     b = fm.ModelBuilder("every element type")
     for n, (x, y) in {1: (0, 0), 3: (1, 0.2), 5: (2, -0.1), 7: (2.5, 0.6)}.items():
         b.add_node(n, x, y)
@@ -397,19 +416,7 @@ def test_the_assembled_arrays_equal_the_element_by_element_ones():
     assert {e.type for e in model.elements.values()} == {
         t for t in fm.elements.ELEMENT_TYPES.values() if not t.is_spatial()}
     rng = np.random.default_rng(5)
-    x = model.x0 + 0.1 * rng.standard_normal(model.n_coordinates)
-    sigma = rng.standard_normal(model.n_deformations)
-    assembly = Engine(model).assembly
-
-    e, D_x = assembly.deformations_and_jacobian(x)
-    e_each, D_x_each = deformations_and_jacobian(model, x)
-    assert np.array_equal(e, e_each) and np.array_equal(D_x, D_x_each)
-    assert np.array_equal(assembly.deformations(x), e_each)
-    A = rng.standard_normal((model.n_coordinates, 4))
-    assert np.allclose(assembly.jacobian_times(x, A), D_x_each @ A, rtol=1e-14, atol=1e-14)
-    H = np.einsum("i,ijk->jk", sigma, dense_hessian(model, x))
-    assert np.allclose(assembly.stress_hessian_times(x, sigma, A), H @ A, rtol=1e-13,
-                       atol=1e-13)
+    assembly = assembled_equals_element_by_element(model, rng)
     # the law's blocks: S = diag(EA/l0, EI/l0^3 [[4, -2], [-2, 4]], k) on the beam 2
     A = rng.standard_normal((model.n_deformations, 3))
     rows = [model.deformation_index(f"e2.{k}") for k in (1, 2, 3)]
@@ -425,8 +432,6 @@ def test_the_assembled_arrays_equal_the_element_by_element_ones():
 def test_the_assembled_arrays_equal_the_element_by_element_ones_in_space():
     """The same for a spatial model of every spatial element type (the Euler elements
     are added by the builder), and its elastic law: EA/l0, GIt/l0^3, EIy and EIz pairs."""
-    from flexmbd.engine import deformations_and_jacobian, dense_hessian
-
     b = fm.ModelBuilder("every spatial element type")
     for n, xyz in {1: (0, 0, 0), 3: (1, 0.2, 0.1), 5: (2, -0.1, 0.3)}.items():
         b.add_node(n, *xyz)
@@ -442,16 +447,7 @@ def test_the_assembled_arrays_equal_the_element_by_element_ones_in_space():
     assert {e.type for e in model.elements.values()} == {
         t for t in fm.elements.ELEMENT_TYPES.values() if t.is_spatial()}
     rng = np.random.default_rng(6)
-    x = model.x0 + 0.1 * rng.standard_normal(model.n_coordinates)
-    sigma = rng.standard_normal(model.n_deformations)
-    assembly = Engine(model).assembly
-    e, D_x = assembly.deformations_and_jacobian(x)
-    e_each, D_x_each = deformations_and_jacobian(model, x)
-    assert np.array_equal(e, e_each) and np.array_equal(D_x, D_x_each)
-    A = rng.standard_normal((model.n_coordinates, 3))
-    H = np.einsum("i,ijk->jk", sigma, dense_hessian(model, x))
-    assert np.allclose(assembly.stress_hessian_times(x, sigma, A), H @ A, rtol=1e-13,
-                       atol=1e-13)
+    assembly = assembled_equals_element_by_element(model, rng)
     A = rng.standard_normal((model.n_deformations, 2))
     rows = [model.deformation_index(f"e1.{k}") for k in range(1, 7)]
     l0 = float(np.linalg.norm([1, 0.2, 0.1]))

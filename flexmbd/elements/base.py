@@ -265,9 +265,10 @@ class ElementType:
         return [np.stack([x[ends[0]:ends[0] + width], x[ends[1]:ends[1] + width]]) for x in xe]
 
 
-def chord(c: list[Any], p_at: int, q_at: int) -> tuple[Any, Any]:
-    """``d = r_q - r_p`` for ``r_p`` at ``c[p_at], c[p_at + 1]`` and ``r_q`` likewise."""
-    return c[q_at] - c[p_at], c[q_at + 1] - c[p_at + 1]
+def chord(c: list[Any], p_at: int, q_at: int, width: int = 2) -> list[Any]:
+    """``d = r_q - r_p`` for ``r_p`` at ``c[p_at:p_at + width]`` and ``r_q`` likewise (a
+    planar chord, or ``width = 3`` a spatial one)."""
+    return [c[q_at + k] - c[p_at + k] for k in range(width)]
 
 
 def elongation_law(p: np.ndarray, nd: int, axial: np.ndarray, axial_damping: np.ndarray

@@ -28,6 +28,28 @@ def hermite(xi):
             -(xi**2) + xi**3)
 
 
+def deflection(xi, e_p, e_q):
+    """The transverse deflection ``v(xi) = H2 e_p - H4 e_q`` of a bend whose deformations
+    at p and q are ``e_p ~ l theta_p`` and ``e_q ~ -l theta_q`` (THEORY section 2)."""
+    _, h2, _, h4 = hermite(xi)
+    return h2 * e_p - h4 * e_q
+
+
+def arc_beyond_chord(e_p, e_q, l0):
+    """``(2 e_p^2 + e_p e_q + 2 e_q^2) / (30 l0)``: how much longer the Hermite centre line
+    of that bend is than its chord, ``1/2 int v'^2 dx`` (the second-order beams' term)."""
+    return (2 * e_p**2 + e_p * e_q + 2 * e_q**2) / (30 * l0)
+
+
+def bending_pair(bending: np.ndarray, phi: np.ndarray, l0: np.ndarray) -> np.ndarray:
+    """The bending stiffness of a pair of end deformations, ``EI/((1+Phi) l0^3) [[4+Phi,
+    Phi-2], [Phi-2, 4+Phi]]`` ``(n, 2, 2)``, with the shear parameter ``Phi`` (0:
+    Euler-Bernoulli; also the damping matrix with ``c_I`` for ``EI``)."""
+    factor = bending / ((1 + phi) * l0**3)
+    diagonal, off = factor * (4 + phi), factor * (phi - 2)
+    return np.stack([np.stack([diagonal, off], -1), np.stack([off, diagonal], -1)], -2)
+
+
 class Beam(ElementType):
     """Coordinates ``[x_p, y_p, phi_p, x_q, y_q, phi_q]``.
 
@@ -72,12 +94,8 @@ class Beam(ElementType):
         l0, bending, shear = p[:, 0], stiffness["bending"], stiffness["shear"]
         with np.errstate(divide="ignore", invalid="ignore"):
             phi = np.where(shear > 0, 12 * bending / (shear * l0**2), 0.0)
-        factor = bending / ((1 + phi) * l0**3)
-        S[:, 1, 1] = S[:, 2, 2] = factor * (4 + phi)
-        S[:, 1, 2] = S[:, 2, 1] = factor * (phi - 2)
-        c_i = damping["bending"] / l0**3
-        C[:, 1, 1] = C[:, 2, 2] = 4 * c_i
-        C[:, 1, 2] = C[:, 2, 1] = -2 * c_i
+        S[:, 1:3, 1:3] = bending_pair(bending, phi, l0)
+        C[:, 1:3, 1:3] = bending_pair(damping["bending"], np.zeros_like(l0), l0)
         return S, C
 
     @classmethod
@@ -85,11 +103,10 @@ class Beam(ElementType):
         """The chord plus the transverse deflection of THEORY 2, ``v(xi) = (xi - 2 xi^2 +
         xi^3) e2 + (xi^2 - xi^3) e3``, times ``exaggeration``."""
         xi = np.linspace(0.0, 1.0, 21)
-        h2, h3 = xi - 2 * xi**2 + xi**3, xi**2 - xi**3
         lines = []
         for x, ek in zip(xe, e, strict=True):
             rp, d = x[0:2], x[3:5] - x[0:2]
             normal = np.array([-d[1], d[0]]) / np.hypot(d[0], d[1])
-            v = exaggeration * (h2 * ek[1] + h3 * ek[2])
+            v = exaggeration * deflection(xi, ek[1], ek[2])
             lines.append(rp + np.outer(xi, d) + np.outer(v, normal))
         return lines

@@ -25,7 +25,7 @@ in ``(-pi, pi]``: an end turned half a revolution from its chord is not a beam.
 from __future__ import annotations
 
 from .base import chord
-from .beam import Beam
+from .beam import Beam, arc_beyond_chord
 from .truss import elongation
 
 
@@ -45,5 +45,4 @@ class SecondOrderBeam(Beam):
         theta_q = m.atan2(m.sin(beta_q) * dx - m.cos(beta_q) * dy,   # -n_q . d
                           m.cos(beta_q) * dx + m.sin(beta_q) * dy)   # e_q . d
         e2, e3 = p[0] * theta_p, -p[0] * theta_q
-        return [elongation(c, 0, 3, p[0], m) + (2 * e2**2 + e2 * e3 + 2 * e3**2) / (30 * p[0]),
-                e2, e3]
+        return [elongation(c, 0, 3, p[0], m) + arc_beyond_chord(e2, e3, p[0]), e2, e3]

@@ -25,12 +25,14 @@ from .base import (
     AXIAL_STIFFNESS,
     ElementType,
     Value,
+    chord,
+    elongation_law,
     spatial_rotational,
     spatial_translational,
 )
-from .beam import hermite
+from .beam import arc_beyond_chord, bending_pair, deflection, hermite
 from .rotations import dot, frame_columns, rotate
-from .spatial_truss import chord_lengths, spatial_chord
+from .spatial_truss import chord_lengths
 
 #: an orientation vector closer to the chord than this angle [rad] gives no frame
 PARALLEL_LIMIT = 1e-5
@@ -40,7 +42,7 @@ def bending_linked_terms(e: list, l0) -> list:
     """The second-order terms ``c(e)`` SPACAR adds to the basic deformations ``e``
     (THEORY-SPATIAL 3): quadratic forms in ``e``."""
     _, e2, e3, e4, e5, e6 = e
-    c1 = (2 * e3**2 + e3 * e4 + 2 * e4**2 + 2 * e5**2 + e5 * e6 + 2 * e6**2) / (30 * l0)
+    c1 = arc_beyond_chord(e3, e4, l0) + arc_beyond_chord(e5, e6, l0)
     c3 = e2 * (e5 + e6) / (6 * l0)
     c5 = -e2 * (e3 + e4) / (6 * l0)
     return [c1, (e4 * e5 - e3 * e6) / l0, c3, -c3, c5, -c5]
@@ -119,7 +121,7 @@ class SpatialBeam(ElementType):
     def deformations(c, p, m):
         l0 = p[0]
         _, ey0, ez0 = frame_columns(p, 1)
-        d = spatial_chord(c, 0, 7)
+        d = chord(c, 0, 7, width=3)
         length = m.sqrt(dot(d, d))
         u = [dk / length for dk in d]
         lam_p, lam_q = c[3:7], c[10:14]
@@ -148,26 +150,22 @@ class SpatialBeam(ElementType):
         and for each bending pair ``EI/((1+Phi) l0^3) [[4+Phi, Phi-2], [Phi-2, 4+Phi]]``
         with ``Phi = 12 s/l0^2`` (``EIy, sy`` on ``e3, e4``; ``EIz, sz`` on ``e5, e6``).
         Damping: the same with the damping values and no shear."""
-        n, l0 = len(p), p[:, 0]
-        S, C = np.zeros((2, n, 6, 6))
-        for law, values, shear in ((S, stiffness, True), (C, damping, False)):
-            law[:, 0, 0] = values["axial"] / l0
-            law[:, 1, 1] = values["torsion"] / l0**3
-            for at, bending, flexibility in ((2, "bending_y", "shear_y"),
-                                             (4, "bending_z", "shear_z")):
-                phi = 12 * values[flexibility] / l0**2 if shear else np.zeros(n)
-                factor = values[bending] / ((1 + phi) * l0**3)
-                law[:, at, at] = law[:, at + 1, at + 1] = factor * (4 + phi)
-                law[:, at, at + 1] = law[:, at + 1, at] = factor * (phi - 2)
+        l0 = p[:, 0]
+        S, C = elongation_law(p, 6, stiffness["axial"], damping["axial"])
+        S[:, 1, 1], C[:, 1, 1] = stiffness["torsion"] / l0**3, damping["torsion"] / l0**3
+        for at, bending, flexibility in ((2, "bending_y", "shear_y"),
+                                         (4, "bending_z", "shear_z")):
+            phi = 12 * stiffness[flexibility] / l0**2
+            S[:, at:at + 2, at:at + 2] = bending_pair(stiffness[bending], phi, l0)
+            C[:, at:at + 2, at:at + 2] = bending_pair(damping[bending], np.zeros_like(l0), l0)
         return S, C
 
     @classmethod
     def outline(cls, xe, p, e, exaggeration=1.0):
-        """The chord plus the Hermite deflection ``(h2 e3 + h3 e4) ez - (h2 e5 + h3 e6)
-        ey`` (``h2 = xi - 2 xi^2 + xi^3``, ``h3 = xi^2 - xi^3`` as in the planar beam)
-        in the mean frame of the two end nodes, times ``exaggeration``."""
+        """The chord plus the Hermite deflections of the planar beam, ``v(e3, e4)`` along
+        ``ez`` and ``-v(e5, e6)`` along ``ey`` of the mean frame of the two end nodes, times
+        ``exaggeration``."""
         xi = np.linspace(0.0, 1.0, 21)
-        h2, h3 = xi - 2 * xi**2 + xi**3, xi**2 - xi**3
         lines = []
         for x, pk, ek in zip(xe, p, e, strict=True):
             rp, d = x[0:3], x[7:10] - x[0:3]
@@ -178,7 +176,7 @@ class SpatialBeam(ElementType):
                 a = a - np.dot(a, u) * u
                 axes.append(a / max(np.linalg.norm(a), 1e-300))
             ey, ez = axes
-            w = exaggeration * (np.outer(h2 * ek[2] + h3 * ek[3], ez)
-                                - np.outer(h2 * ek[4] + h3 * ek[5], ey))
+            w = exaggeration * (np.outer(deflection(xi, ek[2], ek[3]), ez)
+                                - np.outer(deflection(xi, ek[4], ek[5]), ey))
             lines.append(rp + np.outer(xi, d) + w)
         return lines

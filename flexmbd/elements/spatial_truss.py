@@ -12,17 +12,7 @@ from .base import (
     elongation_law,
     spatial_translational,
 )
-
-
-def spatial_chord(c, p_at: int, q_at: int) -> list:
-    """``d = r_q - r_p`` for ``r_p`` at ``c[p_at:p_at + 3]`` and ``r_q`` at ``c[q_at:q_at + 3]``."""
-    return [c[q_at + k] - c[p_at + k] for k in range(3)]
-
-
-def spatial_elongation(c, p_at: int, q_at: int, length, m):
-    """``l - l0``: the distance of ``r_p`` and ``r_q`` less ``length``."""
-    d = spatial_chord(c, p_at, q_at)
-    return m.sqrt(d[0] ** 2 + d[1] ** 2 + d[2] ** 2) - length
+from .truss import along_chord, elongation
 
 
 def chord_lengths(xe0: np.ndarray, p_at: int, q_at: int) -> tuple[np.ndarray, np.ndarray]:
@@ -55,12 +45,12 @@ class SpatialTruss(ElementType):
 
     @staticmethod
     def deformations(c, p, m):
-        return [spatial_elongation(c, 0, 3, p[0], m)]
+        return [elongation(c, 0, 3, p[0], m, width=3)]
 
     @staticmethod
     def material_point(c, p, xi, m):
         """The rod's linear interpolation ``(1 - xi) r_p + xi r_q``."""
-        return [(1 - xi) * c[k] + xi * c[3 + k] for k in range(3)]
+        return along_chord(c, 0, 3, xi, width=3)
 
     @classmethod
     def elastic_law(cls, p, stiffness, damping):

@@ -12,15 +12,15 @@ from .base import (
 )
 
 
-def elongation(c, p_at: int, q_at: int, length, m):
-    """``l - l0``: the distance of ``r_p`` (at ``c[p_at]``) and ``r_q`` less ``length``."""
-    dx, dy = chord(c, p_at, q_at)
-    return m.sqrt(dx**2 + dy**2) - length
+def elongation(c, p_at: int, q_at: int, length, m, width: int = 2):
+    """``l - l0``: the distance of ``r_p`` (at ``c[p_at]``) and ``r_q`` less ``length``, in
+    the plane or (``width = 3``) in space."""
+    return m.sqrt(sum(d**2 for d in chord(c, p_at, q_at, width))) - length
 
 
-def along_chord(c, p_at: int, q_at: int, xi):
+def along_chord(c, p_at: int, q_at: int, xi, width: int = 2):
     """The point ``(1 - xi) r_p + xi r_q``: a rod's linear interpolation."""
-    return [(1 - xi) * c[p_at] + xi * c[q_at], (1 - xi) * c[p_at + 1] + xi * c[q_at + 1]]
+    return [(1 - xi) * c[p_at + k] + xi * c[q_at + k] for k in range(width)]
 
 
 class Truss(ElementType):
