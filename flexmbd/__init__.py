@@ -50,6 +50,13 @@ from .kinematics import (
 )
 from .model import CoordinateClass, DeformationClass, Model
 from .motion import Custom, Expression, Polynomial
+from .orientation import (
+    angular_velocity,
+    axis_angle,
+    euler_parameters,
+    euler_rates,
+    rotation_matrix,
+)
 from .results import KinematicResult, SimulationResult
 from .settings import RunSettings
 
@@ -120,10 +127,14 @@ __all__ = [
     "Truss",
     "__version__",
     "accelerations",
+    "angular_velocity",
+    "axis_angle",
     "buckling",
     "compliance",
     "deformation_transfer",
     "deformations",
+    "euler_parameters",
+    "euler_rates",
     "first_order_transfer",
     "hessian",
     "initial_q",
@@ -138,6 +149,7 @@ __all__ = [
     "quadratic_velocity",
     "read_dat",
     "reduced_mass_matrix",
+    "rotation_matrix",
     "second_order_transfer",
     "simulate",
     "solve_position",

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 from collections import defaultdict
+from contextlib import nullcontext
 from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Literal
@@ -189,8 +190,12 @@ class ModelBuilder:
             try:
                 values[name] = tuple(float(v) for v in np.ravel(value))
             except (TypeError, ValueError):
-                self._problems.append(f"{element_type.name} {number}: {name} {value!r} is not "
-                                      f"numbers")
+                values[name] = ()
+            # a direction's size only scales it; beyond this it would overflow its norm
+            if not values[name] or not all(abs(v) <= LARGEST_POSITION for v in values[name]):
+                self._problems.append(Problem(
+                    f"{element_type.name} {number}: {name} {value!r} is not finite numbers "
+                    f"of at most {LARGEST_POSITION:g}", ("element", number)))
                 return self
         if data:
             takes = ", ".join(element_type.element_data) or "nothing besides its nodes"
@@ -406,7 +411,9 @@ class ModelBuilder:
     def add_force(self, node: int, *components: float) -> ModelBuilder:
         """Constant applied load (XF): ``(Fx, Fy)`` [N] on a translational node or a
         torque ``M`` [N m] on a rotational node; in space ``(Fx, Fy, Fz)`` or a moment
-        ``(Mx, My, Mz)`` [N m] in global axes. Repeated calls add up."""
+        ``(Mx, My, Mz)`` [N m] in global axes, constant in direction while the node turns
+        (its generalized force ``2 E(lam)^T M`` is formed at every state). Repeated calls
+        add up."""
         if not all(_finite_number(c) for c in components):
             self._problems.append(f"add_force node {node}: {components!r} are not finite numbers")
             return self
@@ -547,11 +554,14 @@ class ModelBuilder:
             deformation_labels += [f"e{number}.{k}" for k in range(1, nd + 1)]
             default_class += [DeformationClass.RELEASED if etype.released_by_default
                               else DeformationClass.RIGID] * nd
+            refused = etype.check_data(x0_array[list(coords)], data)
             problems += [Problem(f"{etype.name} {number}: {text}", ("element", number))
-                         for text in etype.check_data(x0_array[list(coords)], data)]
+                         for text in refused]
             arrays = {name: np.array([value]) for name, value in data.items()}
-            reference = tuple(float(v) for v in
-                              etype.reference_parameters(x0_array[list(coords)], arrays)[0])
+            # refused data (an orientation along the beam) make a reference that is never used
+            with np.errstate(invalid="ignore", divide="ignore") if refused else nullcontext():
+                reference = tuple(float(v) for v in
+                                  etype.reference_parameters(x0_array[list(coords)], arrays)[0])
             elements[number] = Element(number, etype, element_nodes, coords,
                                        tuple(range(first, first + nd)), reference,
                                        MappingProxyType(dict(data)))
@@ -699,13 +709,7 @@ class ModelBuilder:
                     continue
                 kind = nodes[number].kind
                 wanted = 3 if kind == SPATIAL_ROTATIONAL else len(nodes[number].coordinates)
-                if what == "add_force" and kind == SPATIAL_ROTATIONAL:
-                    # a global moment is the generalized force 2 E(lam)^T M, which turns
-                    # with the node: the engine's constant loads cannot carry it yet
-                    problems.append(f"add_force node {number}: moments on spatial rotational "
-                                    f"nodes are not supported yet; apply the moment as a "
-                                    f"force couple on translational nodes")
-                elif what == "add_force" and len(value) != wanted:
+                if what == "add_force" and len(value) != wanted:
                     problems.append(
                         f"add_force node {number}: a {kind} node takes "
                         f"{wanted} component(s), got {len(value)}")

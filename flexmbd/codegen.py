@@ -12,6 +12,11 @@ are differentiated here and written as C with common subexpressions eliminated:
   the velocity-dependent inertia ``int N^T (Ndot xdot) dxi`` and the gravity load
   ``int N^T g dxi``, with ``N`` the derivative of the material point.
 
+It also writes, from :func:`~flexmbd.elements.rotations.global_rates`, the two maps
+between a global moment ``M`` on a spatial rotational node and the generalized force
+``f`` on its Euler parameters: ``fm_moment_load``, ``f = 2 E(lam)^T M`` (loads), and
+``fm_moment_of``, ``M = 1/2 E(lam) f`` (reactions).
+
 The output, ``flexmbd/csrc/kernels.c``, is committed and compiled by ``pip install``;
 it records a hash of the definitions it was made from, which the tests compare with
 the definitions as they are now. After changing or adding an element type run::
@@ -25,7 +30,7 @@ import hashlib
 import inspect
 from pathlib import Path
 
-from .elements import ELEMENT_TYPES
+from .elements import ELEMENT_TYPES, rotations
 from .elements.base import ElementType
 
 #: where the generated kernels go
@@ -36,7 +41,7 @@ def definitions_hash() -> str:
     """SHA-256 of the sources the kernels are generated from: the element modules and
     this generator."""
     sources = [inspect.getsource(inspect.getmodule(cls)) for cls in ELEMENT_TYPES.values()]
-    sources += [inspect.getsource(inspect.getmodule(ElementType)),
+    sources += [inspect.getsource(inspect.getmodule(ElementType)), inspect.getsource(rotations),
                 inspect.getsource(inspect.getmodule(definitions_hash))]
     return hashlib.sha256("\n".join(sources).encode()).hexdigest()
 
@@ -105,7 +110,7 @@ def derive(cls: type[ElementType], sp) -> dict[str, tuple[list, list]]:
 
 
 _SIGNATURES = {"c": "const double *c", "v": "const double *v", "p": "const double *p",
-               "g": "const double *g"}
+               "g": "const double *g", "m": "const double *m", "f": "const double *f"}
 
 
 def _printer(sp):
@@ -136,7 +141,8 @@ def _printer(sp):
     return Printer()
 
 
-def _function(name: str, arguments: list[str], expressions: list, sp) -> str:
+def _function(name: str, arguments: list[str], expressions: list, sp,
+              storage: str = "static ") -> str:
     """One C function ``void name(args, double *out)`` with common subexpressions."""
     replacements = {}
     for letter in arguments:
@@ -146,7 +152,7 @@ def _function(name: str, arguments: list[str], expressions: list, sp) -> str:
     expressions = [sp.sympify(x).xreplace(replacements) for x in expressions]
     shared, reduced = sp.cse(expressions, symbols=sp.numbered_symbols("t"))
     printer = _printer(sp)
-    lines = [f"static void {name}({', '.join(_SIGNATURES[a] for a in arguments)}, double *out)",
+    lines = [f"{storage}void {name}({', '.join(_SIGNATURES[a] for a in arguments)}, double *out)",
              "{"]
     lines += [f"    const double {s} = {printer.doprint(x)};" for s, x in shared]
     lines += [f"    out[{i}] = {printer.doprint(x)};" for i, x in enumerate(reduced)]
@@ -154,6 +160,22 @@ def _function(name: str, arguments: list[str], expressions: list, sp) -> str:
         str(s).startswith(f"{a}[") for x in expressions for s in x.free_symbols)]
     lines[2:2] = [f"    (void){a};" for a in unused]
     return "\n".join([*lines, "}"])
+
+
+def moment_load(sp) -> list:
+    """``2 E(lam)^T M`` ``(4,)`` in the symbols ``c0..c3`` (``lam``) and ``m0..m2`` (the
+    global moment ``M``): the generalized force of ``M`` on the Euler parameters."""
+    lam, moment = sp.symbols("c0:4"), sp.symbols("m0:3")
+    E = rotations.global_rates(lam)
+    return [2 * sum(E[i][a] * moment[i] for i in range(3)) for a in range(4)]
+
+
+def moment_of(sp) -> list:
+    """``1/2 E(lam) f`` ``(3,)`` in the symbols ``c0..c3`` (``lam``) and ``f0..f3`` (a
+    generalized force on the Euler parameters): its global moment."""
+    lam, force = sp.symbols("c0:4"), sp.symbols("f0:4")
+    E = rotations.global_rates(lam)
+    return [sum(E[i][a] * force[a] for a in range(4)) / 2 for i in range(3)]
 
 
 def generate() -> str:
@@ -177,6 +199,8 @@ def generate() -> str:
                               "inertia", "gravity"))
         table.append(f'    {{"{cls.keyword}", {cls.n_coordinates()}, {cls.n_deformations()}, '
                      f"{cls.reference}, {pointers}, {int(constant)}}},")
+    parts += [_function("fm_moment_load", ["c", "m"], moment_load(sp), sp, storage=""), "",
+              _function("fm_moment_of", ["c", "f"], moment_of(sp), sp, storage=""), ""]
     parts += ["const FmKernels FM_KERNELS[] = {", *table, "};",
               f"const int FM_N_TYPES = {len(ELEMENT_TYPES)};",
               f'const char FM_DEFINITIONS_HASH[] = "{definitions_hash()}";', ""]

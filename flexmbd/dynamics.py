@@ -24,6 +24,14 @@ import numpy as np
 from . import checks
 from .engine import Engine, Forces, initial_q, q_index, resolve_laws
 from .errors import ArgumentError, ModelError, SimulationError
+from .free_rotations import (
+    dynamic_state,
+    free_rotations,
+    partition_spent,
+    relabelled,
+    repartitioned,
+    watched_positions,
+)
 from .integrate import AlphaOptions, StepsCollapsedError, check_method, integrate
 from .kinematics import coordinates, first_order_transfer
 from .model import Model
@@ -209,23 +217,12 @@ def simulate(
                                     f"them with max_step)")
     else:
         checks.step_count(span, max_step, "max_step")
-    laws = resolve_laws(model, inputs)
     q0, qd0 = initial_state(model, initial)
-    engine = Engine(model, tolerance)
     work = round((times[-1] - times[0]) / alpha.step) if alpha else len(times)
     with progress_bar(times, f"simulating ({method})", progress, work) as advance:
-        arrays = engine.prepare(laws, len(times), integrated=True, dynamics=True,
-                                forces=forces, progress=advance, columns=RECORDED[outputs])
-        engine.start(laws, times[0], q0)
-        if alpha is not None:
-            status = engine.core.alpha_run(
-                times, q0, qd0, near=GA_JACOBIAN_POINT * model.characteristic_length,
-                **alpha.core_arguments())
-            done, error = status["reached"], engine.error(status)
-            stats = {name: int(status[name]) for name in ("nfev", "njev", "nlu", "nsteps")}
-        else:
-            done, error, stats = _scipy_run(engine, laws, times, q0, qd0, method, rtol,
-                                            atol, max_step, advance)
+        run = _Run(model, inputs, forces, tolerance, RECORDED[outputs], method, alpha,
+                   (rtol, atol, max_step), advance)
+        arrays, done, error, stats = run.through(times, q0, qd0)
     if not with_reactions:
         arrays.pop("reactions", None)
     result = SimulationResult(model, times[:done], **{k: v[:done] for k, v in arrays.items()})
@@ -257,10 +254,89 @@ def _rho_inf(rho_inf: float | None, iterations: int | None) -> float:
     return rho_inf
 
 
-def _scipy_run(engine: Engine, laws, times, q0, qd0, method, rtol, atol, max_step, advance):
+class _Run:
+    """A simulation through its segments. A free rotation whose calculable Euler parameter
+    gets small ends a segment; the next continues from the same state with another
+    parameter calculable (:mod:`flexmbd.free_rotations`). Outputs are in the labels of
+    the model the user gave."""
+
+    def __init__(self, model: Model, inputs, forces, tolerance, columns, method: str,
+                 alpha: AlphaOptions | None, tolerances: tuple[float, float, float],
+                 advance):
+        self.model, self.inputs, self.forces, self.tolerance = model, inputs, forces, tolerance
+        self.columns, self.method, self.alpha, self.tolerances = columns, method, alpha, \
+            tolerances
+        self.advance = advance
+        resolve_laws(model, inputs)  # bad inputs are reported before any work
+
+    def through(self, times: np.ndarray, q0: np.ndarray, qd0: np.ndarray):
+        """Integrate from ``(q0, qd0)`` at ``times[0]``: the output arrays, the outputs
+        reached, the error that ended the run (or ``None``) and the integrator's counters."""
+        segment, y, start, k = self.model, np.concatenate([q0, qd0]), None, 0
+        t_end = times[0]  # where the last segment ended
+        pieces, stats = [], dict.fromkeys(("nfev", "njev", "nlu", "nsteps"), 0)
+        if free_rotations(self.model):
+            stats["repartitions"] = 0
+        while True:
+            # a segment after the first starts at the time it took over; that row is the
+            # last segment's last state again and is dropped
+            seg_times = times[k:] if start is None else np.concatenate([[t_end], times[k:]])
+            engine = Engine(segment, self.tolerance)
+            laws = resolve_laws(segment, self.inputs)
+            arrays = engine.prepare(laws, len(seg_times), integrated=True, dynamics=True,
+                                    forces=self.forces, progress=self.advance,
+                                    columns=self.columns)
+            engine.start(laws, seg_times[0], y[:len(y) // 2], configuration=start)
+            done, error, counts, end = self._segment(engine, laws, seg_times, y,
+                                                     watched_positions(segment))
+            for name in counts:
+                stats[name] += counts[name]
+            skip = 0 if start is None else 1
+            pieces.append(relabelled({name: a[skip:done] for name, a in arrays.items()},
+                                     segment, self.model))
+            k += max(done - skip, 0)
+            if error is not None or end is None:
+                break
+            t_end, y_end = end
+            guess = np.empty(segment.n_coordinates)
+            engine.core.configuration(guess)
+            try:
+                state = engine.integrated_state(laws, t_end, y_end, guess)
+            except SimulationError as failure:
+                error = failure
+                break
+            segment = repartitioned(segment, state["x"])
+            y, start = dynamic_state(segment, state), state["x"]
+            stats["repartitions"] += 1
+        arrays = {name: np.concatenate([piece[name] for piece in pieces])
+                  for name in pieces[0]}
+        return arrays, k, error, stats
+
+    def _segment(self, engine: Engine, laws, times, y, watched):
+        """One integration on ``engine``'s partition: outputs reached, error, counters, and
+        ``(t, y)`` where a free rotation's partition was spent (else ``None``)."""
+        n = len(y) // 2
+        if self.alpha is not None:
+            end = np.empty(2 * n)
+            status = engine.core.alpha_run(
+                times, y[:n], y[n:],
+                near=GA_JACOBIAN_POINT * engine.model.characteristic_length,
+                watch=watched.ravel() if len(watched) else None, end=end,
+                **self.alpha.core_arguments())
+            counts = {name: int(status[name]) for name in ("nfev", "njev", "nlu", "nsteps")}
+            if engine.stopped_for_partition(status):
+                return status["reached"], None, counts, (float(status["time"]), end)
+            return status["reached"], engine.error(status), counts, None
+        return _scipy_run(engine, laws, times, y, self.method, *self.tolerances, self.advance,
+                          watched)
+
+
+def _scipy_run(engine: Engine, laws, times, y0, method, rtol, atol, max_step, advance,
+               watched):
     """A scipy integrator over the core's accelerations; each output evaluated as soon as
-    it is reached, from the solution of the evaluation before it."""
-    core, n = engine.core, len(q0)
+    it is reached, from the solution of the evaluation before it. It stops where a
+    ``watched`` free rotation's partition is spent."""
+    core, n = engine.core, len(y0) // 2
     accelerations = np.empty(n)
 
     def fun(t, y):
@@ -273,9 +349,12 @@ def _scipy_run(engine: Engine, laws, times, q0, qd0, method, rtol, atol, max_ste
     def restart(t, y):  # after a rejected trial step: continue from the state it left
         engine.start(laws, t, y[:n])
 
-    run = integrate(fun, np.concatenate([q0, qd0]), times, method=method, rtol=rtol,
+    def spent(t, y):
+        return partition_spent(watched, y[:n])
+
+    run = integrate(fun, y0, times, method=method, rtol=rtol,
                     atol=atol, max_step=max_step, progress=advance or False,
-                    on_output=output, on_reject=restart)
+                    on_output=output, on_reject=restart, stop=spent if len(watched) else None)
     error = run.error
     if error is None and not run.success:
         error = SimulationError(run.message, float(run.t[-1]) if len(run.t) else None)
@@ -285,7 +364,8 @@ def _scipy_run(engine: Engine, laws, times, q0, qd0, method, rtol, atol, max_ste
                       f"{len(run.t)} outputs: the model is stiff for an explicit method "
                       f"(fast modes such as flexible elongations), try "
                       f"method='GeneralizedAlpha' (flexmbd run --method GeneralizedAlpha)",)
-    return len(run.t), error, run.stats
+    counts = {name: run.stats[name] for name in ("nfev", "njev", "nlu", "nsteps")}
+    return len(run.t), error, counts, run.end if run.stopped else None
 
 
 def inverse_dynamics(

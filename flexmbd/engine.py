@@ -30,7 +30,7 @@ from . import checks
 from .assembly import Assembly
 from .diagnosis import at_time, massless_message, singular_message
 from .elements import ELEMENT_TYPES
-from .elements.base import is_translational
+from .elements.base import SPATIAL_ROTATIONAL, is_translational
 from .errors import (
     ArgumentError,
     ConvergenceError,
@@ -282,7 +282,7 @@ def compile_model(model: Model) -> dict[str, object]:
         if is_translational(node.kind):
             f_const[list(node.coordinates)] += mass * gravity[:len(node.coordinates)]
     for number, load in model.nodal_forces.items():
-        f_const[list(model.nodes[number].coordinates)] += load
+        f_const[load_slots(model.nodes[number])] += load
     sm_coord = np.flatnonzero((free_of >= 0) & (nodal_mass != 0.0))
 
     # orderings: D_c's rows and columns as one bipartite graph; the saddle's unknowns
@@ -315,6 +315,8 @@ def compile_model(model: Model) -> dict[str, object]:
         "dyn_coord": ints(dyn_coord), "dyn_def": ints(dyn_def),
         "supported": ints(np.sort(np.concatenate([model.fixed, model.input_coordinates]))),
         "elastic_def": ints(elastic_def), "periodic": ints(_periodic(model)),
+        "rotations": ints([i for node in model.nodes.values()
+                           if node.kind == SPATIAL_ROTATIONAL for i in node.coordinates]),
         "nodal_mass": nodal_mass, "f_const": f_const,
         "gravity": gravity, "x0": np.asarray(model.x0, dtype=float),
         "coord_scale": np.asarray(model.coordinate_scale, dtype=float),
@@ -338,6 +340,14 @@ def _collect(lists: tuple[list, list, list], src: np.ndarray, rows: np.ndarray,
     keep = (rows >= 0) & (cols >= 0)
     for target, values in zip(lists, (src, rows + row_offset, cols), strict=True):
         target.append(values[keep])
+
+
+def load_slots(node) -> list[int]:
+    """The coordinates whose load entries hold a node's load components: all of them, but
+    on a spatial rotational node ``lam1..lam3``, which hold the global moment ``(Mx, My,
+    Mz)`` (the core turns it into ``2 E(lam)^T M``); ``lam0`` takes no load."""
+    coordinates = list(node.coordinates)
+    return coordinates[1:] if node.kind == SPATIAL_ROTATIONAL else coordinates
 
 
 def _periodic(model: Model) -> np.ndarray:
@@ -445,7 +455,9 @@ Forces = Callable[[float, np.ndarray, np.ndarray], "np.ndarray | Mapping[str, fl
 
 
 def load_vector(model: Model, value) -> np.ndarray:
-    """User loads (array or label mapping, see :data:`Forces`) as an array ``(nx,)``."""
+    """User loads (array or label mapping, see :data:`Forces`) as an array ``(nx,)``. On a
+    spatial rotational node the entries of ``lam1..lam3`` (labels ``x<n>.2`` to
+    ``x<n>.4``) are the global moment ``(Mx, My, Mz)`` [N m] and ``lam0``'s must be 0."""
     if isinstance(value, Mapping):
         f = np.zeros(model.n_coordinates)
         for label, v in value.items():
@@ -453,12 +465,24 @@ def load_vector(model: Model, value) -> np.ndarray:
                 f[model.coordinate_index(label)] += v
             except KeyError as err:
                 raise ModelError(f"forces: {err.args[0]}") from None
-        return f
-    f = np.asarray(value, dtype=float)
-    if f.shape != (model.n_coordinates,):
-        raise ModelError(f"forces must return an array of shape ({model.n_coordinates},) or a "
-                         f"mapping of coordinate labels, got shape {f.shape}")
+    else:
+        f = np.asarray(value, dtype=float)
+        if f.shape != (model.n_coordinates,):
+            raise ModelError(f"forces must return an array of shape ({model.n_coordinates},) "
+                             f"or a mapping of coordinate labels, got shape {f.shape}")
+    scalar = _euler_scalars(model)
+    if np.any(f[scalar] != 0.0):
+        label = model.coordinate_labels[scalar[np.flatnonzero(f[scalar])[0]]]
+        raise ModelError(f"a load on {label}, lam0 of a spatial rotational node: the loads "
+                         f"of such a node are its global moment (Mx, My, Mz) on "
+                         f"{label[:-1]}2 to {label[:-1]}4")
     return f
+
+
+def _euler_scalars(model: Model) -> np.ndarray:
+    """The coordinates ``lam0`` of the spatial rotational nodes."""
+    return np.array([node.coordinates[0] for node in model.nodes.values()
+                     if node.kind == SPATIAL_ROTATIONAL], dtype=int)
 
 
 #: the columns a run fills, with their sizes as functions of the model
@@ -583,19 +607,37 @@ class Engine:
         self.core.prepare(kind, coef, self.arrays, n_outputs, int(dynamics), **options)
         return self.arrays
 
-    def start(self, laws: list[Law], t: float, dynamic: np.ndarray | None = None) -> None:
-        """Start the next run from the configuration :meth:`continued` to ``q`` at time ``t``
-        [s]: the laws' values, and the integrated entries ``dynamic`` when given. A start
-        the continuation cannot reach is left to the run, which reports its failure."""
-        model = self.model
-        q = np.array([_law_values(law, t, model.describe_q(j))[0]
-                      for j, law in enumerate(laws)], dtype=float)
+    def start(self, laws: list[Law], t: float, dynamic: np.ndarray | None = None,
+              configuration: np.ndarray | None = None) -> None:
+        """Start the next run at time ``t`` [s] from ``configuration`` ``(nx,)`` when given,
+        else from the configuration :meth:`continued` to ``q``: the laws' values, and the
+        integrated entries ``dynamic`` when given. A start the continuation cannot reach
+        is left to the run, which reports its failure."""
+        if configuration is not None:
+            self.core.reset(np.ascontiguousarray(configuration, dtype=float))
+            return
+        q = self.law_values(laws, t)[0]
         if dynamic is not None:
-            q[~np.asarray(model.q_is_input)] = dynamic
+            q[~np.asarray(self.model.q_is_input)] = dynamic
         try:
             self.core.reset(self.continued(q, t))
         except SimulationError:
             self.core.reset()
+
+    def law_values(self, laws: list[Law], t: float) -> np.ndarray:
+        """``(3, nq)``: the values, rates and accelerations of ``laws`` at time ``t``."""
+        return np.array([_law_values(law, t, self.model.describe_q(j))
+                         for j, law in enumerate(laws)], dtype=float).reshape(-1, 3).T.copy()
+
+    def integrated_state(self, laws: list[Law], t: float, y: np.ndarray,
+                         guess: np.ndarray) -> dict[str, np.ndarray]:
+        """:meth:`state` at time ``t`` of the integrated ``y = [q_d, qdot_d]`` with the
+        prescribed entries from their ``laws`` (accelerations zero), solved from
+        ``guess``."""
+        q, qd, _ = self.law_values(laws, t)
+        dynamic, n = ~np.asarray(self.model.q_is_input), len(y) // 2
+        q[dynamic], qd[dynamic] = y[:n], y[n:]
+        return self.state(q, qd, np.zeros_like(q), guess, t)
 
     # --- failures -------------------------------------------------------------------------
     def error(self, status: Mapping[str, object]) -> BaseException | None:
@@ -651,6 +693,12 @@ class Engine:
                 time_or_none)
         return SimulationError(f"the core stopped with code {code} {at_time(time_or_none)}",
                                time_or_none)
+
+    @staticmethod
+    def stopped_for_partition(status: Mapping[str, object]) -> bool:
+        """Whether a generalized-alpha run stopped because a free rotation's calculable
+        Euler parameter got small (:mod:`flexmbd.free_rotations`)."""
+        return status["code"] == _core.PARTITION
 
     def call(self, method: Callable, *args):
         """Call a single evaluation of the core; its failure as flexmbd's error."""

@@ -77,6 +77,10 @@ class IntegrationResult:
     message: str
     error: SimulationError | KeyboardInterrupt | None = None
     stats: dict[str, int] = field(default_factory=dict)
+    #: where the integrator stood when the run ended: time [s] and state ``(ny,)``
+    end: tuple[float, np.ndarray] | None = None
+    #: whether ``stop`` ended the run
+    stopped: bool = False
 
 
 def _check_grid(t_eval) -> np.ndarray:
@@ -91,6 +95,7 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarray,
               atol: float = 1e-9, max_step: float = np.inf, progress: bool | None = None,
               on_output: Callable[[int, float, np.ndarray], None] | None = None,
               on_reject: Callable[[float, np.ndarray], None] | None = None,
+              stop: Callable[[float, np.ndarray], bool] | None = None,
               **options) -> IntegrationResult:
     """Integrate ``y' = fun(t, y)`` from ``t_eval[0]`` to ``t_eval[-1]`` with one of scipy's
     methods, output at ``t_eval``.
@@ -98,7 +103,9 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarray,
     ``on_output(k, t, y)``, when given, is called as soon as output ``k`` is reached (right
     after the step that passes it); a :class:`SimulationError` it raises ends the run
     there. ``on_reject(t, y)`` is called when an explicit Runge-Kutta step from ``(t, y)``
-    is retried smaller because ``fun`` raised a :class:`ConvergenceError`. Other
+    is retried smaller because ``fun`` raised a :class:`ConvergenceError`. ``stop(t, y)``,
+    when given, is asked after every step (and its outputs) whether the run ends there;
+    the result then has ``stopped`` set and ``end`` at that step. Other
     ``options`` go to scipy's solver. An interrupt (Ctrl-C) ends the run like a failure:
     the outputs so far are returned, with the ``KeyboardInterrupt`` as ``error``.
 
@@ -112,7 +119,7 @@ def integrate(fun: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarray,
                                       "core: use flexmbd.simulate(model, ..., "
                                       "method='GeneralizedAlpha')")
     return _integrate_scipy(fun, np.array(y0, dtype=float), _check_grid(t_eval), method, rtol,
-                            atol, max_step, progress, on_output, on_reject, **options)
+                            atol, max_step, progress, on_output, on_reject, stop, **options)
 
 
 #: times an explicit Runge-Kutta step is retried smaller before the run gives up
@@ -181,12 +188,11 @@ def _outputs(solver, t_eval, k: int, ys: list, on_output) -> int:
 
 
 def _integrate_scipy(fun, y0, t_eval, method, rtol, atol, max_step, progress, on_output,
-                     on_reject,
-                     **options) -> IntegrationResult:
+                     on_reject, stop, **options) -> IntegrationResult:
     import scipy.integrate
 
     ys: list[np.ndarray] = []
-    k, nsteps, error, message = 1, 0, None, "completed"
+    k, nsteps, error, message, stopped = 1, 0, None, "completed", False
     try:  # the start evaluates the state: a failure there is a run of no (or one) output
         if on_output is not None:
             on_output(0, t_eval[0], y0)
@@ -213,9 +219,14 @@ def _integrate_scipy(fun, y0, t_eval, method, rtol, atol, max_step, progress, on
                 k = _outputs(solver, t_eval, k, ys, on_output)
                 if advance is not None:
                     advance(solver.t)
+                if stop is not None and solver.status == "running" and stop(solver.t,
+                                                                            solver.y):
+                    stopped, message = True, f"stopped at t = {solver.t:.6g} s"
+                    break
             except (SimulationError, KeyboardInterrupt) as err:  # keep what was computed
                 error, message = err, str(err) or "interrupted"
                 break
     stats = {"nfev": solver.nfev, "njev": solver.njev, "nlu": solver.nlu, "nsteps": nsteps}
-    success = error is None and solver.status == "finished"
-    return IntegrationResult(t_eval[:len(ys)], np.array(ys), success, message, error, stats)
+    success = error is None and (stopped or solver.status == "finished")
+    return IntegrationResult(t_eval[:len(ys)], np.array(ys), success, message, error, stats,
+                             (float(solver.t), solver.y.copy()), stopped)

@@ -17,7 +17,9 @@ over all entries of ``q = [x(m); e(m)]`` (dynamic and prescribed):
   xddot - h)`` (the stresses' and the loads' share of the tangent): differentiating
   ``e(o) = const`` twice along ``q`` turns the loads' ``F_qq`` term into the constraint
   stresses' ``D_xx``. Away from an equilibrium (the undeformed column under its
-  buckling load) these stresses balance the loads, which keeps the tangent exact;
+  buckling load) these stresses balance the loads, which keeps the tangent exact.
+  A global moment on a spatial rotational node adds ``- F_q^T (df/dx) F_q``: its
+  generalized force ``2 E(lam)^T M`` turns with the node (:func:`load_stiffness`);
 * ``N0`` and ``C0``, the derivatives of the reduced inertia forces ``F_q^T (M xddot + h)``
   with respect to ``q`` and ``qdot`` (``N0`` also holds the damping stresses' change
   ``E_q^T C dedot/dq``). They vanish at rest; in motion they are taken by central
@@ -42,6 +44,7 @@ from .errors import ArgumentError
 from .kinematics import coordinates, generalized
 from .model import Model
 from .motion import Polynomial
+from .orientation import euler_forces
 
 #: central-difference step of N0, relative to a coordinate's size (model size or 1 rad):
 #: the cube root of the rounding error balances truncation (1e-10 relative in all)
@@ -172,8 +175,25 @@ def _elastic_state(engine: Engine, x: np.ndarray, qd: np.ndarray, qdd: np.ndarra
     state = equilibrium_state(engine, x, qd, qdd, loads)
     assembly, x = engine.assembly, state["x"]
     F_q = transfer(engine, x, assembly.deformations_and_jacobian(x)[1])
-    return (state, F_q, assembly.jacobian_times(x, F_q),
-            F_q.T @ assembly.stress_hessian_times(x, state["sigma"], F_q))
+    G0 = F_q.T @ (assembly.stress_hessian_times(x, state["sigma"], F_q)
+                  - load_stiffness(engine, loads) @ F_q)
+    return state, F_q, assembly.jacobian_times(x, F_q), G0
+
+
+def load_stiffness(engine: Engine, loads: np.ndarray) -> np.ndarray:
+    """``df/dx`` ``(nx, nx)`` of the applied loads (the model's and ``loads``). Only a
+    global moment ``M`` on a spatial rotational node depends on the configuration: its
+    generalized force ``2 E(lam)^T M`` is linear in ``lam``, so its block is the matrix of
+    that map, column ``k`` the force at the unit vector ``lam = e_k``. The static
+    tangent subtracts ``F_q^T (df/dx) F_q`` (the spatial theory, section 6)."""
+    nx = engine.model.n_coordinates
+    slopes = np.zeros((nx, nx))
+    total = engine.compiled["f_const"] + loads
+    for at in np.asarray(engine.compiled["rotations"]).reshape(-1, 4):
+        moment = total[at[1:]]
+        if np.any(moment):
+            slopes[np.ix_(at, at)] = euler_forces(np.eye(4), moment).T
+    return slopes
 
 
 def equilibrium_state(engine: Engine, x: np.ndarray, qd: np.ndarray, qdd: np.ndarray,

@@ -12,7 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
-from . import checks
+from . import checks, orientation
+from .elements.base import SPATIAL_ROTATIONAL
 from .errors import (
     ArgumentError,
     ColumnError,
@@ -88,6 +89,38 @@ class KinematicResult:
                     out[prefix + suffix + label[1:]] = values[:, j]
         return out
 
+    # --- orientations of spatial rotational nodes ------------------------------------------
+    def euler_parameters(self, node: int, derivative: int = 0) -> np.ndarray:
+        """``lam`` of spatial rotational node ``node`` ``(nt, 4)`` (``derivative`` 1 and 2:
+        its rates and accelerations)."""
+        kind = self.model.nodes[node].kind if node in self.model.nodes else None
+        if kind != SPATIAL_ROTATIONAL:
+            raise ArgumentError("node", f"{node!r} is not a spatial rotational node of the "
+                                        f"model")
+        values = self._recorded(("x", "xd", "xdd")[derivative], f"x{node}")
+        return values[:, list(self.model.nodes[node].coordinates)]
+
+    def rotation_matrix(self, node: int) -> np.ndarray:
+        """``R`` of a spatial rotational node ``(nt, 3, 3)`` (:func:`flexmbd.rotation_matrix`)."""
+        return orientation.rotation_matrix(self.euler_parameters(node))
+
+    def axis_angle(self, node: int) -> tuple[np.ndarray, np.ndarray]:
+        """Axis ``(nt, 3)`` and angle ``(nt,)`` [rad] of a spatial rotational node
+        (:func:`flexmbd.axis_angle`)."""
+        return orientation.axis_angle(self.euler_parameters(node))
+
+    def angular_velocity(self, node: int, frame: str = "global") -> np.ndarray:
+        """``omega`` (global) or ``omega'`` (body frame) of a spatial rotational node
+        ``(nt, 3)`` [rad/s]."""
+        return orientation.angular_velocity(self.euler_parameters(node),
+                                            self.euler_parameters(node, 1), frame)
+
+    def angular_acceleration(self, node: int, frame: str = "global") -> np.ndarray:
+        """``alpha`` (global) or ``alpha'`` (body frame) of a spatial rotational node
+        ``(nt, 3)`` [rad/s^2]."""
+        return orientation.angular_velocity(self.euler_parameters(node),
+                                            self.euler_parameters(node, 2), frame)
+
     def to_csv(self, path: str | Path) -> Path:
         """Write all columns to a CSV file with a header row; returns the path."""
         return write_csv(path, self.columns())
@@ -159,6 +192,9 @@ class SimulationResult(KinematicResult):
             stresses on rigid and input deformations.
         reactions: loads of supports (fixed coordinates) and drives (input
             coordinates) ``(nt, nx)`` [N, N m], zero elsewhere; ``None`` when not computed.
+            On a spatial rotational node the entries of ``lam1..lam3`` (``f<n>.2`` to
+            ``f<n>.4``) hold the global moment ``(Mx, My, Mz)`` (``1/2 E(lam) f_lam``) and
+            ``lam0``'s is zero, as loads are given.
         driving: generalized driving forces ``tau = Mbar qddot - g`` on every entry
             of ``q`` ``(nt, nq)`` [N, N m]: what the drives of the prescribed entries
             supply; zero (to solver accuracy) on freely moving dynamic entries.

@@ -305,6 +305,8 @@ AlphaResult alpha_run(AlphaSystem *sys, const double *times, int n, const double
                 k++;
         }
         g.result.reached = k;
+        if (!code && k < n && sys->leave && sys->leave(sys->context, g.t, g.q))
+            code = FM_PARTITION;
         if (!code && opt->progress && g.result.nsteps % PROGRESS_EVERY == 0)
             code = opt->progress(opt->progress_context, g.t);
     }
@@ -312,6 +314,10 @@ AlphaResult alpha_run(AlphaSystem *sys, const double *times, int n, const double
         opt->progress(opt->progress_context, g.t);
     g.result.status = code;
     g.result.t = g.t;
+    if (opt->end && ok) {
+        memcpy(opt->end, g.q, sizeof(double) * m);
+        memcpy(opt->end + m, g.v, sizeof(double) * m);
+    }
     for (int j = 0; j < count; j++)
         free(*all[j]);
     return g.result;

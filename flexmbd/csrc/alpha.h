@@ -22,6 +22,8 @@ typedef struct {
     /* output k has been reached at time t with state (q, v) and acceleration a */
     int (*output)(void *context, int k, double t, const double *q, const double *v,
                   const double *a);
+    /* after each step: non-zero ends the run there with FM_PARTITION (NULL: never) */
+    int (*leave)(void *context, double t, const double *q);
     /* the error of the last failed call */
     FmError *error;
     int *trial;                    /* set by the system when the failure was at a trial state */
@@ -34,6 +36,7 @@ typedef struct {
     /* called every `progress_every` steps; a non-zero return stops the run (interrupt) */
     int (*progress)(void *context, double t);
     void *progress_context;
+    double *end;                   /* 2 m or NULL: q and v where the run ended */
 } AlphaOptions;
 
 typedef struct {

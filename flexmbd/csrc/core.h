@@ -31,6 +31,10 @@ typedef struct {
 } FmKernels;
 
 extern const FmKernels FM_KERNELS[];
+/* 2 E(lam)^T M (4): a global moment M (3) on the Euler parameters c (4), generated */
+void fm_moment_load(const double *c, const double *m, double *out);
+/* 1/2 E(lam) f (3): the global moment of a generalized force f (4) on the Euler parameters */
+void fm_moment_of(const double *c, const double *f, double *out);
 extern const int FM_N_TYPES;
 extern const char FM_DEFINITIONS_HASH[];
 
@@ -63,7 +67,9 @@ enum {
     FM_STEP_FAILED = 6,        /* the integrator's Newton iteration, even with small steps */
     FM_PYTHON = 7,             /* a Python callback raised; the exception is pending */
     FM_INTERRUPTED = 8,        /* a signal (Ctrl-C) */
-    FM_NO_MEMORY = 9
+    FM_NO_MEMORY = 9,
+    FM_PARTITION = 10          /* a free rotation's calculable Euler parameter got small: the
+                                  run stops so that another one is chosen */
 };
 
 typedef struct {
@@ -105,6 +111,8 @@ typedef struct {
     int *elastic_def;                    /* per deformation: carries the elastic law */
     int *periodic;                       /* per deformation: an angle modulo 2 pi, kept
                                             continuous (a spatial hinge's rotation) */
+    int *rot, nrot;                      /* lam0..lam3 of every spatial rotational node (4
+                                            each): their loads are global moments */
     double *nodal_mass;                  /* nx: point masses and rotary inertias */
     double *f_const;                     /* nx: constant loads, constant-mass gravity */
     double gravity[3];                   /* (gx, gy) of a planar model, (gx, gy, gz) */

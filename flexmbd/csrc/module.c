@@ -123,6 +123,9 @@ typedef struct {
     double *path;                  /* 2 nq: q and its rate along a path from the last solution */
     double *found;                 /* nx: a solution to compare with (keep_branch) */
     long nfev;
+    const int *watch;              /* during alpha_run: the q_d positions of free rotations'
+                                      dynamic Euler parameters, three per rotation */
+    int n_watch;                   /* rotations watched */
 } Core;
 
 static void release_run(Core *c)
@@ -144,6 +147,7 @@ static void Core_dealloc(Core *c)
                    m->elastic, m->sigma0, m->mconst, m->fixed, m->x_fixed,
                    m->q_coord, m->q_def, m->q_input, m->q_dyn, m->rows, m->row_of_def, m->dep,
                    m->free_of, m->dyn_coord, m->dyn_def, m->supported, m->elastic_def, m->periodic,
+                   m->rot,
                    m->nodal_mass, m->f_const, m->dc_src, m->dc_dst, m->dc_rowband,
                    m->dc_colband, m->dc_w, m->dc_colscale, m->dc_rowscale, m->sd_band,
                    m->sd_a_src, m->sd_a_dst, m->sd_c_src, m->sd_c_dst, m->sd_c_dstt,
@@ -231,7 +235,7 @@ static void reference_terms(Core *c)
             kern->mass(cc, p, out);
             for (int a = 0; a < nc * nc; a++)
                 M[a] += m->emass[k] * out[a];
-            if (m->gravity_on) {
+            if (m->gravity_on && kern->gravity) {   /* rotary inertia has no weight */
                 kern->gravity(cc, p, m->gravity, out);
                 for (int a = 0; a < nc; a++)
                     m->f_const[ci[a]] += m->emass[k] * out[a];
@@ -274,7 +278,7 @@ static int Core_init(Core *c, PyObject *args, PyObject *kwds)
     m->ns = m->nfree + m->nmult;
     int *dc_row, *dc_col, *sa_u, *sa_v, *sm_u, *sc_u, *sc_v;
     double *gravity;
-    Py_ssize_t nfixed, nsupported, ndc, nsa, nsm, nsc;
+    Py_ssize_t nfixed, nsupported, ndc, nsa, nsm, nsc, nrot;
     struct { const char *name; void **field; char type; Py_ssize_t *n; } arrays[] = {
         {"etype", (void **)&m->etype, 'i', 0}, {"c_off", (void **)&m->c_off, 'i', 0},
         {"c_idx", (void **)&m->c_idx, 'i', 0}, {"d_off", (void **)&m->d_off, 'i', 0},
@@ -292,6 +296,7 @@ static int Core_init(Core *c, PyObject *args, PyObject *kwds)
         {"dyn_def", (void **)&m->dyn_def, 'i', 0},
         {"elastic_def", (void **)&m->elastic_def, 'i', 0},
         {"periodic", (void **)&m->periodic, 'i', 0},
+        {"rotations", (void **)&m->rot, 'i', &nrot},
         {"nodal_mass", (void **)&m->nodal_mass, 'd', 0},
         {"f_const", (void **)&m->f_const, 'd', 0}, {"dc_src", (void **)&m->dc_src, 'i', 0},
         {"dc_rowband", (void **)&m->dc_rowband, 'i', 0},
@@ -317,6 +322,7 @@ static int Core_init(Core *c, PyObject *args, PyObject *kwds)
         if (copy(spec, arrays[k].name, arrays[k].type, arrays[k].field, arrays[k].n) < 0)
             return -1;
     m->nfixed = (int)nfixed;
+    m->nrot = (int)(nrot / 4);
     m->nsupported = (int)nsupported;
     m->nsd_m = (int)nsm;
     m->nsd_c = (int)nsc;
@@ -517,6 +523,18 @@ static int dynamics_of(Core *c, FmState *s, int k, int free_dynamic, int solve)
     double *r = c->outs[OUT_REACTIONS] ? c->outs[OUT_REACTIONS] + (size_t)k * m->nx : NULL;
     double *drive = c->outs[OUT_DRIVING] ? c->outs[OUT_DRIVING] + (size_t)k * m->nq : NULL;
     fm_equilibrium(m, s, free_dynamic, r, drive);
+    for (int n = 0; r && n < m->nrot; n++) {   /* a rotational node's reaction is a moment */
+        const int *at = m->rot + 4 * n;
+        double lam[4], force[4], moment[3];
+        for (int a = 0; a < 4; a++) {
+            lam[a] = s->x[at[a]];
+            force[a] = r[at[a]];
+        }
+        fm_moment_of(lam, force, moment);
+        r[at[0]] = 0.0;
+        for (int a = 0; a < 3; a++)
+            r[at[a + 1]] = moment[a];
+    }
     if (drive && free_dynamic)
         for (int j = 0; j < m->nd_dyn; j++)
             drive[m->q_dyn[j]] = 0.0;
@@ -832,11 +850,57 @@ static int mech_output(void *context, int k, double t, const double *q, const do
     return dynamics_of(c, s, k, 1, 1);
 }
 
+/* A free rotation (three dynamic Euler parameters) whose calculable one has dropped below
+ * PARTITION_LIMIT in magnitude (the sum of the dynamic ones' squares above 1 - limit^2):
+ * its D_c turns singular at 0, so the run stops for another partition. */
+#define PARTITION_LIMIT 0.5
+static int mech_leave(void *context, double t, const double *q)
+{
+    Core *c = context;
+    for (int r = 0; r < c->n_watch; r++) {
+        const int *w = c->watch + 3 * r;
+        const double squares = q[w[0]] * q[w[0]] + q[w[1]] * q[w[1]] + q[w[2]] * q[w[2]];
+        if (squares > 1.0 - PARTITION_LIMIT * PARTITION_LIMIT) {
+            c->error.code = FM_PARTITION;
+            c->error.time = t;
+            return 1;
+        }
+    }
+    return 0;
+}
+
 static AlphaSystem mechanical(Core *c)
 {
-    AlphaSystem sys = {c->m.nd_dyn, c, mech_accelerations, mech_residual, mech_renew,
-                       mech_apply, mech_output, &c->error, &c->trial};
+    AlphaSystem sys = {.m = c->m.nd_dyn, .context = c, .accelerations = mech_accelerations,
+                       .residual = mech_residual, .renew = mech_renew, .apply = mech_apply,
+                       .output = mech_output, .leave = c->n_watch ? mech_leave : NULL,
+                       .error = &c->error, .trial = &c->trial};
     return sys;
+}
+
+/* The int32 positions in q_d of the free rotations to watch (three each), held in `b`;
+ * -1 with a Python exception when they are not such positions. */
+static int watch_of(Core *c, PyObject *object, Py_buffer *b)
+{
+    c->watch = NULL;
+    c->n_watch = 0;
+    if (object == Py_None)
+        return 0;
+    if (PyObject_GetBuffer(object, b, PyBUF_FORMAT | PyBUF_C_CONTIGUOUS) < 0)
+        return -1;
+    const int *w = b->buf;
+    const Py_ssize_t n = b->len / (Py_ssize_t)sizeof(int);
+    int bad = b->itemsize != sizeof(int) || strcmp(b->format, "i") || n % 3;
+    for (Py_ssize_t k = 0; !bad && k < n; k++)
+        bad = w[k] < 0 || w[k] >= c->m.nd_dyn;
+    if (bad) {
+        PyErr_SetString(PyExc_ValueError, "watch: int32 positions in q_d, three per rotation");
+        PyBuffer_Release(b);
+        return -1;
+    }
+    c->watch = w;
+    c->n_watch = (int)(n / 3);
+    return 0;
 }
 
 static PyObject *Core_alpha_run(Core *c, PyObject *args, PyObject *kwds)
@@ -844,16 +908,21 @@ static PyObject *Core_alpha_run(Core *c, PyObject *args, PyObject *kwds)
     PyObject *times_object, *q0_object, *v0_object;
     AlphaOptions opt = {0};
     Views v = {.n = 0};
+    PyObject *watch_object = Py_None, *end_object = Py_None;
+    Py_buffer watch_buffer;
     static char *keywords[] = {"times", "q0", "v0", "step", "rho_inf", "rtol", "atol",
-                               "iterations", "renew_every", "near", NULL};
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "OOOddddiid", keywords, &times_object,
+                               "iterations", "renew_every", "near", "watch", "end", NULL};
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "OOOddddiid|OO", keywords, &times_object,
                                      &q0_object, &v0_object, &opt.step, &opt.rho_inf, &opt.rtol,
-                                     &opt.atol, &opt.iterations, &opt.renew_every, &c->near))
+                                     &opt.atol, &opt.iterations, &opt.renew_every, &c->near,
+                                     &watch_object, &end_object))
         return NULL;
     const double *times = array(&v, times_object, 0, 0, "times");
     const double *q0 = times ? array(&v, q0_object, c->m.nd_dyn, 0, "q0") : NULL;
     const double *v0 = q0 ? array(&v, v0_object, c->m.nd_dyn, 0, "v0") : NULL;
-    if (!v0) {
+    opt.end = !v0 || end_object == Py_None ? NULL
+                                           : array(&v, end_object, 2 * c->m.nd_dyn, 1, "end");
+    if (!v0 || (end_object != Py_None && !opt.end) || watch_of(c, watch_object, &watch_buffer)) {
         release(&v);
         return NULL;
     }
@@ -865,6 +934,10 @@ static PyObject *Core_alpha_run(Core *c, PyObject *args, PyObject *kwds)
     opt.progress_context = c;
     AlphaResult result = alpha_run(&sys, times, (int)(v.view[0].len / sizeof(double)), q0, v0,
                                    &opt);
+    if (c->watch)
+        PyBuffer_Release(&watch_buffer);
+    c->watch = NULL;
+    c->n_watch = 0;
     release(&v);
     return status(&c->error, result.reached, result.status, &result, c->nfev);
 }
@@ -1412,8 +1485,9 @@ PyMODINIT_FUNC PyInit__core(void)
     PyModule_AddStringConstant(mod, "DEFINITIONS_HASH", FM_DEFINITIONS_HASH);
     PyModule_AddStringConstant(mod, "BUILD", FLEXMBD_BUILD " (" __VERSION__ ")");
     const char *names[] = {"OK", "NOT_CONVERGED", "SINGULAR", "SINGULAR_TOLERANCE", "MASSLESS",
-                           "NOT_FINITE", "STEP_FAILED", "PYTHON", "INTERRUPTED", "NO_MEMORY"};
-    for (int k = 0; k < 10; k++)
+                           "NOT_FINITE", "STEP_FAILED", "PYTHON", "INTERRUPTED", "NO_MEMORY",
+                           "PARTITION"};
+    for (int k = 0; k < 11; k++)
         PyModule_AddIntConstant(mod, names[k], k);
     return mod;
 }

@@ -542,7 +542,7 @@ void fm_inertia(const FmModel *m, FmState *s)
         kern->inertia(c, v, p, out);
         for (int a = 0; a < nc; a++)
             h[a] = mass * out[a];
-        if (m->gravity_on) {
+        if (m->gravity_on && kern->gravity) {   /* rotary inertia has no weight */
             kern->gravity(c, p, m->gravity, out);
             for (int a = 0; a < nc; a++)
                 g[a] = mass * out[a];
@@ -611,6 +611,20 @@ void fm_nodal_force(const FmModel *m, FmState *s, const double *user)
     fm_jacobian_t_times(m, s->J, s->sigma, s->y);
     for (int i = 0; i < m->nx; i++)
         s->y[i] += m->nodal_mass[i] * s->xdd[i] - m->f_const[i] - (user ? user[i] : 0.0);
+    /* on a spatial rotational node the loads of lam1..lam3 are a global moment M, whose
+     * generalized force 2 E(lam)^T M turns with the node (the spatial theory, section 5) */
+    for (int r = 0; r < m->nrot; r++) {
+        const int *at = m->rot + 4 * r;
+        double lam[4], moment[3], force[4];
+        for (int a = 0; a < 4; a++)
+            lam[a] = s->x[at[a]];
+        for (int a = 0; a < 3; a++)
+            moment[a] = m->f_const[at[a + 1]] + (user ? user[at[a + 1]] : 0.0);
+        fm_moment_load(lam, moment, force);
+        s->y[at[0]] -= force[0];
+        for (int a = 1; a < 4; a++)
+            s->y[at[a]] += moment[a - 1] - force[a];
+    }
     add_element_inertia(m, s, 1, s->y);
 }
 

@@ -109,12 +109,12 @@ class SpatialBeam(ElementType):
         d = np.asarray(xe0[7:10], dtype=float) - np.asarray(xe0[0:3], dtype=float)
         o = np.asarray(data.get("orientation", (0.0, 0.0, 1.0)), dtype=float)
         if o.shape != (3,) or not np.all(np.isfinite(o)) or not np.any(o):
-            return [f"orientation vector {tuple(o.ravel())} is not three finite numbers, "
-                    f"not all zero"]
+            return [f"orientation vector {tuple(o.ravel().tolist())} is not three finite "
+                    f"numbers, not all zero"]
         sine = np.linalg.norm(np.cross(d, o)) / (np.linalg.norm(d) * np.linalg.norm(o))
         if sine < PARALLEL_LIMIT:
-            return [f"orientation vector {tuple(o)} lies along the beam {tuple(d)}: give "
-                    f"one across it (it fixes the local y axis)"]
+            return [f"orientation vector {tuple(o.tolist())} lies along the beam "
+                    f"{tuple(d.tolist())}: give one across it (it fixes the local y axis)"]
         return []
 
     @staticmethod

@@ -71,7 +71,8 @@ class SpatialHinge(ElementType):
         """The axis must be three finite numbers, not all zero."""
         axis = np.asarray(data.get("axis", (0.0, 0.0, 1.0)), dtype=float)
         if axis.shape != (3,) or not np.all(np.isfinite(axis)) or not np.any(axis):
-            return [f"axis {tuple(axis.ravel())} is not three finite numbers, not all zero"]
+            return [f"axis {tuple(axis.ravel().tolist())} is not three finite numbers, not all "
+                    f"zero"]
         return []
 
     @staticmethod
