@@ -66,9 +66,9 @@ def run(args: argparse.Namespace) -> int:
             check_output(getattr(args, option), kind, f"--{option}")
     if getattr(args, "count", 1) < 1:
         raise ArgumentError("--count", f"must be at least 1, got {args.count}")
-    from .dat import read_dat
+    from .run_file import read_input
 
-    model, settings = read_dat(args.file)
+    model, settings = read_input(args.file)
     print(model.summary())
     if args.command == "modes" and args.along:
         return _modes_along(args, model, settings)

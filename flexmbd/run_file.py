@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -136,11 +137,19 @@ def check_arguments(args: argparse.Namespace) -> None:
             raise ArgumentError(option, "chooses what --plot draws; add --plot FILE.png")
 
 
+def read_input(path) -> tuple[Model, RunSettings]:
+    """Read a SPACAR file for a command, printing its notes (values read but not used)."""
+    model, settings = read_dat(path)
+    for note in settings.notes:
+        print(f"note: {note}", file=sys.stderr)
+    return model, settings
+
+
 def run(args: argparse.Namespace) -> int:
     """``flexmbd run``: 0 when the run completed, 1 when it stopped early, 130 when it was
     interrupted. Everything computed is written, also after a failure or an interrupt."""
     check_arguments(args)
-    model, settings = read_dat(args.file)
+    model, settings = read_input(args.file)
     mode = args.mode or default_mode(model)
     check_mode(model, mode)
     times = output_times(settings, args.steps, args.t_end)

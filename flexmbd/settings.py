@@ -31,6 +31,8 @@ class RunSettings:
         force_inputs: coordinates loaded by the inputs of a state-space model (INPUTF).
         outputs, rate_outputs: coordinates whose values (OUTX) or rates (OUTXP) are its
             outputs.
+        notes: what the file gives that flexmbd reads but does not use (SPACAR's
+            ``OUTLEVEL``, a beam's warping values), one line each with the lines it was on.
     """
 
     t_end: float | None = None
@@ -47,6 +49,7 @@ class RunSettings:
     force_inputs: tuple[str, ...] = ()
     outputs: tuple[str, ...] = ()
     rate_outputs: tuple[str, ...] = ()
+    notes: tuple[str, ...] = ()
 
     def output_times(self) -> np.ndarray | None:
         """``steps + 1`` equally spaced times from 0 to ``t_end`` [s], or ``None`` when unset."""

@@ -78,12 +78,13 @@ def state(model: fm.Model, settings: fm.RunSettings | None = None) -> dict:
     settings = settings or fm.RunSettings()
     return {
         "nodes": {n: (v.kind, v.position, v.coordinates) for n, v in model.nodes.items()},
-        "elements": {n: (e.type, e.nodes) for n, e in model.elements.items()},
+        "elements": {n: (e.type, e.nodes, dict(e.data)) for n, e in model.elements.items()},
         "x0": model.x0.tolist(),
         "classes": (model.coordinate_class.tolist(), model.deformation_class.tolist()),
         "laws": dict(model.input_laws),
         "properties": dict(model.element_properties),
         "masses": dict(model.nodal_masses),
+        "inertias": dict(model.nodal_inertias),
         "forces": dict(model.nodal_forces),
         "gravity": model.gravity,
         "settings": settings,
@@ -182,8 +183,11 @@ MALFORMED = {
     "negative step count": ("PLTRUSS 1 1 2\nX 1 0 0\nX 2 1 0\nFIX 1 2\nINPUTX 2 1\nFIX 2 2\n"
                             "END\nHALT\nINPUTX 2 1 1 0.1\nTIMESTEP 1.0 -5\nEND\nEND\n", 10,
                             "must be positive"),
-    "spatial element": ("PLTRUSS 1 1 2\nBEAM 2 1 2 3 4 5 6\nEND\nEND\n", 2,
-                        "spatial element or keyword BEAM"),
+    "mixed planar and spatial": ("PLTRUSS 1 1 2\nBEAM 2 1 2 3 4 0 0 1\nEND\nEND\n", 2,
+                                 "mixes planar and spatial elements: PLTRUSS on line 1, "
+                                 "BEAM on line 2"),
+    "unsupported keyword": ("PLTRUSS 1 1 2\nPINBAR 2 1 2\nEND\nEND\n", 2,
+                            "SPACAR's element or keyword PINBAR is not supported by flexmbd"),
     "too many values": ("PLTRUSS 1 1 2 3\nEND\nEND\n", 1, "takes PLTRUSS element p q"),
     "fractional node": ("PLTRUSS 1 1 2.5\nEND\nEND\n", 1, "whole number"),
     "huge node number": ("PLTRUSS 1 1 1e308\nEND\nEND\n", 1, "is larger than"),

@@ -10,11 +10,12 @@ from hypothesis import strategies as st
 
 import flexmbd as fm
 from flexmbd.dat import dat_from_text, dat_text
-from flexmbd.dat.syntax import DYNAMICS, KINEMATICS, SPATIAL
+from flexmbd.dat.syntax import DYNAMICS, KINEMATICS, UNSUPPORTED
 from tests.test_dat import DAT_FILES, EVERYTHING
+from tests.test_dat_spatial import SPATIAL_EVERYTHING
 
-SOURCES = [EVERYTHING, *(path.read_text() for path in DAT_FILES)]
-WORDS = sorted({*KINEMATICS, *DYNAMICS, *SPATIAL, "END", "HALT"})
+SOURCES = [EVERYTHING, SPATIAL_EVERYTHING, *(path.read_text() for path in DAT_FILES)]
+WORDS = sorted({*KINEMATICS, *DYNAMICS, *UNSUPPORTED, "END", "HALT"})
 NUMBERS = ["0", "-1", "1", "2", "3", "7", "99", "2.5", "-0.0", "1e308", "1e400", "nan",
            "-inf", "1D3", "0x10", "1_000", "", "#", "%", "*"]
 

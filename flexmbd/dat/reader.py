@@ -1,4 +1,4 @@
-"""Reading a planar SPACAR input file into a model and its run settings.
+"""Reading a SPACAR input file, planar or spatial, into a model and its run settings.
 
 Readings chosen where the format leaves room (the user guide's page on SPACAR files
 lists them with every keyword, its table made from :mod:`flexmbd.dat.syntax`):
@@ -25,6 +25,14 @@ lists them with every keyword, its table made from :mod:`flexmbd.dat.syntax`):
   SPACAR's order, the iteration limit, the load steps of a static analysis and
   the tolerance [m, rad] of the Newton position solve (the flags are SPACAR
   solver options and are not used).
+* A file with a spatial element (``BEAM e p rp q rq ox oy oz``, ``HINGE e rp rq ax ay
+  az``, ``TRUSS e p q``) is spatial: ``X n x y z``, three load components (a global
+  moment on a rotational node), ``XM n Ixx Ixy Ixz Iyy Iyz Izz`` on a rotational node,
+  ``EM e rhoA Jxx Jyy Jzz Jyz``, ``ESTIFF e EA GIt EIy EIz [sy sz]``, ``GRAVITY gx gy
+  gz``; ``FIX n`` on a rotational node fixes ``lam1..lam3`` (so do ``INPUTX``, ``DYNX``
+  without directions). A file of planar and spatial elements is refused, naming a line
+  of each. Values SPACAR accepts that flexmbd does not model (warping ``ECw`` and
+  ``Jw``) and ``OUTLEVEL`` are read and reported once in ``settings.notes``.
 * Static load steps and the linear model: ``DELXF n F..`` (the total load increment
   over the load steps, as ``XF``), ``DELINPX n k delta`` and ``DELINPE e k delta``
   (total increments of inputs), ``INPUTF n k..`` (force inputs), ``OUTX n k..`` and
@@ -41,12 +49,22 @@ from typing import NamedTuple
 
 from .. import checks
 from ..builder import ModelBuilder
-from ..elements import ELEMENT_TYPES, ROTATIONAL, TRANSLATIONAL
+from ..elements import ELEMENT_TYPES, ROTATIONAL, TRANSLATIONAL, SpatialBeam
+from ..elements.base import (
+    COORDINATES_PER_NODE,
+    SPATIAL_ROTATIONAL,
+    SPATIAL_TRANSLATIONAL,
+    is_translational,
+)
 from ..errors import ArgumentError, InputFileError, ModelError
 from ..model import CoordinateClass, DeformationClass, Model
 from ..motion import Polynomial
 from ..settings import RunSettings
-from .syntax import DatText, Statement, parse_text
+from .syntax import LINE_DATA, DatText, Statement, parse_text
+
+#: the load components of a node of each kind, as XF and DELXF name them
+LOAD_WORDS = {TRANSLATIONAL: ("Fx", "Fy"), ROTATIONAL: ("M",),
+              SPATIAL_TRANSLATIONAL: ("Fx", "Fy", "Fz"), SPATIAL_ROTATIONAL: ("Mx", "My", "Mz")}
 
 #: input files larger than this [bytes] are refused before they are read
 LARGEST_FILE = 64 * 2**20
@@ -121,6 +139,10 @@ class _Reader:
         self.classified: dict[str, list[int]] = {}  # label -> lines that classified it
         self.setting_statements: dict[str, Statement] = {}
         self.nodal_masses: dict[int, int] = {}  # node -> line of its last XM
+        self.family_line: dict[bool, Statement] = {}  # spatial? -> its first element line
+        self.dimensions: dict[int, int] = {}  # node -> coordinates given by X
+        #: what the file gives that flexmbd reads but does not model: reason -> lines
+        self.ignored: dict[str, list[int]] = {}
         self.by_line = {s.line: s for s in (*text.kinematics, *text.dynamics)}
 
     def fail(self, statement: Statement, message: str):
@@ -188,7 +210,11 @@ class _Reader:
         initial = {label: pair for label, (pair, _) in self.initial.items()}
         linear = {name: MappingProxyType(values) if isinstance(values, dict) else tuple(values)
                   for name, values in self.linear.items()}
-        return RunSettings(initial=MappingProxyType(initial), **self.settings, **linear)
+        notes = tuple(f"{what} on line{'s' if len(lines) > 1 else ''} "
+                      f"{', '.join(map(str, lines))}: read and ignored"
+                      for what, lines in self.ignored.items())
+        return RunSettings(initial=MappingProxyType(initial), **self.settings, **linear,
+                           notes=notes)
 
     def check_settings(self, model: Model) -> None:
         """ITERSTEP, ERROR and TIMESTEP values that cannot work, refused at their line
@@ -220,33 +246,43 @@ class _Reader:
             if number in self.elements:
                 self.fail(s, f"element {number} is already defined on line "
                              f"{self.elements[number][2]}")
+            etype = ELEMENT_TYPES[s.keyword]
+            nodes, given = nodes[:len(etype.roles)], v[1 + len(etype.roles):]
             if number < 1 or min(nodes) < 1:
                 self.fail(s, "element and node numbers must be positive")
-            etype = ELEMENT_TYPES[s.keyword]
+            self.check_family(s, etype.is_spatial())
             for node, role in zip(nodes, etype.roles, strict=True):
                 if self.kinds.setdefault(node, role.kind) != role.kind:
                     self.fail(s, f"node {node} is {self.kinds[node]} elsewhere but {role.kind} "
                                  f"here")
+            data, at = {}, 0
+            for name in etype.element_data:
+                if name in LINE_DATA:
+                    data[name] = tuple(given[at:at + len(LINE_DATA[name])])
+                    at += len(LINE_DATA[name])
             self.elements[number] = (s.keyword, nodes, s.line)
-            b.add_element(number, etype, nodes)
+            b.add_element(number, etype, nodes, **data)
         elif s.keyword == "X":
             node = v[0]
             if node in self.positions:
                 self.fail(s, f"node {node} already has a position (line {self.positions[node]})")
-            if self.kinds.get(node) == ROTATIONAL:
-                self.fail(s, f"node {node} is a rotational node (its angle starts at 0); only "
-                             f"translational nodes take X")
+            if self.kinds.get(node) in (ROTATIONAL, SPATIAL_ROTATIONAL):
+                self.fail(s, f"node {node} is a rotational node (its rotation starts at 0); "
+                             f"only translational nodes take X")
             self.positions[node] = s.line
-            b.add_node(node, v[1], v[2])
+            self.dimensions[node] = len(v) - 1
+            b.add_node(node, *v[1:])
+        elif s.keyword == "OUTLEVEL":
+            self.ignore("OUTLEVEL (SPACAR's output level)", s)
         elif s.keyword in ("FIX", "INPUTX", "DYNX"):
             node, directions = v[0], v[1:]
             self.check_directions(s, node, directions)
-            ks = directions or range(1, 3 if self.kind(s, node) == TRANSLATIONAL else 2)
+            ks = directions or self.all_directions(s, node)
             self.classify(s, (f"x{node}.{k}" for k in ks))
             if s.keyword == "INPUTX":
                 self.inputs |= {("x", node, k) for k in ks}
             {"FIX": b.fix, "INPUTX": b.input_coordinate, "DYNX": b.dynamic_coordinate}[
-                s.keyword](node, *directions)
+                s.keyword](node, *ks)
         else:  # INPUTE, DYNE, RLSE
             element, ks = v[0], v[1:]
             self.check_deformations(s, element, ks)
@@ -257,6 +293,27 @@ class _Reader:
             {"INPUTE": b.input_deformation, "DYNE": b.dynamic_deformation,
              "RLSE": b.release}[s.keyword](element, *ks)
 
+    def check_family(self, s: Statement, spatial: bool) -> None:
+        """Refuse a file of planar and spatial elements, naming a line of each."""
+        self.family_line.setdefault(spatial, s)
+        other = self.family_line.get(not spatial)
+        if other is not None:
+            planar, space = (other, s) if spatial else (s, other)
+            self.fail(s, f"the file mixes planar and spatial elements: {planar.keyword} on "
+                         f"line {planar.line}, {space.keyword} on line {space.line}; a model "
+                         f"is planar or spatial")
+
+    def ignore(self, what: str, s: Statement) -> None:
+        """Note a value flexmbd reads but does not model (reported once per kind)."""
+        self.ignored.setdefault(what, []).append(s.line)
+
+    def all_directions(self, s: Statement, node: int) -> range:
+        """A node's directions when a line names none: all, but ``lam1..lam3`` of a spatial
+        rotational node (its ``lam0`` follows from the normalization)."""
+        kind = self.kind(s, node)
+        return range(2, 5) if kind == SPATIAL_ROTATIONAL else \
+            range(1, COORDINATES_PER_NODE[kind] + 1)
+
     def classify(self, s: Statement, labels) -> None:
         for label in labels:
             self.classified.setdefault(label, []).append(s.line)
@@ -266,16 +323,17 @@ class _Reader:
         if node in self.kinds:
             return self.kinds[node]
         if node in self.positions:
-            return TRANSLATIONAL
+            return SPATIAL_TRANSLATIONAL if self.dimensions[node] == 3 else TRANSLATIONAL
         self.fail(s, f"node {node} is not used by any element and has no position")
         raise AssertionError  # unreachable: fail raises
 
     def check_directions(self, s: Statement, node: int, directions) -> None:
-        top = 2 if self.kind(s, node) == TRANSLATIONAL else 1
+        kind = self.kind(s, node)
+        top = COORDINATES_PER_NODE[kind]
         for k in directions:
             if not 1 <= k <= top:
-                self.fail(s, f"node {node} is {self.kind(s, node)}: directions are 1"
-                             f"{' and 2' if top == 2 else ''}, got {k}")
+                names = {1: "1", 2: "1 and 2"}.get(top, f"1 to {top}")
+                self.fail(s, f"node {node} is {kind}: directions are {names}, got {k}")
 
     def etype(self, s: Statement, element: int):
         """The type of a defined element."""
@@ -290,12 +348,31 @@ class _Reader:
             if not 1 <= k <= nd:
                 self.fail(s, f"a {etype.keyword} has deformations 1 to {nd}, got {k}")
 
+    def spatial(self) -> bool:
+        """Whether the file is spatial: it has a spatial element, or (without elements) its
+        first position has three coordinates."""
+        if self.family_line:
+            return True in self.family_line
+        return next(iter(self.dimensions.values()), 2) == 3
+
+    def check_family_values(self, s: Statement, count: int, planar: str, spatial: str) -> None:
+        """Refuse an X or GRAVITY line with the other family's number of values."""
+        want = 3 if self.spatial() else 2
+        if count != want:
+            self.fail(s, f"a {'spatial' if want == 3 else 'planar'} file gives "
+                         f"{spatial if want == 3 else planar}, got {count} value(s)")
+
     def check_positions(self) -> None:
+        for statement in self.text.kinematics:
+            if statement.keyword == "X":
+                self.check_family_values(statement, len(statement.values) - 1, "x y", "x y z")
         for number, (keyword, nodes, line) in sorted(self.elements.items()):
             for node in nodes:
-                if self.kinds[node] == TRANSLATIONAL and node not in self.positions:
+                kind = self.kinds[node]
+                if is_translational(kind) and node not in self.positions:
+                    words = "x y z" if kind == SPATIAL_TRANSLATIONAL else "x y"
                     raise InputFileError(f"{keyword} {number}: node {node} has no coordinates; "
-                                         f"add 'X {node} x y' to the kinematics block",
+                                         f"add 'X {node} {words}' to the kinematics block",
                                          self.path, line)
 
     # --- block 2 -------------------------------------------------------------------------
@@ -310,6 +387,7 @@ class _Reader:
                 self.fail(s, f"values must be positive, got {value:g}")
 
     def _gravity(self, s: Statement) -> None:
+        self.check_family_values(s, len(s.values), "gx gy", "gx gy gz")
         self.builder.set_gravity(*s.values)
 
     def _error(self, s: Statement) -> None:
@@ -335,12 +413,27 @@ class _Reader:
         if not etype.has_mass:
             self.fail(s, f"element {element} is a {etype.name}, which has no mass; use XM on "
                          f"its nodes")
-        if len(s.values) > 2 and s.values[2] != 0:
+        section, extra = s.values[2:], {}
+        if etype is SpatialBeam:
+            if len(section) not in (0, 4, 5):
+                self.fail(s, f"a BEAM takes rhoA and then Jxx Jyy Jzz Jyz [Jw] per length, "
+                             f"got {len(s.values) - 1} values")
+            if len(section) == 5 and section[4]:
+                self.ignore("the warping inertia Jw (EM's 6th value)", s)
+            if section:
+                extra["section_inertia"] = tuple(section[:4])
+        elif etype.is_spatial() and section:
+            self.fail(s, f"a {etype.keyword} takes its mass per length rhoA only, got "
+                         f"{len(s.values) - 1} values")
+        elif len(section) > 1:
+            self.fail(s, f"EM takes rhoA [rhoI] for a planar element, got "
+                         f"{len(s.values) - 1} values")
+        elif any(section):
             self.fail(s, "a rotary inertia per length (rhoI) is not supported for planar "
                          "elements; set it to 0 or put rotary inertia on nodes with XM")
         if rho_a < 0:
             self.fail(s, f"mass per length {rho_a:g} is negative")
-        self.builder.set_mass(element, rho_a, formulation)
+        self.builder.set_mass(element, rho_a, formulation, **extra)
 
     def _emlump(self, s: Statement) -> None:
         self._em(s, "lumped")
@@ -349,6 +442,10 @@ class _Reader:
         element, values = s.values[0], s.values[1:]
         etype = self.etype(s, element)
         declared = etype.stiffness_values if what == "stiffness" else etype.damping_values
+        if what == "stiffness" and etype.keyword == "BEAM" and len(values) == 7:
+            if values[6]:
+                self.ignore("the warping stiffness ECw (ESTIFF's 7th value)", s)
+            values = values[:6]
         if len(values) > len(declared):
             names = ", ".join(v.symbol for v in declared) or "none"
             self.fail(s, f"a {etype.keyword} takes {len(declared)} value(s) ({names}), got "
@@ -367,19 +464,27 @@ class _Reader:
         self.builder.set_prestress(element, k, sigma0)
 
     def _xm(self, s: Statement) -> None:
-        node, mass = s.values
-        self.kind(s, node)
+        node, values = s.values[0], s.values[1:]
+        kind = self.kind(s, node)
         self.nodal_masses[node] = s.line
-        self.builder.add_point_mass(node, mass)
+        if kind == SPATIAL_ROTATIONAL:
+            if len(values) != 6:
+                self.fail(s, f"node {node} is {kind}: give its inertia tensor Ixx Ixy Ixz "
+                             f"Iyy Iyz Izz [kg m^2], got {len(values)} value(s)")
+            self.builder.add_rotary_inertia(node, *values)
+            return
+        if len(values) != 1:
+            self.fail(s, f"node {node} is {kind}: give one mass, got {len(values)} values")
+        self.builder.add_point_mass(node, values[0])
 
-    def nodal_load(self, s: Statement, names: tuple[str, str]) -> tuple[int, tuple]:
-        """Node and values of an ``XF``-like line: two ``names[0]`` for a translational
-        node, one ``names[1]`` for a rotational one."""
+    def nodal_load(self, s: Statement, increment: bool = False) -> tuple[int, tuple]:
+        """Node and values of an ``XF``-like line, as many as the node's kind takes."""
         node, loads = s.values[0], s.values[1:]
-        want = 2 if self.kind(s, node) == TRANSLATIONAL else 1
-        if len(loads) != want:
-            self.fail(s, f"node {node} is {self.kinds.get(node, TRANSLATIONAL)}: give "
-                         f"{names[0] if want == 2 else names[1]}")
+        kind = self.kind(s, node)
+        words = LOAD_WORDS[kind]
+        if len(loads) != len(words):
+            self.fail(s, f"node {node} is {kind}: give "
+                         f"{' '.join(('d' if increment else '') + w for w in words)}")
         return node, loads
 
     def check_input(self, s: Statement, kind: str, number: int, k: int) -> None:
@@ -392,7 +497,7 @@ class _Reader:
                          f"block)")
 
     def _xf(self, s: Statement) -> None:
-        node, loads = self.nodal_load(s, ("Fx Fy", "one torque M"))
+        node, loads = self.nodal_load(s)
         self.builder.add_force(node, *loads)
 
     def _inputx(self, s: Statement) -> None:
@@ -413,9 +518,10 @@ class _Reader:
         self.initial[f"e{element}.{k}"] = ((start[0], start[1] if len(start) > 1 else 0.0), s)
 
     def _delxf(self, s: Statement) -> None:
-        node, loads = self.nodal_load(s, ("dFx dFy", "one torque increment dM"))
+        node, loads = self.nodal_load(s, increment=True)
         increments = self.linear.setdefault("load_increment", {})
-        for k, value in enumerate(loads, 1):
+        first = 2 if self.kind(s, node) == SPATIAL_ROTATIONAL else 1  # a moment's slots
+        for k, value in enumerate(loads, first):
             increments[f"x{node}.{k}"] = increments.get(f"x{node}.{k}", 0.0) + value
 
     def _delinpx(self, s: Statement) -> None:
@@ -433,8 +539,11 @@ class _Reader:
     def _inputf(self, s: Statement, name: str = "force_inputs") -> None:
         node, directions = s.values[0], s.values[1:]
         self.check_directions(s, node, directions)
-        ks = directions or range(1, 3 if self.kind(s, node) == TRANSLATIONAL else 2)
+        ks = directions or self.all_directions(s, node)
         self.linear.setdefault(name, []).extend(f"x{node}.{k}" for k in ks)
+
+    def _outlevel(self, s: Statement) -> None:
+        self.ignore("OUTLEVEL (SPACAR's output level)", s)
 
     def _outx(self, s: Statement) -> None:
         self._inputf(s, "outputs")

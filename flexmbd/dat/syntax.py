@@ -1,4 +1,5 @@
-"""The planar SPACAR input format: statements, blocks and the arguments of each keyword.
+"""The SPACAR input format, planar and spatial: statements, blocks and the arguments of
+each keyword.
 
 A file is free format, one keyword per line followed by numbers; comments start
 with ``#``, ``%`` or ``*`` and run to the end of the line; keywords are
@@ -69,17 +70,30 @@ def _syntax(required: str, optional: str = "", rest: str = "", min_rest: int = 0
 
 def _element_meaning(etype) -> str:
     deformations = ", ".join(f"{k + 1} {name}" for k, name in enumerate(etype.deformation_names))
-    return f"a {etype.name} element and its nodes; deformations: {deformations}"
+    data = [name for name in etype.element_data if name in LINE_DATA]
+    given = f", then its {' and '.join(data)} vector" if data else ""
+    return f"a {etype.name} element and its nodes{given}; deformations: {deformations}"
+
+
+#: element data written on a spatial element's line after its nodes, in SPACAR's
+#: spelling: a beam's orientation vector, a hinge's axis
+LINE_DATA = {"orientation": ("ox", "oy", "oz"), "axis": ("ax", "ay", "az")}
+
+
+def element_words(etype) -> list[str]:
+    """The arguments of an element line: its number, its nodes, then its line data."""
+    return ["element:int", *(f"{r.name}:int" for r in etype.roles),
+            *(f"{word}:float" for name in etype.element_data if name in LINE_DATA
+              for word in LINE_DATA[name])]
 
 
 #: block 1: elements (their nodes as the element types name them), positions and the
 #: classification of coordinates and deformations
 KINEMATICS = {
-    **{keyword: _syntax(" ".join(["element:int", *(f"{r.name}:int" for r in etype.roles)]),
-                        meaning=_element_meaning(etype))
-       for keyword, etype in ELEMENT_TYPES.items() if not etype.is_spatial()},
-    "X": _syntax("node:int x:float y:float",
-                 meaning="initial position [m] of a translational node"),
+    **{keyword: _syntax(" ".join(element_words(etype)), meaning=_element_meaning(etype))
+       for keyword, etype in ELEMENT_TYPES.items() if not etype.automatic},
+    "X": _syntax("node:int x:float y:float", "z:float",
+                 meaning="initial position [m] of a translational node (z in a spatial file)"),
     "FIX": _syntax("node:int", rest="direction:int",
                    meaning="fixes coordinates of a node (all when no direction is given)"),
     "INPUTX": _syntax("node:int", rest="direction:int",
@@ -95,27 +109,40 @@ KINEMATICS = {
     "RLSE": _syntax("element:int", rest="deformation:int",
                     meaning="releases deformations of an element: calculated from the "
                             "coordinates, neither rigid nor a degree of freedom"),
+    "OUTLEVEL": _syntax("", rest="level:float",
+                        meaning="SPACAR's output level: read and ignored"),
 }
 
 #: block 2: properties, loads, input laws, initial values and run settings
 DYNAMICS = {
-    "EM": _syntax("element:int rhoA:float", "rhoI:float",
-                  meaning="mass per length [kg/m] of an element, consistent (rhoI must be 0)"),
-    "EMLUMP": _syntax("element:int rhoA:float",  # flexmbd: lumped instead of consistent
-                      meaning="flexmbd's own: mass per length [kg/m], lumped at the nodes"),
+    "EM": _syntax("element:int rhoA:float", rest="inertia:float",
+                  meaning="mass per length [kg/m] of an element, consistent; a planar "
+                          "element's rhoI must be 0, a spatial beam's section inertias "
+                          "Jxx Jyy Jzz Jyz [kg m] per length follow (Jw, warping, is "
+                          "ignored)"),
+    "EMLUMP": _syntax("element:int rhoA:float", rest="inertia:float",
+                      meaning="flexmbd's own: mass per length [kg/m], lumped at the nodes, "
+                              "then as EM"),
     "ESTIFF": _syntax("element:int", rest="stiffness:float", min_rest=1,
                       meaning="stiffness values of an element in its type's order (a beam: "
-                              "EA [N], EI [N m^2], optionally GA_s [N])"),
+                              "EA [N], EI [N m^2], optionally GA_s [N]; a spatial beam: EA "
+                              "GIt EIy EIz [sy sz] with sy, sz [m^2] and ECw, warping, "
+                              "ignored)"),
     "EDAMP": _syntax("element:int", rest="damping:float", min_rest=1,
                      meaning="damping values of an element in its type's order"),
     "ESIG": _syntax("element:int deformation:int sigma0:float",
                     meaning="pre-stress of a deformation [N or N m]"),
-    "XM": _syntax("node:int mass:float",
+    "XM": _syntax("node:int", rest="inertia:float", min_rest=1,
                   meaning="a point mass [kg] on a translational node, a rotary inertia "
-                          "[kg m^2] on a rotational one"),
+                          "[kg m^2] on a rotational one; in space the inertia tensor Ixx "
+                          "Ixy Ixz Iyy Iyz Izz in the node's body frame"),
     "XF": _syntax("node:int", rest="load:float", min_rest=1,
-                  meaning="constant load on a node: Fx Fy [N], or a moment [N m]"),
-    "GRAVITY": _syntax("gx:float gy:float", meaning="gravitational acceleration [m/s^2]"),
+                  meaning="constant load on a node: Fx Fy [N] or a moment [N m]; in space "
+                          "Fx Fy Fz or a global moment Mx My Mz"),
+    "GRAVITY": _syntax("gx:float gy:float", "gz:float",
+                       meaning="gravitational acceleration [m/s^2]"),
+    "OUTLEVEL": _syntax("", rest="level:float",
+                        meaning="SPACAR's output level: read and ignored"),
     "INPUTX": _syntax("node:int direction:int x0:float", "v0:float a0:float",
                       meaning="law x0 + v0 t + a0 t^2/2 of an input coordinate"),
     "INPUTE": _syntax("element:int deformation:int e0:float", "v0:float a0:float",
@@ -147,9 +174,9 @@ DYNAMICS = {
                      meaning="velocity outputs of the state-space model"),
 }
 
-#: spatial (3D) keywords of SPACAR that flexmbd does not read
-SPATIAL = {"BEAM", "TRUSS", "HINGE", "PINBAR", "CYLINDER", "PLATE", "RBEAM", "SBEAM",
-           "CONTACT", "WHEEL", "BELT", "SPRING", "RNODE", "XSTIFF", "XDAMP"} - set(KINEMATICS)
+#: keywords of SPACAR that flexmbd does not read
+UNSUPPORTED = {"PINBAR", "CYLINDER", "PLATE", "RBEAM", "SBEAM", "CONTACT", "WHEEL", "BELT",
+               "SPRING", "RNODE", "XSTIFF", "XDAMP"} - set(KINEMATICS)
 
 
 @dataclass(frozen=True)
@@ -256,8 +283,8 @@ def parse_text(text: str, path: str | Path | None = None) -> DatText:
 
 
 def _unknown(keyword: str, block: str) -> str:
-    if keyword in SPATIAL:
-        return f"spatial element or keyword {keyword} is not supported (flexmbd is planar)"
+    if keyword in UNSUPPORTED:
+        return f"SPACAR's element or keyword {keyword} is not supported by flexmbd"
     other = DYNAMICS if block == "kinematics" else KINEMATICS
     if keyword in other:
         where = "dynamics block (after END and HALT)" if block == "kinematics" else \

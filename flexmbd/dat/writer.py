@@ -1,21 +1,24 @@
-"""Writing a :class:`~flexmbd.model.Model` as a planar SPACAR input file.
+"""Writing a :class:`~flexmbd.model.Model` as a SPACAR input file, planar or spatial.
 
 Numbers are written as the shortest text that reads back exactly, so :func:`read_dat` gives back
 an equal model. Models that SPACAR's format cannot hold are refused with
 :class:`~flexmbd.errors.OutputError`: input laws that are not polynomials
-(:class:`~flexmbd.motion.Custom`). Rigid beams and lumped masses are written
-with flexmbd's own keywords ``PLRBEAM`` and ``EMLUMP``.
+(:class:`~flexmbd.motion.Custom`) and spatial beams without the bending-linked terms.
+Rigid beams and lumped masses are written with flexmbd's own keywords ``PLRBEAM`` and
+``EMLUMP``. The automatic Euler elements are not written: reading adds them again.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from ..elements import ROTATIONAL
+from ..elements.base import is_translational
+from ..engine import load_slots
 from ..errors import OutputError
 from ..model import CoordinateClass, DeformationClass, Model
 from ..motion import Polynomial
 from ..settings import RunSettings
+from .syntax import LINE_DATA
 
 
 def _number(value: float) -> str:
@@ -32,10 +35,12 @@ def dat_text(model: Model, settings: RunSettings | None = None) -> str:
     """The input-file text of ``model`` and, when given, its run ``settings``."""
     lines = [f"# {model.name}: written by flexmbd", "", "# elements"]
     for number, element in sorted(model.elements.items()):
-        lines.append(_line(element.type.keyword, number, *element.nodes))
+        if not element.type.automatic:
+            lines.append(_line(element.type.keyword, number, *element.nodes,
+                               *_line_data(number, element)))
     lines += ["", "# initial positions of the translational nodes"]
     for number, node in sorted(model.nodes.items()):
-        if node.kind != ROTATIONAL:
+        if is_translational(node.kind):
             lines.append(_line("X", number, *node.position))
     lines += ["", "# classification"]
     lines += _classification(model)
@@ -64,6 +69,16 @@ def write_dat(model: Model, path: str | Path, settings: RunSettings | None = Non
     return path
 
 
+def _line_data(number: int, element) -> list[float]:
+    """The element data written after the nodes (a spatial beam's orientation, a spatial
+    hinge's axis); refuses data SPACAR's format cannot hold."""
+    if element.data.get("bending_linked", (1.0,))[0] == 0.0:
+        raise OutputError(f"{element.type.name} {number} leaves out the bending-linked terms, "
+                          f"which a SPACAR file cannot say (its BEAM always has them)")
+    return [v for name in element.type.element_data if name in LINE_DATA
+            for v in element.data[name]]
+
+
 #: classification keywords of coordinates (by node) and deformations (by element)
 _COORDINATE_KEYWORDS = {CoordinateClass.FIXED: "FIX", CoordinateClass.INPUT: "INPUTX",
                         CoordinateClass.DYNAMIC: "DYNX"}
@@ -89,13 +104,15 @@ def _properties(model: Model) -> list[str]:
     lines = []
     for number, props in sorted(model.element_properties.items()):
         etype = model.elements[number].type
-        if props.mass_per_length:
-            lines.append(_line("EMLUMP" if props.lumped else "EM", number, props.mass_per_length))
+        if props.mass_per_length or props.section_inertia:
+            lines.append(_line("EMLUMP" if props.lumped else "EM", number, props.mass_per_length,
+                               *(props.section_inertia or ())))
         for keyword, given, declared in (("ESTIFF", props.stiffness, etype.stiffness_values),
                                          ("EDAMP", props.damping, etype.damping_values)):
-            values = [given.get(v.name, 0.0) for v in declared]
-            while values and not values[-1]:  # trailing zeros and an absent shear term
+            values = [given.get(v.name) for v in declared]
+            while values and values[-1] is None:  # values not given (an absent shear term)
                 values.pop()
+            values = [0.0 if v is None else v for v in values]
             if values:
                 lines.append(_line(keyword, number, *values))
         for k, sigma0 in enumerate(props.prestress or (), 1):
@@ -103,6 +120,8 @@ def _properties(model: Model) -> list[str]:
                 lines.append(_line("ESIG", number, k, sigma0))
     for number, mass in sorted(model.nodal_masses.items()):
         lines.append(_line("XM", number, mass))
+    for number, tensor in sorted(model.nodal_inertias.items()):
+        lines.append(_line("XM", number, *tensor))
     for number, load in sorted(model.nodal_forces.items()):
         lines.append(_line("XF", number, *load))
     if any(model.gravity):
@@ -156,7 +175,8 @@ def _linear_settings(model: Model, settings: RunSettings) -> list[str]:
         number, k = _numbers(label)
         by_node.setdefault(number, {})[k] = value
     for number, values in sorted(by_node.items()):
-        components = range(1, len(model.nodes[number].coordinates) + 1)
+        node = model.nodes[number]
+        components = [node.coordinates.index(i) + 1 for i in load_slots(node)]
         lines.append(_line("DELXF", number, *(values.get(k, 0.0) for k in components)))
     for label, delta in sorted(settings.input_increment.items()):
         number, k = _numbers(label)
