@@ -470,7 +470,7 @@ def load_vector(model: Model, value) -> np.ndarray:
         if f.shape != (model.n_coordinates,):
             raise ModelError(f"forces must return an array of shape ({model.n_coordinates},) "
                              f"or a mapping of coordinate labels, got shape {f.shape}")
-    scalar = _euler_scalars(model)
+    scalar = euler_scalars(model)
     if np.any(f[scalar] != 0.0):
         label = model.coordinate_labels[scalar[np.flatnonzero(f[scalar])[0]]]
         raise ModelError(f"a load on {label}, lam0 of a spatial rotational node: the loads "
@@ -479,7 +479,7 @@ def load_vector(model: Model, value) -> np.ndarray:
     return f
 
 
-def _euler_scalars(model: Model) -> np.ndarray:
+def euler_scalars(model: Model) -> np.ndarray:
     """The coordinates ``lam0`` of the spatial rotational nodes."""
     return np.array([node.coordinates[0] for node in model.nodes.values()
                      if node.kind == SPATIAL_ROTATIONAL], dtype=int)

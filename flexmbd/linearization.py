@@ -36,15 +36,17 @@ follow ``q`` (m, rad), forces N and N m.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
-from .engine import Engine, load_vector, q_scale
+from .elements.base import SPATIAL_ROTATIONAL
+from .engine import Engine, euler_scalars, load_vector, q_scale
 from .errors import ArgumentError
 from .kinematics import coordinates, generalized
 from .model import Model
 from .motion import Polynomial
-from .orientation import euler_forces
+from .orientation import angular_velocity, euler_forces
 
 #: central-difference step of N0, relative to a coordinate's size (model size or 1 rad):
 #: the cube root of the rounding error balances truncation (1e-10 relative in all)
@@ -111,11 +113,31 @@ class Linearization:
         at = np.ix_(picks[rows], picks[columns])
         return sum(getattr(self, part)[at] for part in parts)
 
+    @cached_property
+    def motion_transfer(self) -> np.ndarray:
+        """``T F_q`` ``(nx, nq)``: how the coordinates move with ``q``, as a user reads
+        them [m, rad]. On a spatial rotational node the rows of ``lam1..lam3`` are its
+        global rotation ``dtheta = 2 E(lam) dlam`` (the spatial theory, section 6), the
+        conjugate of a moment on those entries, and the row of ``lam0`` is zero."""
+        F = np.array(self.F_q)
+        for node in self.model.nodes.values():
+            if node.kind == SPATIAL_ROTATIONAL:
+                at = list(node.coordinates)
+                F[at[1:]] = angular_velocity(self.x[at], F[at].T).T
+                F[at[0]] = 0.0
+        return F
+
     def transfer(self, labels) -> np.ndarray:
-        """Rows of ``F_q`` over the dynamic entries for coordinate labels (``"x3.2"``):
-        how those coordinates move with the degrees of freedom ``(len(labels), nd)``."""
+        """Rows of :attr:`motion_transfer` over the dynamic entries for coordinate labels
+        (``"x3.2"``): how those coordinates (a rotational node's global rotations) move
+        with the degrees of freedom ``(len(labels), nd)``."""
         rows = [self.model.coordinate_index(label) for label in labels]
-        return self.F_q[np.ix_(rows, self.dynamic)]
+        for label, row in zip(labels, rows, strict=True):
+            if row in euler_scalars(self.model):
+                raise ArgumentError("labels", f"{label} is lam0 of a spatial rotational node; "
+                                              f"its rotations are {label[:-1]}2 to "
+                                              f"{label[:-1]}4 (about x, y and z)")
+        return self.motion_transfer[np.ix_(rows, self.dynamic)]
 
 
 def linearize(model: Model, x=None, qd=None, qdd=None, *, loads=None,

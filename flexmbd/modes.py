@@ -43,7 +43,9 @@ class Modes:
         frequencies: ``sign(omega^2) sqrt(|omega^2|) / (2 pi)`` [Hz] ``(k,)``: a negative
             value marks an unstable direction (its growth rate in 1/s over ``2 pi``).
         shapes: mass-normalized shapes over the dynamic entries of ``q`` ``(nd, k)``.
-        motion: the shapes as coordinate motions ``F_q phi`` ``(nx, k)`` [m, rad].
+        motion: the shapes as coordinate motions ``F_q phi`` ``(nx, k)`` [m, rad]; on a
+            spatial rotational node the global rotations ``dtheta`` in the entries of
+            ``lam1..lam3`` (:attr:`~flexmbd.Linearization.motion_transfer`).
     """
 
     linearization: Linearization
@@ -62,7 +64,8 @@ class Buckling:
         factors: load factors ``lambda`` ``(k,)``, smallest magnitude first; the state's
             loads times ``lambda`` make ``K0 + lambda G0`` singular.
         shapes: buckled shapes over the dynamic entries of ``q`` ``(nd, k)``, largest entry 1.
-        motion: the shapes as coordinate motions ``(nx, k)``.
+        motion: the shapes as coordinate motions ``(nx, k)`` (rotations as in
+            :class:`Modes`).
     """
 
     linearization: Linearization
@@ -88,7 +91,7 @@ def vibration_modes(linearization: Linearization, count: int | None = None) -> M
         return Modes(lin, empty, empty, np.zeros((0, 0)), np.zeros((len(lin.x), 0)))
     omega2, shapes = _eigen(lin, K, M, count, vectors=True)
     frequencies = np.sign(omega2) * np.sqrt(np.abs(omega2)) / (2 * np.pi)
-    return Modes(lin, omega2, frequencies, shapes, lin.F_q[:, lin.dynamic] @ shapes)
+    return Modes(lin, omega2, frequencies, shapes, lin.motion_transfer[:, lin.dynamic] @ shapes)
 
 
 def _eigen(lin: Linearization, K: np.ndarray, M: np.ndarray, count: int, vectors: bool
@@ -255,13 +258,16 @@ def buckling(linearization: Linearization, count: int | None = None) -> Buckling
     order = np.argsort(np.abs(factors))[:_count(count, int(keep.sum()))]
     shapes = vectors[:, keep][:, order]
     shapes = shapes / shapes[np.abs(shapes).argmax(axis=0), np.arange(shapes.shape[1])]
-    return Buckling(lin, factors[order], shapes, lin.F_q[:, lin.dynamic] @ shapes)
+    return Buckling(lin, factors[order], shapes, lin.motion_transfer[:, lin.dynamic] @ shapes)
 
 
 def compliance(linearization: Linearization, labels) -> np.ndarray:
     """The compliance ``F_sel (K0 + G0)^-1 F_sel^T`` ``(k, k)`` [m/N, rad/(N m), ...] seen at
     the coordinates ``labels`` (``["x5.1", "x5.2"]``): entry ``(i, j)`` is the static
-    displacement of coordinate ``i`` per unit load on coordinate ``j``.
+    displacement of coordinate ``i`` per unit load on coordinate ``j``. On a spatial
+    rotational node the labels of ``lam1..lam3`` stand for its global rotations about x,
+    y and z and the moments about them (``T = diag(I, 2 E)``, the spatial theory,
+    section 6).
 
     Raises:
         SingularConfigurationError: ``K0 + G0`` is singular (a mechanism, or buckling).

@@ -165,8 +165,8 @@ def cantilever(n: int, shear=(0.0, 0.0), mass: bool = False) -> fm.Model:
 def test_cantilever_deflections_and_twist(n, shear):
     """Tip force ``Fy`` bends by ``Fy L^3/(3 EIz)`` (+ ``Fy L sz/EIz`` with shear), ``Fz`` by
     ``Fz L^3/(3 EIy)`` (+ ``Fz L sy/EIy``), a torque twists by ``T L/GIt``; exact for every
-    n. A unit generalized force on ``lam1`` is a moment of 2 about x at the reference,
-    and ``dtheta_x = 2 dlam1``: the twist compliance is 4 times that of ``lam1``."""
+    n. The labels of a rotational node's ``lam1..lam3`` stand for its rotations and the
+    moments about x, y and z: the twist per unit torque is read directly."""
     tip_node, tip_rotation = 2 * n + 1, 2 * n + 2
     model = cantilever(n, shear)
     labels = [f"x{tip_node}.2", f"x{tip_node}.3", f"x{tip_rotation}.2"]
@@ -181,7 +181,27 @@ def test_cantilever_deflections_and_twist(n, shear):
         np.testing.assert_allclose(deflections, [0.0091541667, -0.0102526667], rtol=1e-8)
     else:
         np.testing.assert_allclose(deflections, [0.0091546542, -0.0102530307], rtol=1e-8)
-    assert 4 * C[2, 2] * torque == pytest.approx(0.013, rel=1e-12)
+    assert C[2, 2] * torque == pytest.approx(0.013, rel=1e-12)
+
+
+def test_cantilever_nodal_compliance_in_translations_and_rotations():
+    """The tip's 6 x 6 compliance in ``(dr, dtheta)``: a moment about z turns the tip by
+    ``M L/EIz`` and moves it by ``M L^2/(2 EIz)``, reciprocally; about y likewise with
+    the sign of the right-hand rule; the twist is ``T L/GIt`` and the stretch ``F L/EA``."""
+    n = 3
+    tip, rotation = 2 * n + 1, 2 * n + 2
+    labels = [f"x{tip}.{k}" for k in (1, 2, 3)] + [f"x{rotation}.{k}" for k in (2, 3, 4)]
+    C = fm.compliance(fm.linearize(cantilever(n)), labels)
+    np.testing.assert_allclose(C, C.T, atol=1e-15)
+    expected = np.zeros((6, 6))
+    expected[0, 0] = SPAN / EA
+    expected[1, 1], expected[2, 2] = SPAN**3 / (3 * EIZ), SPAN**3 / (3 * EIY)
+    expected[3, 3], expected[4, 4], expected[5, 5] = SPAN / GIT, SPAN / EIY, SPAN / EIZ
+    expected[1, 5] = expected[5, 1] = SPAN**2 / (2 * EIZ)
+    expected[2, 4] = expected[4, 2] = -SPAN**2 / (2 * EIY)
+    np.testing.assert_allclose(C, expected, atol=1e-12 * np.abs(expected).max())
+    with pytest.raises(fm.ArgumentError, match="lam0 of a spatial rotational node"):
+        fm.compliance(fm.linearize(cantilever(n)), [f"x{rotation}.1"])
 
 
 def test_cantilever_frequencies_converge_to_the_continuum():
