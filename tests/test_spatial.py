@@ -12,6 +12,7 @@ import math
 import numpy as np
 import pytest
 from flexmbd.examples import slider_crank_flex as planar_flex
+from flexmbd.examples import slider_crank_flex_spatial as spatial_flex
 
 import flexmbd as fm
 
@@ -78,28 +79,8 @@ def test_spatial_slider_crank_driving_torque():
 
 
 def flexible_slider_crank(nbeams: int, bending_linked: bool) -> fm.Model:
-    """EXERCISES 4's flexible slider-crank of spatial beams and hinges in the XY plane:
-    the rod's in-plane bending (about the local y axes, orientation Z) is dynamic, its
-    elongation, torsion and out-of-plane bending rigid."""
-    b = fm.ModelBuilder("spatial flexible slider-crank")
-    b.add_node(1, 0, 0, 0).add_node(3, R, 0, 0).add_node(5, R + L, 0, 0)
-    b.add_spatial_beam(1, 1, 102, 3, 103, orientation=(0, 0, 1))
-    b.add_spatial_hinge(90, 101, 102).add_spatial_hinge(91, 103, 4)
-    positions, angles = planar_flex.rod_nodes(nbeams)
-    for k in range(1, nbeams):
-        b.add_node(positions[k], R + L * k / nbeams, 0, 0)
-    for k in range(nbeams):
-        element = k + 2
-        b.add_spatial_beam(element, positions[k], angles[k], positions[k + 1], angles[k + 1],
-                           orientation=(0, 0, 1), bending_linked=bending_linked)
-        b.set_mass(element, planar_flex.M2 / L)
-        b.set_stiffness(element, axial=planar_flex.EA, bending_y=planar_flex.EI)
-        b.dynamic_deformation(element, 3, 4)
-    b.fix(1).fix(101).fix(5, "y")
-    b.add_point_mass(5, planar_flex.M2 / 2)
-    b.input_deformation(90, 1, law=fm.Polynomial(0.0, OMEGA))
-    b.release(91, 1)
-    return b.build()
+    """EXERCISES 4's flexible slider-crank of spatial beams and hinges in the XY plane."""
+    return spatial_flex.build_model(nbeams, bending_linked)
 
 
 @pytest.fixture(scope="module")
