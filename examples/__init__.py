@@ -46,4 +46,19 @@ EXAMPLES: dict[str, tuple[str, list[str], str]] = {
         "parallel_guide", [],
         "a flexure: parallel leaf-spring guide, stiffness, frequencies, buckling, stroke, Bode",
     ),
+    "spatial-slider-crank": (
+        "spatial_slider_crank", [],
+        "a spatial slider-crank: tilted crank axis, offset slider line, spherical rod ends; "
+        "kinematics and torque against the closed form",
+    ),
+    "rotating-beam": (
+        "rotating_beam", [],
+        "a rotating flexible beam: in-plane and out-of-plane frequencies against the speed "
+        "(Southwell), a spin-up under gravity",
+    ),
+    "cross-spring-pivot": (
+        "cross_spring_pivot", [],
+        "a spatial flexure: cross-spring pivot, stiffness in all directions, frequencies, "
+        "30-degree rotation in load steps",
+    ),
 }

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .elements.base import SPATIAL_ROTATIONAL, is_translational
 from .errors import OptionalDependencyError, OutputError
 from .model import CoordinateClass, Model
 from .results import KinematicResult
@@ -51,19 +52,50 @@ def element_polylines(model: Model, x: np.ndarray, exaggeration: float = 1.0,
 
 
 def _translational_nodes(model: Model):
-    nodes = [n for n in model.nodes.values() if n.kind == "translational"]
-    index = np.array([n.coordinates for n in nodes], dtype=int).reshape(-1, 2)
+    """The translational nodes, their coordinates ``(k, 2)`` or ``(k, 3)`` and whether each
+    is fixed."""
+    nodes = [n for n in model.nodes.values() if is_translational(n.kind)]
+    width = 3 if model.is_spatial else 2
+    index = np.array([n.coordinates for n in nodes], dtype=int).reshape(-1, width)
     fixed = np.array([np.all(model.coordinate_class[list(n.coordinates)] == CoordinateClass.FIXED)
                       for n in nodes], dtype=bool)
     return nodes, index, fixed
 
 
 def _limits(result: KinematicResult, index: np.ndarray):
-    pts = result.x[:, index].reshape(-1, 2)
+    pts = result.x[:, index].reshape(-1, index.shape[1])
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     size = max(float(np.max(hi - lo)), result.model.characteristic_length)
     pad = 0.25 * size
+    if index.shape[1] == 3:  # a cube around the middle: equal scales on the three axes
+        middle = 0.5 * (lo + hi)
+        return middle - 0.5 * size - pad, middle + 0.5 * size + pad, size
     return lo - pad, hi + pad, size
+
+
+def _axes(fig, model: Model, lo, hi):
+    """Axes with the model's limits: planar, equal scales; spatial, a 3D box."""
+    spatial = model.is_spatial
+    ax = fig.add_subplot(projection="3d") if spatial else fig.add_subplot()
+    ax.set_xlim(lo[0], hi[0])
+    ax.set_ylim(lo[1], hi[1])
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    if spatial:
+        ax.set_zlim(lo[2], hi[2])
+        ax.set_zlabel("z [m]")
+        ax.set_box_aspect((1, 1, 1))
+    else:
+        ax.set_aspect("equal")
+        ax.grid(True, alpha=0.3)
+    return ax
+
+
+def _set_line(line, points: np.ndarray) -> None:
+    """Move a planar or 3D line to ``points`` ``(k, 2)`` or ``(k, 3)``."""
+    line.set_data(points[:, 0], points[:, 1])
+    if points.shape[1] == 3:
+        line.set_3d_properties(points[:, 2])
 
 
 def animate(result: KinematicResult, filename: str | Path | None = None, *,
@@ -96,22 +128,22 @@ def animate(result: KinematicResult, filename: str | Path | None = None, *,
     nodes, index, fixed = _translational_nodes(model)
     lo, hi, size = _limits(result, index)
     fig = _new_figure(window, figsize=(7, 5.5))
-    ax = fig.add_subplot()
-    ax.set_xlim(lo[0], hi[0])
-    ax.set_ylim(lo[1], hi[1])
-    ax.set_aspect("equal")
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("y [m]")
+    ax = _axes(fig, model, lo, hi)
     ax.set_title(title or model.name)
-    ax.grid(True, alpha=0.3)
+    empty = [[]] * index.shape[1]
 
     n_lines = len(element_polylines(model, result.x[0], e=result.e[0]))
-    lines = [ax.plot([], [], "-", color="0.2", lw=2.5)[0] for _ in range(n_lines)]
-    moving = ax.plot([], [], "o", color="tab:orange", ms=6, zorder=3)[0]
-    anchored = ax.plot([], [], "s", color="k", ms=7, zorder=3)[0]
-    clock = ax.text(0.02, 0.96, "", transform=ax.transAxes, va="top")
+    lines = [ax.plot(*empty, "-", color="0.2", lw=2.5)[0] for _ in range(n_lines)]
+    moving = ax.plot(*empty, "o", color="tab:orange", ms=6, zorder=3)[0]
+    anchored = ax.plot(*empty, "s", color="k", ms=7, zorder=3)[0]
+    clock = (ax.text2D if model.is_spatial else ax.text)(0.02, 0.96, "", transform=ax.transAxes,
+                                                         va="top")
     quivers = []
-    if arrows and len(nodes):
+    static = result.xd is None or not np.any(result.xd)  # load steps: t is the load factor
+    arrows = arrows and not static
+    if arrows and len(nodes) and model.is_spatial:
+        quivers = _stick_arrows(ax, result, index, size)
+    elif arrows and len(nodes):
         for name, color in (("xd", "tab:blue"), ("xdd", "tab:red")):
             vectors = getattr(result, name)[:, index]
             # a typical, not the extreme, frame sets the scale: near singular points
@@ -131,20 +163,44 @@ def animate(result: KinematicResult, filename: str | Path | None = None, *,
         x = result.x[k]
         for line, poly in zip(lines, element_polylines(model, x, exaggeration, result.e[k]),
                               strict=True):
-            line.set_data(poly[:, 0], poly[:, 1])
+            _set_line(line, poly)
         pts = x[index]
-        moving.set_data(pts[~fixed, 0], pts[~fixed, 1])
-        anchored.set_data(pts[fixed, 0], pts[fixed, 1])
+        _set_line(moving, pts[~fixed])
+        _set_line(anchored, pts[fixed])
         for q, vectors in quivers:
-            q.set_offsets(pts)
-            q.set_UVC(vectors[k, :, 0], vectors[k, :, 1])
-        clock.set_text(f"t = {result.t[k]:.4f} s")
-        return [*lines, moving, anchored, clock] + [q for q, _ in quivers]
+            if model.is_spatial:  # one line per node from it along its scaled vector
+                for stick, start, vector in zip(q, pts, vectors[k], strict=True):
+                    _set_line(stick, np.stack([start, start + vector]))
+            else:
+                q.set_offsets(pts)
+                q.set_UVC(vectors[k, :, 0], vectors[k, :, 1])
+        clock.set_text(f"load factor {result.t[k]:.4f}" if static else
+                       f"t = {result.t[k]:.4f} s")
+        artists = [q for q, _ in quivers if not model.is_spatial]
+        return [*lines, moving, anchored, clock, *artists]
 
     animation = FuncAnimation(fig, draw, frames=frames, interval=1000 / fps, blit=False)
     if filename is not None:
         save_animation(animation, filename, fps)
     return animation
+
+
+def _stick_arrows(ax, result: KinematicResult, index: np.ndarray, size: float):
+    """Velocity (blue) and acceleration (red) of every translational node of a spatial
+    model as lines from the node, scaled as the planar arrows (matplotlib's 3D quivers
+    cannot be moved): ``[(lines, scaled vectors (nt, k, 3))]``."""
+    out = []
+    for name, color in (("xd", "tab:blue"), ("xdd", "tab:red")):
+        vectors = getattr(result, name)[:, index]
+        peak = float(np.percentile(np.linalg.norm(vectors, axis=-1).max(axis=1), 75))
+        scale = peak / (ARROW_SHARE * size) if peak > 0 else 1.0
+        unit = "m/s" if name == "xd" else "m/s^2"
+        sticks = [ax.plot([], [], [], "-", color=color, lw=1.5)[0] for _ in range(index.shape[0])]
+        sticks[0].set_label(f"{'velocity' if name == 'xd' else 'acceleration'} "
+                            f"(1 m on screen = {scale:.3g} {unit})")
+        out.append((sticks, vectors / scale))
+    ax.legend(loc="upper right", fontsize=8)
+    return out
 
 
 def save_animation(animation, filename: str | Path, fps: int = 25) -> Path:
@@ -333,6 +389,22 @@ def plot_study(x: np.ndarray, histories: dict[str, np.ndarray], parameter: np.nd
     return fig
 
 
+def displaced(model: Model, x: np.ndarray, motion: np.ndarray) -> np.ndarray:
+    """``x`` moved by ``motion`` ``(nx,)`` as modes and compliances report it: added to
+    positions; on a spatial rotational node the global rotation ``dtheta`` in the entries
+    of ``lam1..lam3`` turns its Euler parameters (``lam + 1/2 E(lam)^T dtheta``,
+    normalized)."""
+    from .orientation import euler_rates
+
+    moved = np.asarray(x, dtype=float) + motion
+    for node in model.nodes.values():
+        if node.kind == SPATIAL_ROTATIONAL:
+            at = list(node.coordinates)
+            lam = x[at] + euler_rates(x[at], motion[at[1:]])
+            moved[at] = lam / np.linalg.norm(lam)
+    return moved
+
+
 def save_figure(fig, filename: str | Path | None) -> None:
     """Save ``fig`` when ``filename`` is given; a file that cannot be written is an
     :class:`~flexmbd.errors.OutputError`, not a traceback."""
@@ -363,18 +435,31 @@ def plot_shapes(model: Model, x: np.ndarray, motions: np.ndarray, labels: list[s
     motions = np.atleast_2d(np.asarray(motions, dtype=float).T).T
     count = motions.shape[1]
     fig = _new_figure(window, figsize=(4.0 * min(count, 3), 3.2 * -(-count // 3)))
-    axes = np.atleast_1d(fig.subplots(-(-count // 3), min(count, 3))).ravel()
+    rows, columns = -(-count // 3), min(count, 3)
+    projection = {"projection": "3d"} if model.is_spatial else {}
+    axes = [fig.add_subplot(rows, columns, k + 1, **projection) for k in range(rows * columns)]
     _, index, _ = _translational_nodes(model)
     for ax, motion, label in zip(axes, motions.T, labels, strict=False):
         largest = np.max(np.abs(motion[index]), initial=0.0)
         scale = 0.1 * model.characteristic_length / largest if largest > 0 else 1.0
+        drawn = []
         for lines, style in ((element_polylines(model, x), dict(color="0.7", lw=1)),
-                             (element_polylines(model, x + scale * motion),
+                             (element_polylines(model, displaced(model, x, scale * motion)),
                               dict(color="C0", lw=2))):
             for line in lines:
-                ax.plot(line[:, 0], line[:, 1], **style)
+                ax.plot(*line.T, **style)
+                drawn.append(line)
         ax.set_title(label, fontsize=10)
-        ax.set_aspect("equal", adjustable="datalim")
+        if model.is_spatial and drawn:  # equal scales: a cube around what is drawn
+            points = np.concatenate(drawn)
+            middle = 0.5 * (points.min(axis=0) + points.max(axis=0))
+            half = 0.5 * float(np.ptp(points, axis=0).max()) or 1.0
+            ax.set_xlim(middle[0] - half, middle[0] + half)
+            ax.set_ylim(middle[1] - half, middle[1] + half)
+            ax.set_zlim(middle[2] - half, middle[2] + half)
+            ax.set_box_aspect((1, 1, 1))
+        elif not model.is_spatial:
+            ax.set_aspect("equal", adjustable="datalim")
         ax.axis("off")
     for ax in axes[count:]:
         ax.axis("off")

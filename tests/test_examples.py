@@ -46,6 +46,8 @@ def test_slider_crank_example_checks_and_revolution():
 
 #: arguments that keep each example's run short in the tests
 QUICK = {"slider-crank-flex": ["--revolutions", "0.1"], "parallel-guide": ["--nbeams", "4"],
+         "cross-spring-pivot": ["--nbeams", "2"],
+         "rotating-beam": ["--nbeams", "3", "--points", "20"],
          "slider-crank-dyn": ["--revolutions", "0.5", "--points", "40"]}
 
 
@@ -158,3 +160,20 @@ def test_rod_frequencies_at_rest_are_pinned_pinned(nbeams, eps1flex, second_orde
     else:
         assert np.ptp(first) < 0.01 * rest[0, 0]
     np.testing.assert_allclose(along.frequencies, along.frequencies[::-1], rtol=1e-10)
+
+
+def test_cross_spring_pivot_checks_and_its_rotation():
+    """The spatial flexure's checks pass at 4 beams per leaf, its body turns by the 30
+    degrees of its Euler-parameter input, and the two leaves bend alike (the pivot's
+    symmetry): the same largest deflection from their chords."""
+    from flexmbd.examples import cross_spring_pivot as pivot
+
+    found = pivot.analyse(4)
+    assert all(c.passed for c in pivot.checks(found))
+    angle, moment = found["curve"]
+    assert np.degrees(angle[-1]) == pytest.approx(30.0, abs=1e-3)
+    assert np.all(np.diff(moment) > 0)
+    statics = found["statics"]
+    bending = [np.abs(statics[f"e{element}.3"][-1]) + np.abs(statics[f"e{element}.4"][-1])
+               for element in (1 + 1, pivot.SECOND + 3)]   # mirror images in the two leaves
+    assert bending[0] == pytest.approx(bending[1], rel=1e-6)
