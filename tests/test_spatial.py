@@ -236,3 +236,22 @@ def test_an_orientation_along_the_beam_is_refused():
     b.add_spatial_beam(1, 1, 2, 3, 4, orientation=(2, 2, 0)).fix(1).fix(2)
     with pytest.raises(fm.ModelError, match=r"orientation vector .* lies along the beam"):
         b.build()
+
+
+def test_an_over_constrained_spatial_model_names_its_redundant_constraints():
+    """The slider-crank of spatial hinges with its slider's z fixed too: the hinges already
+    keep the mechanism in its plane, so one equation is too many, and the builder names
+    the out-of-plane equations that depend on each other."""
+    b = fm.ModelBuilder("over-constrained")
+    b.add_node(1, 0, 0, 0).add_node(2, R, 0, 0).add_node(3, R + L, 0, 0)
+    b.add_spatial_beam(1, 1, 12, 2, 13, orientation=(0, 0, 1))
+    b.add_spatial_beam(2, 2, 14, 3, 15, orientation=(0, 0, 1))
+    b.add_spatial_hinge(3, 11, 12).add_spatial_hinge(4, 13, 14)
+    b.fix(1).fix(11).fix(3, "y", "z")
+    b.input_deformation(3, 1, law=fm.Polynomial(0.0, OMEGA))
+    b.release(4, 1)
+    with pytest.raises(fm.ModelError, match=r"1 equation\(s\) too many.*linearly dependent") \
+            as info:
+        b.build()
+    assert "e3.3 (spatial hinge 3, misalignment about z)" in str(info.value)
+    assert "e1.3" not in str(info.value)   # the in-plane equations are independent
