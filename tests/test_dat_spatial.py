@@ -227,3 +227,13 @@ def test_malformed_spatial_files_name_line_and_reason(case, tmp_path):
     with pytest.raises(fm.InputFileError) as info:
         fm.read_dat(path)
     assert reason in str(info.value) and info.value.line == line, str(info.value)
+
+
+def test_flexmbd_static_writes_one_row_per_load_step(tmp_path, capsys):
+    path, out = tmp_path / "everything.dat", tmp_path / "steps.csv"
+    path.write_text(SPATIAL_EVERYTHING)
+    assert cli(["static", str(path), "--steps", "3", "--out", str(out)]) == 0
+    lines = out.read_text().splitlines()
+    assert len(lines) == 1 + 4   # a header, the model's loads, three load steps
+    header = lines[0].split(",")
+    assert "x9.4" in header and "f2.4" in header   # lam3 of a rotational node, a moment

@@ -255,3 +255,24 @@ def test_an_over_constrained_spatial_model_names_its_redundant_constraints():
         b.build()
     assert "e3.3 (spatial hinge 3, misalignment about z)" in str(info.value)
     assert "e1.3" not in str(info.value)   # the in-plane equations are independent
+
+
+def test_spatial_column_buckles_at_euler_load_in_its_weaker_plane():
+    """A compressive tip load on the clamped cantilever: the first buckling factor is
+    Euler's ``pi^2 EIy/(4 L^2 P)`` (the weaker plane), the second ``pi^2 EIz/(4 L^2 P)``,
+    through the geometric stiffness of the bending-linked terms."""
+    model = cantilever(8)
+    load = 10.0
+    lin = fm.linearize(model, loads={"x17.1": -load})
+    factors = fm.buckling(lin, 2).factors
+    euler = np.pi**2 / (4 * SPAN**2 * load) * np.array([EIY, EIZ])
+    np.testing.assert_allclose(factors, euler, rtol=1e-5)
+
+
+def test_state_space_of_a_spatial_model_in_moments_and_rotations():
+    """The static gain of the state space from a tip moment about z to the tip's rotation
+    about z and its y deflection is the compliance, ``L/EIz`` and ``L^2/(2 EIz)``."""
+    model = cantilever(4, mass=True)
+    system = fm.state_space(fm.linearize(model), ["x10.4"], ["x10.4", "x9.2"])
+    gain = system.D - system.C @ np.linalg.solve(system.A, system.B)
+    np.testing.assert_allclose(gain[:, 0], [SPAN / EIZ, SPAN**2 / (2 * EIZ)], rtol=1e-9)
