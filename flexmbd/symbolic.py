@@ -17,7 +17,7 @@ import functools
 
 import numpy as np
 
-from .errors import OptionalDependencyError
+from .errors import ModelError, OptionalDependencyError
 from .model import Model
 
 
@@ -75,13 +75,29 @@ def quadratic_velocity(model: Model):
     return sp.Matrix([(sp.Matrix([r]).jacobian(x) * xd)[0] for r in rate])
 
 
+def _planar_only(model: Model, name: str) -> None:
+    """Refuse the closed-form transfer functions of a spatial model at once: SymPy would
+    work for hours on the Euler parameters' constraints."""
+    if model.is_spatial:
+        raise ModelError(f"symbolic.{name} solves the constraints in closed form, which is "
+                         f"practical for planar models only; for the spatial model "
+                         f"{model.name!r} use flexmbd.{name}(model, x) at a configuration "
+                         f"(deformations, jacobian and quadratic_velocity are symbolic "
+                         f"for spatial models too)")
+
+
 def first_order_transfer(model: Model, simplify: bool = True):
     """``F_q`` as an ``(nx, nq)`` Matrix in the coordinate symbols (THEORY section 4).
 
     Rows of ``x(o)`` are zero, rows of ``x(m)`` unit, rows of ``x(c)`` solve
     ``D_c F_c = [-D_(m) | 0; 0 | I]``. With ``simplify`` each entry goes through
     ``sympy.simplify`` (slow for large models).
+
+    Raises:
+        ModelError: a spatial model, whose constraints (with the Euler parameters'
+            normalization) have no closed-form solution of practical size.
     """
+    _planar_only(model, "first_order_transfer")
     sp = _sympy()
     D_x = jacobian(model)
     rows, dep = list(model.constrained), list(model.dependent)
@@ -104,7 +120,9 @@ def first_order_transfer(model: Model, simplify: bool = True):
 
 
 def deformation_transfer(model: Model, simplify: bool = True):
-    """``E_q = D_x F_q`` as an ``(ne, nq)`` Matrix (zero on rigid rows once simplified)."""
+    """``E_q = D_x F_q`` as an ``(ne, nq)`` Matrix (zero on rigid rows once simplified).
+    Refuses spatial models (:func:`first_order_transfer`)."""
+    _planar_only(model, "deformation_transfer")
     sp = _sympy()
     E_q = jacobian(model) * first_order_transfer(model, simplify)
     return E_q.applyfunc(sp.simplify) if simplify else E_q
@@ -138,7 +156,8 @@ def second_order_transfer(model: Model, simplify: bool = False):
     """``F_qq`` ``(nx, nq, nq)`` and ``E_qq`` ``(ne, nq, nq)`` as SymPy Arrays in the
     coordinate symbols: the derivatives of ``F_q`` and ``E_q`` along each ``q`` (THEORY 4),
     so that ``xddot = F_q qddot + (F_qq qdot) qdot``. With ``simplify`` every entry goes
-    through ``sympy.simplify``."""
+    through ``sympy.simplify``. Refuses spatial models (:func:`first_order_transfer`)."""
+    _planar_only(model, "second_order_transfer")
     sp = _sympy()
     x = coordinate_symbols(model)
     F_q = first_order_transfer(model, simplify=False)

@@ -276,3 +276,16 @@ def test_state_space_of_a_spatial_model_in_moments_and_rotations():
     system = fm.state_space(fm.linearize(model), ["x10.4"], ["x10.4", "x9.2"])
     gain = system.D - system.C @ np.linalg.solve(system.A, system.B)
     np.testing.assert_allclose(gain[:, 0], [SPAN / EIZ, SPAN**2 / (2 * EIZ)], rtol=1e-9)
+
+
+def test_symbolic_transfer_functions_refuse_spatial_models_at_once():
+    """Closed-form transfer functions of a spatial model would take SymPy hours: refused
+    with the numeric function to use; its deformation functions stay symbolic."""
+    from flexmbd import symbolic
+
+    model = slider_crank()
+    for name in ("first_order_transfer", "second_order_transfer", "deformation_transfer"):
+        with pytest.raises(fm.ModelError, match=f"flexmbd.{name}\\(model, x\\)"):
+            getattr(symbolic, name)(model)
+    e = symbolic.deformations(model)
+    assert e.shape == (model.n_deformations, 1)
