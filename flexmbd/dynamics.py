@@ -288,7 +288,7 @@ class _Run:
                                     columns=self.columns)
             engine.start(laws, seg_times[0], y[:len(y) // 2], configuration=start)
             done, error, counts, end = self._segment(engine, laws, seg_times, y,
-                                                     watched_positions(segment))
+                                                     watched_positions(segment), start)
             for name in counts:
                 stats[name] += counts[name]
             skip = 0 if start is None else 1
@@ -312,9 +312,10 @@ class _Run:
                   for name in pieces[0]}
         return arrays, k, error, stats
 
-    def _segment(self, engine: Engine, laws, times, y, watched):
-        """One integration on ``engine``'s partition: outputs reached, error, counters, and
-        ``(t, y)`` where a free rotation's partition was spent (else ``None``)."""
+    def _segment(self, engine: Engine, laws, times, y, watched, start):
+        """One integration on ``engine``'s partition from the configuration ``start``
+        (``None``: the model's own): outputs reached, error, counters, and ``(t, y)``
+        where a free rotation's partition was spent (else ``None``)."""
         n = len(y) // 2
         if self.alpha is not None:
             end = np.empty(2 * n)
@@ -328,14 +329,16 @@ class _Run:
                 return status["reached"], None, counts, (float(status["time"]), end)
             return status["reached"], engine.error(status), counts, None
         return _scipy_run(engine, laws, times, y, self.method, *self.tolerances, self.advance,
-                          watched)
+                          watched, start)
 
 
 def _scipy_run(engine: Engine, laws, times, y0, method, rtol, atol, max_step, advance,
-               watched):
+               watched, start=None):
     """A scipy integrator over the core's accelerations; each output evaluated as soon as
     it is reached, from the solution of the evaluation before it. It stops where a
-    ``watched`` free rotation's partition is spent."""
+    ``watched`` free rotation's partition is spent. A rejected trial step restarts the
+    position solves from ``start`` when given (a re-partitioned segment's first
+    configuration: the model's reference may be singular in its partition)."""
     core, n = engine.core, len(y0) // 2
     accelerations = np.empty(n)
 
@@ -347,7 +350,7 @@ def _scipy_run(engine: Engine, laws, times, y0, method, rtol, atol, max_step, ad
         engine.call(core.output, k, float(t), np.ascontiguousarray(y))
 
     def restart(t, y):  # after a rejected trial step: continue from the state it left
-        engine.start(laws, t, y[:n])
+        engine.start(laws, t, y[:n], configuration=start)
 
     def spent(t, y):
         return partition_spent(watched, y[:n])
