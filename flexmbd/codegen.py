@@ -6,7 +6,11 @@ and of its material point, :meth:`~flexmbd.elements.base.ElementType.material_po
 are differentiated here and written as C with common subexpressions eliminated:
 
 * ``e = D(x)`` alone, and with the Jacobian ``D_x`` (row-major ``nd x nc``);
-* the quadratic velocity terms ``(D_xx xdot) xdot`` (THEORY 2);
+* the quadratic velocity terms ``(D_xx xdot) xdot`` (THEORY 2), by evaluating the
+  deformation functions on :class:`Jet` values (second-order forward differentiation
+  along ``xdot``): the chain rule through the definition's own intermediate values keeps
+  the spatial beam's kernel 15 times smaller than differentiating its composed
+  expression twice;
 * the Hessians ``D_xx`` (``nd x nc x nc``);
 * per unit element mass (THEORY 5): the consistent mass matrix ``int N^T N dxi``,
   the velocity-dependent inertia ``int N^T (Ndot xdot) dxi`` and the gravity load
@@ -78,6 +82,100 @@ def rotary_inertia(cls: type[ElementType], c: list, v: list, p: list, sp):
     return W.T * J * W, W.T * (J * w_dot_v + omega.cross(J * omega))
 
 
+class Jet:
+    """A value with its first and second derivatives along a direction, ``(a, a', a'')``
+    (second-order forward differentiation). Evaluating an element's deformation
+    functions on jets of its coordinates, ``(c, v, 0)``, gives the quadratic velocity
+    terms ``(D_xx v) v`` as the second derivatives, by the chain rule through every
+    intermediate value: the expressions keep the structure of the definition (a rotated
+    frame vector is differentiated once and shared) instead of differentiating the
+    composed expression twice."""
+
+    __slots__ = ("a", "d1", "d2")
+
+    def __init__(self, a, d1=0, d2=0):
+        self.a, self.d1, self.d2 = a, d1, d2
+
+    @staticmethod
+    def of(x) -> Jet:
+        return x if isinstance(x, Jet) else Jet(x)
+
+    def __add__(self, other):
+        o = Jet.of(other)
+        return Jet(self.a + o.a, self.d1 + o.d1, self.d2 + o.d2)
+
+    __radd__ = __add__
+
+    def __neg__(self):
+        return Jet(-self.a, -self.d1, -self.d2)
+
+    def __sub__(self, other):
+        return self + (-Jet.of(other))
+
+    def __rsub__(self, other):
+        return Jet.of(other) + (-self)
+
+    def __mul__(self, other):
+        o = Jet.of(other)
+        return Jet(self.a * o.a, self.d1 * o.a + self.a * o.d1,
+                   self.d2 * o.a + 2 * self.d1 * o.d1 + self.a * o.d2)
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, other):
+        o = Jet.of(other)
+        q = self.a / o.a
+        q1 = (self.d1 - q * o.d1) / o.a
+        return Jet(q, q1, (self.d2 - 2 * q1 * o.d1 - q * o.d2) / o.a)
+
+    def __rtruediv__(self, other):
+        return Jet.of(other) / self
+
+    def __pow__(self, n):
+        if n == 1:
+            return self
+        return Jet(self.a**n, n * self.a ** (n - 1) * self.d1,
+                   n * self.a ** (n - 1) * self.d2 + n * (n - 1) * self.a ** (n - 2) * self.d1**2)
+
+
+class JetMath:
+    """The math module of the deformation functions (``m``) for :class:`Jet` arguments,
+    built on SymPy's functions."""
+
+    def __init__(self, sp):
+        self.sp = sp
+
+    def sqrt(self, x):
+        x = Jet.of(x)
+        r = self.sp.sqrt(x.a)
+        r1 = x.d1 / (2 * r)
+        return Jet(r, r1, (x.d2 - 2 * r1**2) / (2 * r))
+
+    def sin(self, x):
+        x = Jet.of(x)
+        s, c = self.sp.sin(x.a), self.sp.cos(x.a)
+        return Jet(s, c * x.d1, c * x.d2 - s * x.d1**2)
+
+    def cos(self, x):
+        x = Jet.of(x)
+        s, c = self.sp.sin(x.a), self.sp.cos(x.a)
+        return Jet(c, -s * x.d1, -s * x.d2 - c * x.d1**2)
+
+    def atan2(self, y, x):
+        y, x = Jet.of(y), Jet.of(x)
+        r2 = x.a**2 + y.a**2
+        num = x.a * y.d1 - y.a * x.d1
+        num1 = x.a * y.d2 - y.a * x.d2
+        r2_1 = 2 * (x.a * x.d1 + y.a * y.d1)
+        return Jet(self.sp.atan2(y.a, x.a), num / r2, (num1 * r2 - num * r2_1) / r2**2)
+
+
+def quadratic_terms(cls: type[ElementType], c: list, v: list, p: list, sp) -> list:
+    """``(D_xx v) v`` of every deformation, ``(nd,)``, by :class:`Jet` arithmetic."""
+    jets = [Jet(ck, vk) for ck, vk in zip(c, v, strict=True)]
+    return [sp.sympify(Jet.of(e).d2) for e in cls.deformations(jets, p, JetMath(sp))]
+
+
 def derive(cls: type[ElementType], sp) -> dict[str, tuple[list, list]]:
     """The kernels of one type as ``{name: (arguments, expressions)}``."""
     nc, nd = cls.n_coordinates(), cls.n_deformations()
@@ -86,8 +184,7 @@ def derive(cls: type[ElementType], sp) -> dict[str, tuple[list, list]]:
     p = list(sp.symbols(f"p0:{cls.reference}", real=True)) if cls.reference else []
     e = sp.Matrix(cls.deformations(c, p, sp))
     jac = e.jacobian(c)
-    rates = jac * sp.Matrix(v)
-    quadratic = (rates.jacobian(c) * sp.Matrix(v))
+    quadratic = quadratic_terms(cls, c, v, p, sp)
     hessians = [sp.hessian(e[i], c) for i in range(nd)]
     kernels = {
         "deform": (["c", "p"], list(e)),
@@ -125,7 +222,7 @@ def _printer(sp):
             base, exponent = expr.as_base_exp()
             b = self.parenthesize(base, 1000)
             if exponent in (2, 3):
-                return "*".join([b] * int(exponent))
+                return "(" + "*".join([b] * int(exponent)) + ")"  # also as a divisor
             if exponent == -1:
                 return f"1.0/{b}"
             if exponent == half:

@@ -449,16 +449,20 @@ def test_default_runs_keep_every_output_on_the_branch_of_the_motion(outputs):
                                    atol=1e-6 * 11.0)
 
 
-def test_a_run_stopped_at_aligned_bars_is_named_a_singular_configuration():
-    """One correction per generalized-alpha step can land a state exactly on the crossing of
-    5 parallelograms, where the constraints are dependent and the saddle-point system has no
-    unique multipliers: that is a singular configuration with what to try, not "the reduced
-    mass matrix is singular" (what the run said before)."""
+@pytest.mark.parametrize("iterations", [1, None])
+def test_a_run_stopped_at_aligned_bars_is_named_a_singular_configuration(iterations):
+    """A state on the crossing of 5 parallelograms, where the constraints are dependent and
+    the saddle-point system has no unique multipliers, is a singular configuration with
+    what to try, not "the reduced mass matrix is singular". One correction per step once
+    landed a run on the crossing by round-off, which the quadratic velocity terms generated
+    by jets no longer reproduce; the crossing is now given as the start, which reaches it
+    every time."""
     with pytest.raises(fm.SingularConfigurationError, match="iterations=None") as caught:
-        fm.simulate(parallelograms(5), np.linspace(0.0, 10.0, 20001),
-                    initial={"x2.1": (0.0, 11.0)}, method="GeneralizedAlpha", iterations=1)
+        fm.simulate(parallelograms(5), np.linspace(0.0, 0.1, 11),
+                    initial={"x2.1": (np.pi / 2, 11.0)}, method="GeneralizedAlpha",
+                    iterations=iterations)
     assert "mass" not in str(caught.value)
-    assert len(caught.value.partial_result.t) > 19000
+    assert len(caught.value.partial_result.t) == 0
 
 
 def test_generalized_alpha_keeps_the_branch_through_aligned_bars():
