@@ -358,6 +358,22 @@ def _periodic(model: Model) -> np.ndarray:
     return mask
 
 
+def unwrap_near(model: Model, q: np.ndarray, near: np.ndarray | None) -> np.ndarray:
+    """``q`` ``(nq,)`` with its periodic deformations (a spatial hinge's rotation, computed
+    by ``atan2`` within half a turn) shifted by whole turns to lie nearest ``near``
+    ``(nq,)``: the value a continuous motion or load path has reached."""
+    if near is None:
+        return q
+    periodic = np.concatenate([np.zeros(len(model.independent_coordinates), dtype=bool),
+                               _periodic(model)[model.independent_deformations]])
+    if not np.any(periodic):
+        return q
+    q = np.array(q, dtype=float)
+    turns = np.round((near[periodic] - q[periodic]) / (2 * np.pi))
+    q[periodic] += 2 * np.pi * turns
+    return q
+
+
 def _coordinate_size(model: Model) -> np.ndarray:
     """Per coordinate the size a change of it is measured against (a predicted move, a
     continuation step): the model size for a translation, 1 rad for an angle."""

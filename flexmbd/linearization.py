@@ -41,7 +41,7 @@ from functools import cached_property
 import numpy as np
 
 from .elements.base import SPATIAL_ROTATIONAL
-from .engine import Engine, euler_scalars, load_vector, q_scale
+from .engine import Engine, euler_scalars, load_vector, q_scale, unwrap_near
 from .errors import ArgumentError
 from .kinematics import coordinates, generalized
 from .model import Model
@@ -141,8 +141,8 @@ class Linearization:
 
 
 def linearize(model: Model, x=None, qd=None, qdd=None, *, loads=None,
-              tolerance: float | None = None, engine: Engine | None = None
-              ) -> Linearization:
+              tolerance: float | None = None, engine: Engine | None = None,
+              e=None) -> Linearization:
     """Linearize the reduced equations at the configuration ``x`` with rates ``qd`` and
     accelerations ``qdd`` of ``q``.
 
@@ -155,6 +155,9 @@ def linearize(model: Model, x=None, qd=None, qdd=None, *, loads=None,
             model's own (``XF``, gravity); they set the stresses of ``G0``.
         tolerance: Newton tolerance of the position solve [m, rad].
         engine: an engine of ``model`` to reuse (repeated calls along a motion).
+        e: the deformations ``(ne,)`` at ``x`` when known (a result row): a hinge turned
+            beyond half a turn keeps its rotation (from ``x`` alone it is known only
+            within half a turn, and its spring's stress with it).
 
     Returns:
         :class:`Linearization`.
@@ -165,7 +168,15 @@ def linearize(model: Model, x=None, qd=None, qdd=None, *, loads=None,
     qd = zero if qd is None else generalized(model, qd, "qd")
     qdd = zero if qdd is None else generalized(model, qdd, "qdd")
     extra = np.zeros(model.n_coordinates) if loads is None else load_vector(model, loads)
-    state, F_q, E_q, G0 = _elastic_state(engine, x, qd, qdd, extra)
+    near = None
+    if e is not None:
+        e = np.asarray(e, dtype=float)
+        if e.shape != (model.n_deformations,):
+            raise ArgumentError("e", f"must have shape ({model.n_deformations},), got "
+                                     f"{e.shape}")
+        near = np.concatenate([x[model.independent_coordinates],
+                               e[model.independent_deformations]])
+    state, F_q, E_q, G0 = _elastic_state(engine, x, qd, qdd, extra, near)
     x = state["x"]
     M = engine.mass(x, state["xd"])[0]
     N0, C0 = inertia_derivatives(engine, state, F_q, E_q)
@@ -178,23 +189,25 @@ def linearize(model: Model, x=None, qd=None, qdd=None, *, loads=None,
         N0=N0, G0=G0)
 
 
-def static_tangent(engine: Engine, x: np.ndarray, loads: np.ndarray
+def static_tangent(engine: Engine, x: np.ndarray, loads: np.ndarray,
+                   near: np.ndarray | None = None
                    ) -> tuple[dict[str, np.ndarray], np.ndarray]:
     """The state at rest at ``x`` under ``loads`` ``(nx,)`` (:func:`equilibrium_state`:
-    its ``driving`` entries are the out-of-balance loads on ``q``) and the tangent
-    stiffness ``K0 + G0`` ``(nq, nq)``: what static Newton needs of :func:`linearize`,
-    without the mass and inertia terms."""
+    its ``driving`` entries are the out-of-balance loads on ``q``; hinge rotations near
+    ``near``) and the tangent stiffness ``K0 + G0`` ``(nq, nq)``: what static Newton needs
+    of :func:`linearize`, without the mass and inertia terms."""
     zero = np.zeros(engine.model.n_dof)
-    state, _, E_q, G0 = _elastic_state(engine, x, zero, zero, loads)
+    state, _, E_q, G0 = _elastic_state(engine, x, zero, zero, loads, near)
     return state, E_q.T @ engine.assembly.law_times("S", E_q) + G0
 
 
 # --- the pieces ---------------------------------------------------------------------------
 def _elastic_state(engine: Engine, x: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
-                   loads: np.ndarray) -> tuple[dict, np.ndarray, np.ndarray, np.ndarray]:
+                   loads: np.ndarray, near: np.ndarray | None = None
+                   ) -> tuple[dict, np.ndarray, np.ndarray, np.ndarray]:
     """The state (:func:`equilibrium_state`), ``F_q``, ``E_q = D_x F_q`` and the geometric
     stiffness ``G0 = F_q^T (sum_i sigma_i D_xx,i) F_q``."""
-    state = equilibrium_state(engine, x, qd, qdd, loads)
+    state = equilibrium_state(engine, x, qd, qdd, loads, near)
     assembly, x = engine.assembly, state["x"]
     F_q = transfer(engine, x, assembly.deformations_and_jacobian(x)[1])
     G0 = F_q.T @ (assembly.stress_hessian_times(x, state["sigma"], F_q)
@@ -219,12 +232,16 @@ def load_stiffness(engine: Engine, loads: np.ndarray) -> np.ndarray:
 
 
 def equilibrium_state(engine: Engine, x: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
-                      loads: np.ndarray) -> dict[str, np.ndarray]:
+                      loads: np.ndarray, near: np.ndarray | None = None
+                      ) -> dict[str, np.ndarray]:
     """The engine's inverse dynamics at one state: ``{"x", "xd", "xdd", "q", "sigma",
-    "driving", "reactions", ...}`` (one row each), started from the configuration ``x``."""
+    "driving", "reactions", ...}`` (one row each), started from the configuration ``x``.
+    A hinge's rotation in ``q`` is taken the whole number of turns nearest ``near``
+    ``(nq,)`` when given (``x`` alone knows it only within half a turn)."""
     model = engine.model
-    q = np.concatenate([x[model.independent_coordinates],
-                        engine.assembly.deformations(x)[model.independent_deformations]])
+    q = unwrap_near(model, np.concatenate([
+        x[model.independent_coordinates],
+        engine.assembly.deformations(x)[model.independent_deformations]]), near)
     laws = [Polynomial(*values) for values in zip(q, qd, qdd, strict=True)]
     forces = None if not np.any(loads) else (lambda t, x_, xd_: loads)
     arrays = engine.prepare(laws, 1, dynamics=True, forces=forces)

@@ -221,7 +221,7 @@ def modes_along(result: KinematicResult, count: int = 6, progress: bool | None =
         for k in range(nt):
             qd = np.concatenate([result.xd[k, nxm], result.ed[k, emd]])
             qdd = np.concatenate([result.xdd[k, nxm], result.edd[k, emd]])
-            lin = linearize(model, result.x[k], qd, qdd, engine=engine)
+            lin = linearize(model, result.x[k], qd, qdd, engine=engine, e=result.e[k])
             omega2[k] = _eigen(lin, lin.block("K"), lin.block("M0"), count, vectors=False)[0]
             if advance is not None:
                 advance(result.t[k])

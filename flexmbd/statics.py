@@ -58,7 +58,7 @@ class StaticResult(SimulationResult):
         modes, buckling loads and compliance (:mod:`flexmbd.modes`)."""
         if not len(self.t):
             raise ArgumentError("row", "the static analysis has no converged row")
-        return linearize(self.model, self.x[row], loads=self.applied[row])
+        return linearize(self.model, self.x[row], loads=self.applied[row], e=self.e[row])
 
 
 def static_equilibrium(
@@ -212,7 +212,7 @@ class _Solver:
         residual = np.inf
         dynamic = np.ix_(self.dynamic, self.dynamic)
         for _ in range(self.max_iterations):
-            state, tangent = static_tangent(engine, x, loads)
+            state, tangent = static_tangent(engine, x, loads, near=q)
             residual_vector = state["driving"][self.dynamic]
             step = -np.linalg.solve(tangent[dynamic], residual_vector)
             if not np.all(np.isfinite(step)):
@@ -224,7 +224,7 @@ class _Solver:
             residual = float(np.max(np.abs(residual_vector), initial=0.0))
             if np.max(size, initial=0.0) <= self.tolerance:
                 zero = np.zeros(model.n_dof)
-                self.state = _row(equilibrium_state(engine, x, zero, zero, loads))
+                self.state = _row(equilibrium_state(engine, x, zero, zero, loads, near=q))
                 self.x = self.state["x"]
                 return
         worst = int(self.dynamic[np.argmax(np.abs(residual_vector))]) if len(self.dynamic) \

@@ -158,3 +158,21 @@ def test_reactions_on_a_rotational_node_are_moments():
     planar = fm.static_equilibrium(planar_cantilever(n, 0.0), loads={f"x{2 * n + 1}.2": 1.0})
     straight = fm.static_equilibrium(spatial_cantilever(n), loads={f"x{2 * n + 1}.2": 1.0})
     assert straight["f2.4"][0] == pytest.approx(planar["f2.1"][0], abs=1e-9)
+
+
+def test_a_moment_turns_a_spring_hinge_through_two_turns_in_load_steps():
+    """A spatial hinge with a rotational spring ``k`` under a growing moment about its axis
+    turns by ``M/k`` at every load step, through 2.2 turns: statics and the linearization
+    of its last row keep the rotation beyond half a turn (``x`` alone gives it only
+    within half a turn), so the spring's stress and the equilibrium stay right."""
+    k, turns, steps = 2.0, 2.2, 24
+    b = fm.ModelBuilder("spring hinge")
+    b.add_spatial_hinge(1, 1, 2).fix(1).dynamic_deformation(1, 1).set_stiffness(1, hinge=k)
+    model = b.build()
+    moment = k * turns * 2 * np.pi
+    statics = fm.static_equilibrium(model, load_increment={"x2.4": moment}, steps=steps)
+    np.testing.assert_allclose(statics["e1.1"], statics["load"] * moment / k, atol=1e-9)
+    np.testing.assert_allclose(statics["sig1.1"], statics["load"] * moment, atol=1e-8)
+    lin = statics.linearization()
+    np.testing.assert_allclose(lin.driving, 0.0, atol=1e-8)
+    assert 1 / fm.compliance(lin, ["x2.4"])[0, 0] == pytest.approx(k, rel=1e-12)
