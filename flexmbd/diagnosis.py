@@ -117,10 +117,16 @@ def mass_sources(model: Model) -> list[tuple[str, float]]:
     return sources
 
 
-def massless_message(model: Model, x: np.ndarray, time: float | None) -> str:
-    """Why the reduced mass matrix of the dynamic degrees of freedom is singular at the
-    configuration ``x`` ``(nx,)``: no mass moving with some of them, a mass matrix that
-    is not finite or not positive definite, or masses too far apart to be resolved."""
+#: a reduced mass matrix better conditioned than this is no cause of a failed solve
+REGULAR_MASS = 1e-12
+
+
+def massless_message(model: Model, x: np.ndarray, time: float | None) -> tuple[str, bool]:
+    """Why the accelerations could not be solved at the configuration ``x`` ``(nx,)``, and
+    whether the reduced mass matrix of the dynamic degrees of freedom is singular there:
+    no mass moving with some of them, a mass matrix that is not finite or not positive
+    definite, or masses too far apart to be resolved. A regular one leaves the velocities
+    or the loads (a motion that diverges)."""
     from .dynamics import reduced_mass_matrix
 
     dynamic = np.flatnonzero(~np.asarray(model.q_is_input))
@@ -131,25 +137,30 @@ def massless_message(model: Model, x: np.ndarray, time: float | None) -> str:
         reduced = np.full((len(dynamic), len(dynamic)), np.nan)
     if not np.all(np.isfinite(reduced)):
         return (f"the mass matrix is not finite {where}: the masses or the configuration "
-                f"overflow")
+                f"overflow"), True
     diagonal = np.diag(reduced)
     empty = dynamic[diagonal <= 1e-14 * np.abs(diagonal).max(initial=0.0)]
     if len(empty):
         return (f"no mass moves with {_names(model.describe_q, empty)} {where}: give them mass "
                 f"(mass per length on their elements, point masses or rotary inertia on "
-                f"their nodes)")
-    smallest = float(np.linalg.eigvalsh(reduced)[0])
+                f"their nodes)"), True
+    eigenvalues = np.linalg.eigvalsh(reduced)
+    smallest = float(eigenvalues[0])
     if smallest <= 0:
         return (f"the reduced mass matrix is not positive definite {where} (smallest "
-                f"eigenvalue {smallest:.3g}): negative masses outweigh the others")
+                f"eigenvalue {smallest:.3g}): negative masses outweigh the others"), True
     sources = sorted(mass_sources(model), key=lambda s: abs(s[1]))
     heavy, light = sources[-1], next(s for s in sources if s[1] != 0)
     if abs(heavy[1]) > MASS_SPAN * abs(light[1]):
         return (f"the masses span {heavy[1]:.3g} ({heavy[0]}) to {light[1]:.3g} ({light[0]}), "
                 f"more than double precision resolves together ({MASS_SPAN:.0e}); check "
-                f"their units")
+                f"their units"), True
+    if smallest > REGULAR_MASS * float(eigenvalues[-1]):
+        return (f"the accelerations could not be solved {where}, though the reduced mass "
+                f"matrix is regular there: the velocities or the applied loads are out of "
+                f"range (the motion diverges; check the loads, or take smaller steps)"), False
     return (f"the reduced mass matrix of {_names(model.describe_q, dynamic)} is singular "
-            f"{where}")
+            f"{where}"), True
 
 
 def negative_mass_problem(model: Model) -> tuple[str, list[int]] | None:

@@ -679,23 +679,25 @@ class Engine:
                 f"length) or the step from the previous solution is too large",
                 time_or_none, iterations=int(status["iterations"]),
                 residual=float(status["residual"]))
+        if code in (_core.SINGULAR, _core.SINGULAR_TOLERANCE, _core.MASSLESS):
+            x = np.empty(model.n_coordinates)
+            self.core.configuration(x)
+            if not np.all(np.isfinite(x)):  # not a property of the mechanism: a blow-up
+                return SimulationError(self._diverged(time_or_none), time_or_none)
         if code in (_core.SINGULAR, _core.SINGULAR_TOLERANCE):
             what = "D_c is singular"
             if code == _core.SINGULAR_TOLERANCE:
                 what = (f"D_c is singular within the position tolerance (scaled smallest "
                         f"singular value {status['conditioning']:.2g} < "
                         f"{status['limit']:.2g})")
-            x = np.empty(model.n_coordinates)
-            self.core.configuration(x)
             D_x = dense_jacobian(model, x)
             D_c = D_x[np.ix_(model.constrained, model.dependent)]
             return SingularConfigurationError(
                 singular_message(model, D_c, time_or_none, what, self.integrated), time_or_none)
         if code == _core.MASSLESS:
-            x = np.empty(model.n_coordinates)
-            self.core.configuration(x)
-            return SingularConfigurationError(massless_message(model, x, time_or_none),
-                                              time_or_none)
+            text, singular = massless_message(model, x, time_or_none)
+            return (SingularConfigurationError if singular else SimulationError)(
+                text, time_or_none)
         if code == _core.NOT_FINITE:
             worst = int(status["worst"])
             what = (f"the law of {model.describe_q(worst)}" if worst >= 0 else
@@ -715,6 +717,15 @@ class Engine:
         """Whether a generalized-alpha run stopped because a free rotation's calculable
         Euler parameter got small (:mod:`flexmbd.free_rotations`)."""
         return status["code"] == _core.PARTITION
+
+    def _diverged(self, time: float | None) -> str:
+        """The message of a run whose configuration stopped being finite."""
+        cause = ("the applied loads or the laws are out of range, or the integrator's step "
+                 "is too large for the model's fastest motion (GeneralizedAlpha: a smaller "
+                 "step, or iterations=None to iterate Newton to convergence)"
+                 if self.integrated else "the laws or the applied loads are out of range")
+        return f"the motion diverged {at_time(time)}: the configuration is no longer " \
+               f"finite; {cause}"
 
     def call(self, method: Callable, *args):
         """Call a single evaluation of the core; its failure as flexmbd's error."""

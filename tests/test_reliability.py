@@ -2,6 +2,7 @@
 any computing; an interrupted run writes what it computed; long runs report progress."""
 
 import csv
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -475,3 +476,26 @@ def test_generalized_alpha_keeps_the_branch_through_aligned_bars():
                          method="GeneralizedAlpha")
     assert energy_error(model, 2, result) <= 1e-4
     np.testing.assert_allclose(result["xd22.1"], result["xd2.1"], rtol=0, atol=1e-3)
+
+
+@pytest.mark.parametrize("method, options", [
+    ("GeneralizedAlpha", {"step": 0.01, "iterations": 1}),
+    ("GeneralizedAlpha", {"step": 0.01}),
+    ("RK45", {}),
+])
+def test_a_diverging_motion_is_not_called_a_singular_configuration(method, options):
+    """A load that drives the state out of the range of numbers makes the run fail where
+    D_c or the saddle-point system can no longer be solved; the mechanism is regular
+    there, so the run says that the motion diverged, not that the configuration is
+    singular or the mass matrix singular."""
+    b = fm.ModelBuilder("bar")
+    b.add_node(1, 0, 0).add_node(3, 1, 0).add_rigid_beam(1, 1, 2, 3).fix(1)
+    model = b.dynamic_coordinate(2).set_mass(1, 1.0).build()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)   # scipy's norms overflow too
+        result = fm.simulate(model, np.linspace(0.0, 1.0, 11), method=method,
+                             forces=lambda t, x, xd: {"x3.2": 1e200 * np.exp(1000 * t)},
+                             on_failure="return", **options)
+    assert type(result.error) is fm.SimulationError
+    assert "diverge" in result.message and "singular" not in result.message
+    assert len(result.t) == 1   # the start is kept
