@@ -267,7 +267,7 @@ class _Run:
         self.columns, self.method, self.alpha, self.tolerances = columns, method, alpha, \
             tolerances
         self.advance = advance
-        resolve_laws(model, inputs)  # bad inputs are reported before any work
+        self.laws = resolve_laws(model, inputs)  # bad inputs are reported before any work
 
     def through(self, times: np.ndarray, q0: np.ndarray, qd0: np.ndarray):
         """Integrate from ``(q0, qd0)`` at ``times[0]``: the output arrays, the outputs
@@ -282,7 +282,7 @@ class _Run:
             # last segment's last state again and is dropped
             seg_times = times[k:] if start is None else np.concatenate([[t_end], times[k:]])
             engine = Engine(segment, self.tolerance)
-            laws = resolve_laws(segment, self.inputs)
+            laws = self.laws if segment is self.model else resolve_laws(segment, self.inputs)
             arrays = engine.prepare(laws, len(seg_times), integrated=True, dynamics=True,
                                     forces=self.forces, progress=self.advance,
                                     columns=self.columns)

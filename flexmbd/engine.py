@@ -486,19 +486,13 @@ def load_vector(model: Model, value) -> np.ndarray:
         if f.shape != (model.n_coordinates,):
             raise ModelError(f"forces must return an array of shape ({model.n_coordinates},) "
                              f"or a mapping of coordinate labels, got shape {f.shape}")
-    scalar = euler_scalars(model)
+    scalar = model.euler_scalars
     if np.any(f[scalar] != 0.0):
         label = model.coordinate_labels[scalar[np.flatnonzero(f[scalar])[0]]]
         raise ModelError(f"a load on {label}, lam0 of a spatial rotational node: the loads "
                          f"of such a node are its global moment (Mx, My, Mz) on "
                          f"{label[:-1]}2 to {label[:-1]}4")
     return f
-
-
-def euler_scalars(model: Model) -> np.ndarray:
-    """The coordinates ``lam0`` of the spatial rotational nodes."""
-    return np.array([node.coordinates[0] for node in model.nodes.values()
-                     if node.kind == SPATIAL_ROTATIONAL], dtype=int)
 
 
 #: the columns a run fills, with their sizes as functions of the model

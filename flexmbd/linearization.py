@@ -41,7 +41,7 @@ from functools import cached_property
 import numpy as np
 
 from .elements.base import SPATIAL_ROTATIONAL
-from .engine import Engine, euler_scalars, load_vector, q_scale, unwrap_near
+from .engine import Engine, load_vector, q_scale, unwrap_near
 from .errors import ArgumentError
 from .kinematics import coordinates, generalized
 from .model import Model
@@ -133,7 +133,7 @@ class Linearization:
         with the degrees of freedom ``(len(labels), nd)``."""
         rows = [self.model.coordinate_index(label) for label in labels]
         for label, row in zip(labels, rows, strict=True):
-            if row in euler_scalars(self.model):
+            if row in self.model.euler_scalars:
                 raise ArgumentError("labels", f"{label} is lam0 of a spatial rotational node; "
                                               f"its rotations are {label[:-1]}2 to "
                                               f"{label[:-1]}4 (about x, y and z)")

@@ -25,7 +25,7 @@ from types import MappingProxyType
 import numpy as np
 
 from .elements import ElementType
-from .elements.base import SPATIAL_KINDS, is_translational
+from .elements.base import SPATIAL_KINDS, SPATIAL_ROTATIONAL, is_translational
 from .errors import LabelError
 from .motion import Law
 
@@ -182,6 +182,8 @@ class Model:
     #: per coordinate 1 for translations, ``1 / characteristic_length`` for angles: makes
     #: an angle count like a displacement of the model's size in conditioning checks
     coordinate_scale: np.ndarray = field(init=False, repr=False)
+    #: the coordinates ``lam0`` of the spatial rotational nodes (they take no load)
+    euler_scalars: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self):
         def coordinates_of(*classes):
@@ -219,6 +221,9 @@ class Model:
             if not is_translational(node.kind):
                 scale[list(node.coordinates)] = 1.0 / sets["characteristic_length"]
         sets["coordinate_scale"] = frozen_array(scale)
+        sets["euler_scalars"] = frozen_array(np.array(
+            [node.coordinates[0] for node in self.nodes.values()
+             if node.kind == SPATIAL_ROTATIONAL], dtype=int))
         for name, value in sets.items():
             object.__setattr__(self, name, value)
 

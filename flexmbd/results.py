@@ -97,7 +97,10 @@ class KinematicResult:
         if kind != SPATIAL_ROTATIONAL:
             raise ArgumentError("node", f"{node!r} is not a spatial rotational node of the "
                                         f"model")
-        values = self._recorded(("x", "xd", "xdd")[derivative], f"x{node}")
+        columns = {0: "x", 1: "xd", 2: "xdd"}
+        if derivative not in columns or isinstance(derivative, bool):
+            raise ArgumentError("derivative", f"must be 0, 1 or 2, got {derivative!r}")
+        values = self._recorded(columns[derivative], f"x{node}")
         return values[:, list(self.model.nodes[node].coordinates)]
 
     def rotation_matrix(self, node: int) -> np.ndarray:

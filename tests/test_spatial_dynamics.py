@@ -249,3 +249,5 @@ def test_orientation_readings_refuse_bad_input():
                          initial=start([1, 0, 0, 0], [0, 0.1, 0, 0]))
     with pytest.raises(fm.ArgumentError, match="not a spatial rotational node"):
         result.angular_velocity(3)
+    with pytest.raises(fm.ArgumentError, match="must be 0, 1 or 2"):
+        result.euler_parameters(2, 3)

@@ -87,6 +87,9 @@ def element_words(etype) -> list[str]:
               for word in LINE_DATA[name])]
 
 
+#: SPACAR's output level, which SPACAR users' files carry in either block
+OUTLEVEL = _syntax("", rest="level:float", meaning="SPACAR's output level: read and ignored")
+
 #: block 1: elements (their nodes as the element types name them), positions and the
 #: classification of coordinates and deformations
 KINEMATICS = {
@@ -109,8 +112,7 @@ KINEMATICS = {
     "RLSE": _syntax("element:int", rest="deformation:int",
                     meaning="releases deformations of an element: calculated from the "
                             "coordinates, neither rigid nor a degree of freedom"),
-    "OUTLEVEL": _syntax("", rest="level:float",
-                        meaning="SPACAR's output level: read and ignored"),
+    "OUTLEVEL": OUTLEVEL,
 }
 
 #: block 2: properties, loads, input laws, initial values and run settings
@@ -141,8 +143,7 @@ DYNAMICS = {
                           "Fx Fy Fz or a global moment Mx My Mz"),
     "GRAVITY": _syntax("gx:float gy:float", "gz:float",
                        meaning="gravitational acceleration [m/s^2]"),
-    "OUTLEVEL": _syntax("", rest="level:float",
-                        meaning="SPACAR's output level: read and ignored"),
+    "OUTLEVEL": OUTLEVEL,
     "INPUTX": _syntax("node:int direction:int x0:float", "v0:float a0:float",
                       meaning="law x0 + v0 t + a0 t^2/2 of an input coordinate"),
     "INPUTE": _syntax("element:int deformation:int e0:float", "v0:float a0:float",

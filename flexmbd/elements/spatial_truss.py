@@ -1,18 +1,13 @@
 """Spatial truss (TRUSS): one elongation ``e1 = l - l0`` between two spatial
-translational nodes (THEORY-SPATIAL 3)."""
+translational nodes (THEORY-SPATIAL 3), the planar truss's definition with three
+coordinates per node."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from .base import (
-    AXIAL_DAMPING,
-    AXIAL_STIFFNESS,
-    ElementType,
-    elongation_law,
-    spatial_translational,
-)
-from .truss import along_chord, elongation
+from .base import spatial_translational
+from .truss import Truss
 
 
 def chord_lengths(xe0: np.ndarray, p_at: int, q_at: int) -> tuple[np.ndarray, np.ndarray]:
@@ -22,7 +17,7 @@ def chord_lengths(xe0: np.ndarray, p_at: int, q_at: int) -> tuple[np.ndarray, np
     return d, np.linalg.norm(d, axis=1)
 
 
-class SpatialTruss(ElementType):
+class SpatialTruss(Truss):
     """Two spatial translational nodes; coordinates ``[x_p, y_p, z_p, x_q, y_q, z_q]``.
 
     Properties: ``EM`` (``rhoA`` [kg/m]), ``ESTIFF`` ``EA`` [N], ``EDAMP`` ``c_A`` [N s].
@@ -31,28 +26,8 @@ class SpatialTruss(ElementType):
     name = "spatial truss"
     keyword = "TRUSS"
     roles = (spatial_translational("p"), spatial_translational("q"))
-    deformation_names = ("elongation",)
-    deformation_units = ("m",)
-    reference = 1
-    stiffness_values = (AXIAL_STIFFNESS,)
-    damping_values = (AXIAL_DAMPING,)
-    has_mass = True
 
     @classmethod
     def reference_parameters(cls, xe0, data=None):
         """The length ``l0`` [m] of the initial chord, ``(n, 1)``."""
         return chord_lengths(np.atleast_2d(np.asarray(xe0, dtype=float)), 0, 3)[1][:, None]
-
-    @staticmethod
-    def deformations(c, p, m):
-        return [elongation(c, 0, 3, p[0], m, width=3)]
-
-    @staticmethod
-    def material_point(c, p, xi, m):
-        """The rod's linear interpolation ``(1 - xi) r_p + xi r_q``."""
-        return along_chord(c, 0, 3, xi, width=3)
-
-    @classmethod
-    def elastic_law(cls, p, stiffness, damping):
-        """``EA / l0`` and ``c_A / l0`` on the elongation."""
-        return elongation_law(p, 1, stiffness["axial"], damping["axial"])

@@ -39,13 +39,17 @@ class Truss(ElementType):
     damping_values = (AXIAL_DAMPING,)
     has_mass = True
 
-    @staticmethod
-    def deformations(c, p, m):
-        return [elongation(c, 0, 2, p[0], m)]
+    @classmethod
+    def deformations(cls, c, p, m):
+        """The elongation, in the plane or in space (:class:`SpatialTruss`)."""
+        width = cls.dimension()
+        return [elongation(c, 0, width, p[0], m, width)]
 
-    @staticmethod
-    def material_point(c, p, xi, m):
-        return along_chord(c, 0, 2, xi)
+    @classmethod
+    def material_point(cls, c, p, xi, m):
+        """The rod's linear interpolation ``(1 - xi) r_p + xi r_q``."""
+        width = cls.dimension()
+        return along_chord(c, 0, width, xi, width)
 
     @classmethod
     def elastic_law(cls, p, stiffness, damping):
