@@ -1,26 +1,17 @@
-"""flexmbd: planar flexible multibody dynamics with the finite-element approach.
+"""flexmbd: flexible multibody dynamics with the finite-element approach, planar and
+spatial.
 
 A mechanism is a set of nodes and elements whose deformation parameters are
 functions of the nodal coordinates. Build a :class:`Model` with
 :class:`ModelBuilder` (or read a SPACAR file with :func:`read_dat`), then analyse
 it with the functions below; every analysis runs on the compiled core
 (:mod:`flexmbd.engine`).
+
+The names load with their module on first use (``import flexmbd`` itself loads only
+the errors): a command or script pays for what it uses, the symbolic path, SciPy's
+linearized analyses and parameter studies for instance only when it uses them.
 """
 
-from .builder import ModelBuilder
-from .dynamics import inverse_dynamics, mass_matrix, reduced_mass_matrix, simulate
-from .elements import (
-    Beam,
-    EulerNormalization,
-    Hinge,
-    RigidBeam,
-    SecondOrderBeam,
-    SpatialBeam,
-    SpatialHinge,
-    SpatialTruss,
-    SpringDamper,
-    Truss,
-)
 from .errors import (
     ArgumentError,
     ColumnError,
@@ -31,132 +22,63 @@ from .errors import (
     ModelError,
     SimulationError,
     SingularConfigurationError,
+    StiffnessError,
 )
-from .kinematics import (
-    accelerations,
-    deformation_transfer,
-    deformations,
-    first_order_transfer,
-    hessian,
-    initial_q,
-    jacobian,
-    kinematic_analysis,
-    partition_jacobian,
-    position_analysis,
-    quadratic_velocity,
-    second_order_transfer,
-    solve_position,
-    velocities,
-)
-from .model import CoordinateClass, DeformationClass, Model
-from .motion import Custom, Expression, Polynomial
-from .orientation import (
-    angular_velocity,
-    axis_angle,
-    euler_parameters,
-    euler_rates,
-    rotation_matrix,
-)
-from .results import KinematicResult, SimulationResult
-from .settings import RunSettings
 
 __version__ = "0.2.0"
 
-
-#: names loaded on first use, by module: the SPACAR syntax tables, the linearized
-#: analyses, which need SciPy, and parameter studies (``import flexmbd`` loads numpy only)
-_LAZY = {
+#: the public names besides the errors, by the module that defines them
+_NAMES = {
+    "builder": ("ModelBuilder",),
     "dat": ("read_dat", "write_dat"),
+    "dynamics": ("inverse_dynamics", "mass_matrix", "reduced_mass_matrix", "simulate"),
+    "elements": ("Beam", "EulerNormalization", "Hinge", "RigidBeam", "SecondOrderBeam",
+                 "SpatialBeam", "SpatialHinge", "SpatialTruss", "SpringDamper", "Truss"),
+    "kinematics": ("accelerations", "deformation_transfer", "deformations",
+                   "first_order_transfer", "hessian", "initial_q", "jacobian",
+                   "kinematic_analysis", "partition_jacobian", "position_analysis",
+                   "quadratic_velocity", "second_order_transfer", "solve_position",
+                   "velocities"),
     "linearization": ("Linearization", "linearize"),
+    "model": ("CoordinateClass", "DeformationClass", "Model"),
     "modes": ("Buckling", "Modes", "ModesAlong", "buckling", "compliance", "modes_along",
               "vibration_modes"),
+    "motion": ("Custom", "Expression", "Polynomial"),
+    "orientation": ("angular_velocity", "axis_angle", "euler_parameters", "euler_rates",
+                    "rotation_matrix"),
+    "results": ("KinematicResult", "SimulationResult"),
+    "settings": ("RunSettings",),
     "statespace": ("StateSpace", "state_space"),
     "statics": ("StaticResult", "static_equilibrium"),
     "studies": ("sweep",),
 }
+_MODULE_OF = {name: module for module, names in _NAMES.items() for name in names}
+
+__all__ = ["ArgumentError", "ColumnError", "ConvergenceError", "FlexmbdError",
+           "InputFileError", "LabelError", "ModelError", "SimulationError",
+           "SingularConfigurationError", "StiffnessError", "__version__"]
+__all__ += sorted(_MODULE_OF)
 
 
 def __getattr__(name: str):
-    """The names of :data:`_LAZY`, imported from their module on first use."""
+    """A public name of :data:`_NAMES`, imported from its module on first use and kept
+    (in place of a submodule of the same name, which the import binds here); a
+    submodule (``flexmbd.engine``) likewise."""
     import importlib
 
-    for module, names in _LAZY.items():
-        if name in names:
-            return getattr(importlib.import_module(f".{module}", __name__), name)
+    if name in _MODULE_OF:
+        module = importlib.import_module(f".{_MODULE_OF[name]}", __name__)
+        value = globals()[name] = getattr(module, name)
+        return value
+    if name.startswith("__"):  # what tools probe for (__wrapped__, ...): not a module
+        raise AttributeError(f"module 'flexmbd' has no attribute {name!r}")
+    try:
+        return importlib.import_module(f".{name}", __name__)
+    except ModuleNotFoundError as error:
+        if error.name != f"{__name__}.{name}":
+            raise
     raise AttributeError(f"module 'flexmbd' has no attribute {name!r}")
 
 
 def __dir__() -> list[str]:
     return sorted({*globals(), *__all__})
-
-__all__ = [
-    "ArgumentError",
-    "Beam",
-    "Buckling",
-    "ColumnError",
-    "ConvergenceError",
-    "CoordinateClass",
-    "Custom",
-    "DeformationClass",
-    "EulerNormalization",
-    "Expression",
-    "FlexmbdError",
-    "Hinge",
-    "InputFileError",
-    "KinematicResult",
-    "LabelError",
-    "Linearization",
-    "Model",
-    "ModelBuilder",
-    "ModelError",
-    "Modes",
-    "ModesAlong",
-    "Polynomial",
-    "RigidBeam",
-    "RunSettings",
-    "SecondOrderBeam",
-    "SimulationError",
-    "SimulationResult",
-    "SingularConfigurationError",
-    "SpatialBeam",
-    "SpatialHinge",
-    "SpatialTruss",
-    "SpringDamper",
-    "StateSpace",
-    "StaticResult",
-    "Truss",
-    "__version__",
-    "accelerations",
-    "angular_velocity",
-    "axis_angle",
-    "buckling",
-    "compliance",
-    "deformation_transfer",
-    "deformations",
-    "euler_parameters",
-    "euler_rates",
-    "first_order_transfer",
-    "hessian",
-    "initial_q",
-    "inverse_dynamics",
-    "jacobian",
-    "kinematic_analysis",
-    "linearize",
-    "mass_matrix",
-    "modes_along",
-    "partition_jacobian",
-    "position_analysis",
-    "quadratic_velocity",
-    "read_dat",
-    "reduced_mass_matrix",
-    "rotation_matrix",
-    "second_order_transfer",
-    "simulate",
-    "solve_position",
-    "state_space",
-    "static_equilibrium",
-    "sweep",
-    "velocities",
-    "vibration_modes",
-    "write_dat",
-]

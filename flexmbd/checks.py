@@ -129,14 +129,17 @@ def available_memory() -> int:
         return 2**63  # unknown: do not refuse
 
 
-def output_memory(rows: int, values_per_row: int, name: str = "times") -> None:
-    """Refuse an output of ``rows`` times ``values_per_row`` doubles that cannot fit."""
-    need = 8.0 * rows * values_per_row
+def output_memory(rows: int, bytes_per_row: int, name: str = "times") -> None:
+    """Refuse, before any work, a run of ``rows`` output times holding ``bytes_per_row``
+    each (:func:`flexmbd.engine.output_bytes`) that cannot fit in memory."""
+    need = float(rows) * bytes_per_row
     have = available_memory()
     if need > MEMORY_SHARE * have:
-        raise ArgumentError(name, f"{rows} output times of {values_per_row} values need "
+        raise ArgumentError(name, f"{rows} output times of {bytes_per_row // 8} values need "
                             f"{need / 2**30:.3g} GiB, more than half of the "
-                            f"{have / 2**30:.3g} GiB available; ask for fewer output times")
+                            f"{have / 2**30:.3g} GiB of memory available; ask for fewer "
+                            f"output times (at most {int(MEMORY_SHARE * have / bytes_per_row)} "
+                            f"here), or record fewer columns")
 
 
 def vector(value, size: int, name: str, what: str) -> np.ndarray:

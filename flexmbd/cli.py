@@ -18,13 +18,16 @@ EXIT_ERROR = 1
 EXIT_USAGE = 2
 
 
-def _parser() -> argparse.ArgumentParser:
+def _parser(argv: list[str]) -> argparse.ArgumentParser:
+    """The parser of the command in ``argv``: only its own group's module is imported (the
+    others would add 15 ms of imports to every run); all of them for the overview, a help
+    request or an unknown command, whose message lists them."""
     parser = argparse.ArgumentParser(
         prog="flexmbd",
-        description="Planar flexible multibody dynamics with the finite-element approach.",
+        description="Flexible multibody dynamics with the finite-element approach, planar and "
+                    "spatial.",
     )
-    parser.add_argument("--version", action="version",
-                        version=f"flexmbd {__version__} (core: {_core_build()})")
+    parser.add_argument("--version", action=_Version, help="show the version and exit")
     commands = parser.add_subparsers(dest="command", metavar="COMMAND")
     example = commands.add_parser(
         "example", help="run one of the course exercises (flexmbd example --list)",
@@ -35,23 +38,74 @@ def _parser() -> argparse.ArgumentParser:
     example.add_argument("name", nargs="?", help="example name")
     example.add_argument("--list", action="store_true", help="list the examples")
     example.add_argument("-h", "--help", action="store_true", help="show help")
-    run = commands.add_parser(
-        "run", help="run a SPACAR input file (flexmbd run FILE.dat --out results.csv)",
-        description="Run a planar SPACAR input file: kinematics, forward or inverse dynamics "
-                    "over the file's TIMESTEP grid.")
+    command = next((word for word in argv if not word.startswith("-")), None)
+    groups = [_GROUPS[command]] if command in _GROUPS else list(dict.fromkeys(
+        _GROUPS.values()))
+    for add_group in groups:
+        if add_group is not None:
+            add_group(commands)
+    return parser
+
+
+def _add_run(commands) -> None:
     from .run_file import add_arguments
 
+    run = commands.add_parser(
+        "run", help="run a SPACAR input file (flexmbd run FILE.dat --out results.csv)",
+        description="Run a SPACAR input file: kinematics, forward or inverse dynamics over "
+                    "the file's TIMESTEP grid.")
     add_arguments(run)
+
+
+def _add_linear(commands) -> None:
     from .linear_cli import add_commands
 
     add_commands(commands)
-    from .course_cli import add_commands as add_course_commands
 
-    add_course_commands(commands)
-    from .studies.cli import add_command as add_sweep_command
 
-    add_sweep_command(commands)
-    return parser
+def _add_course(commands) -> None:
+    from .course_cli import add_commands
+
+    add_commands(commands)
+
+
+def _add_sweep(commands) -> None:
+    from .studies.cli import add_command
+
+    add_command(commands)
+
+
+#: commands whose work is the compiled core's and BLAS's only on small matrices
+SMALL_BLAS = ("example", "run")
+
+
+def _one_blas_thread(argv: list[str]) -> None:
+    """Start OpenBLAS with one thread for the commands of :data:`SMALL_BLAS`, unless the
+    user chose (``OPENBLAS_NUM_THREADS``): on matrices of tens of rows its threads cost
+    more than they give, and starting them and stopping them costs every process 7 to
+    10 ms. Only possible before NumPy is loaded; the linearized analyses and studies keep
+    OpenBLAS's default."""
+    command = next((word for word in argv if not word.startswith("-")), None)
+    if command in SMALL_BLAS and "numpy" not in sys.modules:
+        os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+
+#: the commands besides ``example`` and what adds each one's parser (a group adds several)
+_GROUPS = {"example": None, "run": _add_run, "static": _add_linear, "modes": _add_linear,
+           "buckling": _add_linear, "statespace": _add_linear, "exercise": _add_course,
+           "sweep": _add_sweep}
+
+
+class _Version(argparse.Action):
+    """``--version``: what the compiled core was built with is looked up only when asked
+    (it loads the engine)."""
+
+    def __init__(self, option_strings, dest, **kwargs):
+        super().__init__(option_strings, dest, nargs=0, **kwargs)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        print(f"flexmbd {__version__} (core: {_core_build()})")
+        parser.exit()
 
 
 def _core_build() -> str:
@@ -90,7 +144,9 @@ def _run_example(args: argparse.Namespace, rest: list[str]) -> int:
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``flexmbd`` command; returns the exit code."""
-    parser = _parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
+    _one_blas_thread(argv)
+    parser = _parser(argv)
     args, rest = parser.parse_known_args(argv)
     try:
         if args.command == "example":

@@ -14,7 +14,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .errors import FlexmbdError
-from .model import CoordinateClass, Model
+from .model import Model
 
 
 def _largest(vector: np.ndarray, share: float = 0.1) -> np.ndarray:
@@ -164,27 +164,38 @@ def massless_message(model: Model, x: np.ndarray, time: float | None) -> tuple[s
 
 
 def negative_mass_problem(model: Model) -> tuple[str, list[int]] | None:
-    """A negative point mass or rotary inertia (a correction of a body modelled by point
-    masses) is allowed while it cannot make a kinetic energy negative: the mass matrix of
-    the coordinates that are not fixed must be positive semidefinite (checked in the
-    initial configuration; element mass matrices only turn with their elements). Returns
-    the problem in words and the nodes whose negative masses break it, or ``None``."""
+    """A negative point mass or rotary inertia (the correction of a rigid body lumped into
+    point masses, ``J = i - m c (l - c)``, as SPACAR's own lumped rigid beam carries) is
+    allowed while no motion of the mechanism has a negative kinetic energy: the reduced
+    mass matrix ``F_q^T M F_q`` of the degrees of freedom, which moves only as the rigid
+    deformations and the fixed coordinates allow, must be positive semidefinite at the
+    reference configuration (element mass matrices only turn with their elements).
+    Returns the problem in words, naming that motion, and the nodes whose negative
+    masses take part in it, or ``None``."""
     negative = {node for node, mass in model.nodal_masses.items() if mass < 0}
-    if not negative:
+    if not negative or not model.n_dof:
         return None
     from .dynamics import mass_matrix
+    from .kinematics import first_order_transfer
 
-    moving = np.flatnonzero(np.asarray(model.coordinate_class) != CoordinateClass.FIXED)
-    M = mass_matrix(model, np.asarray(model.x0))[np.ix_(moving, moving)]
-    values, vectors = np.linalg.eigh(M)
+    x0 = np.asarray(model.x0, dtype=float)
+    try:
+        F_q = first_order_transfer(model, x0)
+    except FlexmbdError:  # the constraints' own problem is reported by its check
+        return None
+    values, vectors = np.linalg.eigh(F_q.T @ mass_matrix(model, x0) @ F_q)
     if values[0] >= -1e-12 * max(abs(values[-1]), 1e-300):
         return None
-    direction = moving[_largest(vectors[:, 0], share=1e-6)]
+    motion = F_q @ vectors[:, 0]
+    moving = np.flatnonzero(np.abs(motion) > 1e-6 * np.abs(motion).max())
     nodes = sorted(node for node in negative
-                   if set(model.nodes[node].coordinates) & set(direction)) or sorted(negative)
+                   if set(model.nodes[node].coordinates) & set(moving)) or sorted(negative)
     elements = sorted(number for number, element in model.elements.items()
                       if set(element.nodes) & set(nodes))
+    theirs = [i for i in moving if any(i in model.nodes[n].coordinates for n in nodes)]
     return (f"the negative mass of node(s) {', '.join(map(str, nodes))} outweighs the mass of "
-            f"element(s) {', '.join(map(str, elements)) or 'none'} there: a motion of "
-            f"{_names(model.describe_coordinate, moving[_largest(vectors[:, 0])])} would have "
-            f"negative kinetic energy (mass matrix eigenvalue {values[0]:.3g})", nodes)
+            f"element(s) {', '.join(map(str, elements)) or 'none'} there: the motion along "
+            f"{_names(model.describe_q, _largest(vectors[:, 0]))}, which moves "
+            f"{_names(model.describe_coordinate, theirs or moving)}, would have negative "
+            f"kinetic energy (reduced mass matrix eigenvalue {values[0]:.3g} at the reference "
+            f"configuration)", nodes)

@@ -23,7 +23,7 @@ import numpy as np
 
 from . import checks
 from .engine import Engine, Forces, initial_q, q_index, resolve_laws
-from .errors import ArgumentError, ModelError, SimulationError
+from .errors import ArgumentError, ModelError, SimulationError, StiffnessError
 from .free_rotations import (
     dynamic_state,
     free_rotations,
@@ -61,10 +61,8 @@ def mass_matrix(model: Model, x: np.ndarray) -> np.ndarray:
     if x.ndim != 2 or x.shape[1] != model.n_coordinates or not np.all(np.isfinite(x)):
         raise ArgumentError("x", f"must be finite, of shape ({model.n_coordinates},) or "
                                  f"(nt, {model.n_coordinates}), got shape {x.shape}")
-    batch = np.empty((len(x), model.n_coordinates, model.n_coordinates))
-    for row, M in zip(x, batch, strict=True):
-        engine.mass(row, out=M)
-    return batch
+    checks.output_memory(len(x), 8 * model.n_coordinates**2, "x")
+    return engine.masses(x)
 
 
 def reduced_mass_matrix(model: Model, x: np.ndarray) -> np.ndarray:
@@ -308,6 +306,8 @@ class _Run:
             segment = repartitioned(segment, state["x"])
             y, start = dynamic_state(segment, state), state["x"]
             stats["repartitions"] += 1
+        if len(pieces) == 1:  # no copy of outputs that may fill half the memory
+            return pieces[0], k, error, stats
         arrays = {name: np.concatenate([piece[name] for piece in pieces])
                   for name in pieces[0]}
         return arrays, k, error, stats
@@ -361,8 +361,9 @@ def _scipy_run(engine: Engine, laws, times, y0, method, rtol, atol, max_step, ad
     error = run.error
     if error is None and not run.success:
         error = SimulationError(run.message, float(run.t[-1]) if len(run.t) else None)
-    if isinstance(error, SimulationError) and not isinstance(error, StepsCollapsedError) \
-            and method in EXPLICIT and run.stats["nsteps"] > STIFF_STEPS * max(len(run.t), 1):
+    if isinstance(error, SimulationError) and \
+            not isinstance(error, (StepsCollapsedError, StiffnessError)) and \
+            method in EXPLICIT and run.stats["nsteps"] > STIFF_STEPS * max(len(run.t), 1):
         error.args = (f"{error.args[0]}; {method} took {run.stats['nsteps']} steps for "
                       f"{len(run.t)} outputs: the model is stiff for an explicit method "
                       f"(fast modes such as flexible elongations), try "

@@ -39,6 +39,7 @@ from .errors import (
     SimulationError,
     SingularConfigurationError,
 )
+from .free_rotations import free_rotations
 from .model import CoordinateClass, DeformationClass, Model
 from .motion import Law, Polynomial, as_law
 
@@ -507,6 +508,21 @@ def output_sizes(model: Model) -> dict[str, int]:
     return {name: counts[size] for name, size in OUTPUTS.items()}
 
 
+def output_bytes(model: Model, columns: tuple[str, ...] | None = None,
+                 integrated: bool = True) -> int:
+    """Bytes a run holds per output time [B]: its output arrays (``columns`` of
+    :data:`OUTPUTS`, all by default) and the time; an ``integrated`` run also keeps the
+    integrator's state ``[q_d, qdot_d]`` at each output, and one of free rotations
+    joins its segments' arrays into new ones at the end."""
+    sizes = output_sizes(model)
+    values = sum(sizes[name] for name in (columns or OUTPUTS))
+    if integrated and free_rotations(model):
+        values *= 2
+    if integrated:
+        values += 2 * int(np.sum(~np.asarray(model.q_is_input)))
+    return 8 * (values + 1)
+
+
 class Engine:
     """A run's workspace on the core: the model compiled once, a run's laws and loads,
     its output arrays and the translation of failures into flexmbd's errors.
@@ -589,7 +605,7 @@ class Engine:
 
         sizes = output_sizes(model)
         wanted = columns or tuple(OUTPUTS)
-        checks.output_memory(n_outputs, sum(sizes[name] for name in wanted))
+        checks.output_memory(n_outputs, output_bytes(model, wanted, integrated))
         self.arrays = {name: np.zeros((n_outputs, sizes[name])) for name in wanted}
         options = {}
         if python:
@@ -811,6 +827,18 @@ class Engine:
         self.core.mass_matrix(np.ascontiguousarray(x, dtype=float),
                               np.ascontiguousarray(xd, dtype=float), M, h, f)
         return M, h, f
+
+
+    def masses(self, x: np.ndarray) -> np.ndarray:
+        """The mass matrices ``(nt, nx, nx)`` at the configurations ``x`` ``(nt, nx)``,
+        finite and checked by the caller."""
+        nx = self.model.n_coordinates
+        x = np.ascontiguousarray(x, dtype=float)
+        batch = np.empty((len(x), nx, nx))
+        h, f, at_rest = np.empty(nx), np.empty(nx), np.zeros(nx)
+        for row, M in zip(x, batch, strict=True):
+            self.core.mass_matrix(row, at_rest, M, h, f)
+        return batch
 
 
 def _law_values(law: Law, t: float, what: str) -> tuple[float, float, float]:

@@ -59,6 +59,12 @@ class SimulationError(FlexmbdError, RuntimeError):
         self.partial_result = None
 
 
+class StiffnessError(SimulationError):
+    """An explicit integrator (RK45, RK23, DOP853) is held to tiny steps by a fast mode
+    that the outputs cannot show: the model is stiff for it; the message names the mode
+    and the method that fits (generalized-alpha)."""
+
+
 class ConvergenceError(SimulationError):
     """The Newton-Raphson position solve did not converge."""
 

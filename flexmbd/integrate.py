@@ -12,6 +12,8 @@ losing it.
 
 from __future__ import annotations
 
+import time
+from collections import deque
 from collections.abc import Callable
 from contextlib import nullcontext
 from dataclasses import dataclass, field
@@ -19,7 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import checks
-from .errors import ArgumentError, ConvergenceError, SimulationError
+from .errors import ArgumentError, ConvergenceError, SimulationError, StiffnessError
 from .progress import progress_bar
 
 #: integration methods by name (the course's ode45 is RK45, the default); all but
@@ -149,40 +151,130 @@ class StepsCollapsedError(SimulationError):
 
 
 class _Crawl:
-    """Ends a run whose steps have shrunk to nothing: more than :data:`CRAWL_STEPS` steps
-    in a row each shorter than :data:`CRAWL_SHARE` of the run would take hours to get
-    anywhere (scipy gives up only at the spacing of floating-point numbers)."""
+    """Ends a run that no longer gets anywhere: the last :data:`CRAWL_STEPS` steps together
+    covered less than :data:`CRAWL_SHARE` of the run, so at that pace the run would need
+    billions of steps (hours); scipy gives up only at the spacing of floating-point
+    numbers. Step sizes that bounce up and down at a point the integrator cannot pass
+    (an implicit method at aligned redundant constraints) are caught as well as steady
+    shrinking, a fraction of a second after the point is reached."""
 
     def __init__(self, span: float):
-        self.smallest, self.count = CRAWL_SHARE * span, 0
+        self.least = CRAWL_SHARE * span
+        self.steps: deque[float] = deque(maxlen=CRAWL_STEPS)
 
     def check(self, solver, method: str) -> None:
-        self.count = self.count + 1 if solver.step_size < self.smallest else 0
-        if self.count > CRAWL_STEPS:
+        self.steps.append(solver.step_size)
+        if len(self.steps) == CRAWL_STEPS and sum(self.steps) < self.least:
             raise StepsCollapsedError(
-                f"the {method} integrator's steps shrank to {solver.step_size:.2g} s at "
-                f"t = {solver.t:.6g} s: the motion is not smooth enough there for its "
-                f"tolerance (near a singular configuration round-off grows); loosen rtol "
-                f"or use method='GeneralizedAlpha'", float(solver.t))
+                f"the {method} integrator cannot get past t = {solver.t:.6g} s: its last "
+                f"{CRAWL_STEPS} steps together covered {sum(self.steps):.2g} s (the last "
+                f"{solver.step_size:.2g} s); the motion is not smooth enough there for its "
+                f"tolerance (near a singular configuration round-off grows); loosen rtol, "
+                f"or use {_OTHERS[method in ('RK23', 'RK45', 'DOP853')]}", float(solver.t))
 
 
-#: a run stops when this many steps in a row each cover less than this share of it
-CRAWL_STEPS, CRAWL_SHARE = 1000, 1e-10
+#: what else to try where a method cannot get past a point: for an explicit one (True),
+#: an implicit one
+_OTHERS = {True: "method='GeneralizedAlpha'",
+           False: "method='GeneralizedAlpha' or an explicit method (DOP853, RK45)"}
+#: a run stops when its last ``CRAWL_STEPS`` steps together covered less than
+#: ``CRAWL_SHARE`` of it
+CRAWL_STEPS, CRAWL_SHARE = 200, 1e-7
 
 
-def _outputs(solver, t_eval, k: int, ys: list, on_output) -> int:
-    """Append the outputs from ``t_eval[k]`` that the solver's last step passed; returns the
-    next ``k``. An output whose ``on_output`` raises is not kept."""
+#: a step longer than this share of the fastest mode's ``1/rho`` is set by that mode
+#: (resolving it to a tolerance of 1e-6 takes steps of about 0.3 / rho; an explicit
+#: method's stability allows up to 1.7 / rho for RK23, 3.3 for RK45, 6 for DOP853)
+HELD_BY_FASTEST = 0.3
+#: outputs this many periods of the fastest mode apart cannot show it: a mode the
+#: outputs cannot show, which sets the steps, makes the problem stiff for the method
+UNSEEN_PERIODS = 10.0
+#: wall-clock seconds between looks at a run's pace, and the projected duration beyond
+#: which a stiff run is stopped
+STIFF_LOOK, STIFF_PROJECTED = 2.0, 30.0
+
+
+class _Stiffness:
+    """Stops an explicit method that crawls because the problem is stiff. Every
+    :data:`STIFF_LOOK` seconds, when the run at its pace so far would take longer than
+    :data:`STIFF_PROJECTED` seconds, the fastest mode's rate ``rho`` (the spectral radius
+    of ``df/dy``, by power iteration on finite differences of ``fun``) is compared with
+    the step and the outputs: a mode that sets the step (``h rho`` at least
+    :data:`HELD_BY_FASTEST`) but that the outputs, :data:`UNSEEN_PERIODS` of its periods
+    apart, cannot show is what an implicit method steps over."""
+
+    def __init__(self, fun, t_eval: np.ndarray, method: str, clock=time.monotonic):
+        self.fun, self.method, self.clock = fun, method, clock
+        self.t0, self.t_end = float(t_eval[0]), float(t_eval[-1])
+        self.interval = (self.t_end - self.t0) / (len(t_eval) - 1)
+        self.start = clock()
+        self.next = self.start + STIFF_LOOK
+
+    def check(self, solver) -> None:
+        now = self.clock()
+        if now < self.next:
+            return
+        self.next = now + STIFF_LOOK
+        done = (solver.t - self.t0) / (self.t_end - self.t0)
+        projected = (now - self.start) / max(done, 1e-12)
+        if projected < STIFF_PROJECTED:
+            return
+        rho = spectral_radius(self.fun, solver.t, solver.y)
+        if rho is None or solver.step_size * rho < HELD_BY_FASTEST or \
+                self.interval * rho < 2 * np.pi * UNSEEN_PERIODS:
+            return
+        raise StiffnessError(
+            f"the model is stiff for {self.method}: a mode of {rho:.3g} rad/s (a period of "
+            f"{2 * np.pi / rho:.2g} s, far below the output interval {self.interval:.2g} s) "
+            f"holds its steps to {solver.step_size:.2g} s, so the run would take about "
+            f"{_duration(projected)} (t = {solver.t:.6g} s of {self.t_end:.6g} s after "
+            f"{now - self.start:.0f} s); use an implicit method: method='GeneralizedAlpha' "
+            f"(flexmbd run --method GeneralizedAlpha), which steps over the fast mode at "
+            f"steps of the output interval", float(solver.t))
+
+
+def _duration(seconds: float) -> str:
+    if seconds < 120:
+        return f"{seconds:.0f} s"
+    return f"{seconds / 60:.0f} min" if seconds < 7200 else f"{seconds / 3600:.0f} h"
+
+
+def spectral_radius(fun, t: float, y: np.ndarray, iterations: int = 12) -> float | None:
+    """``max |lambda|`` of ``df/dy`` at ``(t, y)`` [1/s], by power iteration on ``J^2``
+    (whose eigenvalues ``-omega^2`` are real for a mechanism's oscillations ``+-i omega``)
+    with ``J v`` from forward differences of ``fun``; ``None`` when ``fun`` fails
+    there."""
+    try:
+        f0 = np.asarray(fun(t, y), dtype=float)
+        v = np.random.default_rng(0).standard_normal(len(y))
+        v /= np.linalg.norm(v)
+        estimate = None
+        for _ in range(iterations):
+            for _square in range(2):
+                delta = np.sqrt(np.finfo(float).eps) * (1.0 + np.linalg.norm(y))
+                v = (np.asarray(fun(t, y + delta * v), dtype=float) - f0) / delta
+            size = np.linalg.norm(v)
+            if not np.isfinite(size) or size == 0.0:
+                return None
+            estimate, v = np.sqrt(size), v / size
+        return estimate
+    except SimulationError:
+        return None
+
+
+def _outputs(solver, t_eval, k: int, ys: np.ndarray, on_output) -> int:
+    """Fill the rows of ``ys`` from ``t_eval[k]`` on that the solver's last step passed;
+    returns the next ``k``. An output whose ``on_output`` raises is not kept."""
     dense = None
     while k < len(t_eval) and t_eval[k] <= solver.t:
         if t_eval[k] == solver.t:
-            y = solver.y.copy()
+            y = solver.y
         else:
             dense = dense or solver.dense_output()
             y = dense(t_eval[k])
         if on_output is not None:
             on_output(k, t_eval[k], y)
-        ys.append(y)
+        ys[k] = y
         k += 1
     return k
 
@@ -191,21 +283,22 @@ def _integrate_scipy(fun, y0, t_eval, method, rtol, atol, max_step, progress, on
                      on_reject, stop, **options) -> IntegrationResult:
     import scipy.integrate
 
-    ys: list[np.ndarray] = []
-    k, nsteps, error, message, stopped = 1, 0, None, "completed", False
+    ys = np.empty((len(t_eval), len(y0)))
+    k, nsteps, error, message, stopped = 0, 0, None, "completed", False
     try:  # the start evaluates the state: a failure there is a run of no (or one) output
         if on_output is not None:
             on_output(0, t_eval[0], y0)
-        ys.append(y0)
+        ys[0], k = y0, 1
         solver = getattr(scipy.integrate, method)(fun, t_eval[0], y0, t_eval[-1], rtol=rtol,
                                                   atol=atol, max_step=max_step, **options)
     except (SimulationError, KeyboardInterrupt) as err:
-        return IntegrationResult(t_eval[:len(ys)], np.array(ys).reshape(len(ys), len(y0)),
-                                 False, str(err) or "interrupted", err,
+        return IntegrationResult(t_eval[:k], ys[:k], False, str(err) or "interrupted", err,
                                  {"nfev": 1, "njev": 0, "nlu": 0, "nsteps": 0})
     bar = nullcontext(progress) if callable(progress) else \
         progress_bar(t_eval, f"simulating ({method})", progress)
     crawl = _Crawl(t_eval[-1] - t_eval[0])
+    stiffness = _Stiffness(fun, t_eval, method) if method in ("RK23", "RK45", "DOP853") \
+        else None
     with bar as advance:
         while solver.status == "running":
             try:
@@ -216,6 +309,8 @@ def _integrate_scipy(fun, y0, t_eval, method, rtol, atol, max_step, progress, on
                                f"{step_message}")
                     break
                 crawl.check(solver, method)
+                if stiffness is not None:
+                    stiffness.check(solver)
                 k = _outputs(solver, t_eval, k, ys, on_output)
                 if advance is not None:
                     advance(solver.t)
@@ -228,5 +323,5 @@ def _integrate_scipy(fun, y0, t_eval, method, rtol, atol, max_step, progress, on
                 break
     stats = {"nfev": solver.nfev, "njev": solver.njev, "nlu": solver.nlu, "nsteps": nsteps}
     success = error is None and (stopped or solver.status == "finished")
-    return IntegrationResult(t_eval[:len(ys)], np.array(ys), success, message, error, stats,
+    return IntegrationResult(t_eval[:k], ys[:k], success, message, error, stats,
                              (float(solver.t), solver.y.copy()), stopped)

@@ -32,6 +32,11 @@ __all__ = ["Buckling", "Modes", "ModesAlong", "buckling", "compliance", "modes_a
 #: products that make it); above it, as along a motion with N0, the general solver runs
 SYMMETRIC = 1e-9
 
+#: a generalized eigensolver's eigenvalues carry rounding of about ``n eps`` times the
+#: largest; this many times that is taken as zero (a rigid-body mode), so that rounding
+#: never reads as an unstable direction whatever the CPU's BLAS kernels
+ROUNDING_MARGIN = 100.0
+
 
 @dataclass(frozen=True, eq=False)
 class Modes:
@@ -111,7 +116,7 @@ def _eigen(lin: Linearization, K: np.ndarray, M: np.ndarray, count: int, vectors
     if asymmetry <= SYMMETRIC:
         K = 0.5 * (K + K.T)
         factor = _cholesky(K)
-        if factor is not None:
+        if factor is not None and _well_posed(factor, K):
             reduced, inverse = _reduced(factor, M)
             if not vectors:
                 return 1.0 / np.linalg.eigvalsh(reduced)[::-1][:count], None
@@ -131,12 +136,36 @@ def _eigen(lin: Linearization, K: np.ndarray, M: np.ndarray, count: int, vectors
             return _lowest(1.0 / mu, right, M, count)
     import scipy.linalg as linalg  # only here: its import alone costs 0.2 s
 
+    # all eigenvalues: the largest sets the rounding level of the lowest
     if asymmetry <= SYMMETRIC:
-        result = linalg.eigh(K, M, subset_by_index=(0, count - 1), eigvals_only=not vectors)
-        return result if vectors else (result, None)
+        if not vectors:
+            return _rounded_to_zero(linalg.eigh(K, M, eigvals_only=True), len(K))[:count], None
+        omega2, shapes = linalg.eigh(K, M)
+        return _rounded_to_zero(omega2, len(K))[:count], shapes[:, :count]
     if not vectors:
-        return np.sort(linalg.eigvals(K, M).real)[:count], None
-    return _lowest(*linalg.eig(K, M), M, count)
+        return np.sort(_rounded_to_zero(linalg.eigvals(K, M).real, len(K)))[:count], None
+    omega2, shapes = _lowest(*linalg.eig(K, M), M, count)
+    return _rounded_to_zero(omega2, len(K), linalg.eigvals(K, M).real), shapes
+
+
+def _rounded_to_zero(omega2: np.ndarray, n: int, spectrum: np.ndarray | None = None
+                     ) -> np.ndarray:
+    """``omega2`` with the values within the rounding of a generalized eigensolver of size
+    ``n`` (``ROUNDING_MARGIN n eps`` times the largest magnitude of ``spectrum``, by
+    default ``omega2`` itself) set to exactly 0: a rigid-body mode, not a tiny
+    unstable or stable one."""
+    largest = np.abs(omega2 if spectrum is None else spectrum).max(initial=0.0)
+    zero = np.abs(omega2) <= ROUNDING_MARGIN * n * np.finfo(float).eps * largest
+    return np.where(zero, 0.0, omega2)
+
+
+def _well_posed(factor: np.ndarray, A: np.ndarray) -> bool:
+    """Whether the Cholesky factor ``L`` of ``A`` shows ``A`` regular to working precision:
+    no pivot ``L_ii^2`` collapsed to rounding of its diagonal ``A_ii``. A singular ``A``
+    (a rigid-body mode) can factor with a pivot of rounding size, by chance of the BLAS
+    kernels; its inverse would then swamp every other eigenvalue."""
+    pivots = np.diag(factor) ** 2
+    return bool(np.all(pivots > len(A) * np.finfo(float).eps * np.abs(np.diag(A))))
 
 
 def _lowest(values: np.ndarray, right: np.ndarray, M: np.ndarray, count: int
@@ -243,8 +272,10 @@ def buckling(linearization: Linearization, count: int | None = None) -> Buckling
         raise ArgumentError("loads", "the state carries no stresses, so no load factor makes "
                                      "it buckle: apply loads (XF, gravity, loads=...)")
     # 1/lambda are the eigenvalues of (G, K): finite for every mode even where G0 vanishes
-    factor = _cholesky(0.5 * (K + K.T))
-    if factor is not None:  # a stable state: a symmetric problem L^-1 G L^-T y = y / lambda
+    K = 0.5 * (K + K.T)
+    factor = _cholesky(K)
+    # a stable state: a symmetric problem L^-1 G L^-T y = y / lambda
+    if factor is not None and _well_posed(factor, K):
         reduced, inverse_factor = _reduced(factor, 0.5 * (G + G.T))
         inverse, y = np.linalg.eigh(reduced)
         vectors = inverse_factor.T @ y
@@ -275,8 +306,9 @@ def compliance(linearization: Linearization, labels) -> np.ndarray:
     lin = linearization
     F = lin.transfer(labels)
     K = lin.block("K0") + lin.block("G0")
-    factor = _cholesky(0.5 * (K + K.T))
-    if factor is None:
+    K = 0.5 * (K + K.T)
+    factor = _cholesky(K)
+    if factor is None or not _well_posed(factor, K):
         raise SingularConfigurationError(
             "the stiffness K0 + G0 is not positive definite: the dynamic degrees of freedom "
             "include a mechanism (no stiffness) or the loads buckle the structure")

@@ -241,11 +241,13 @@ def write_csv(path: str | Path, columns: dict[str, np.ndarray]) -> Path:
     as ``"%.17g"`` writes it, which reads back to the same double. Returns the path."""
     from . import _core
 
-    rows = len(next(iter(columns.values()))) if columns else 0
-    data = np.column_stack(list(columns.values())) if rows else np.empty((0, len(columns)))
-    text = _core.csv_rows(np.ascontiguousarray(data, dtype=float))
-    header = (",".join(columns) + "\n").encode()
-    return _writing(path, lambda p: p.write_bytes(header + text))
+    def write(p: Path) -> None:
+        with open(p, "wb") as file:
+            file.write((",".join(columns) + "\n").encode())
+            file.flush()  # the core writes the rows to the file itself, after the header
+            _core.csv_write(file.fileno(), [np.asarray(v, dtype=float).reshape(-1)
+                                            for v in columns.values()])
+    return _writing(path, write)
 
 
 def check_times(times) -> np.ndarray:

@@ -12,8 +12,8 @@ from . import checks
 from .dat import read_dat
 from .dat.syntax import LARGEST_INTEGER
 from .dynamics import inverse_dynamics, simulate
-from .engine import output_sizes
-from .errors import ArgumentError
+from .engine import output_bytes, output_sizes
+from .errors import ArgumentError, StiffnessError
 from .integrate import METHODS
 from .kinematics import kinematic_analysis
 from .model import CoordinateClass, Model
@@ -41,8 +41,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--movie", metavar="FILE.mp4", help="animate the mechanism (.mp4, .gif)")
     parser.add_argument("--steps", type=int, help="output intervals (default: TIMESTEP)")
     parser.add_argument("--t-end", type=float, help="end time [s] (default: TIMESTEP)")
-    parser.add_argument("--method", default="RK45", choices=sorted(METHODS),
-                        help="integrator of the dynamic mode (default RK45)")
+    parser.add_argument("--method", choices=sorted(METHODS),
+                        help="integrator of the dynamic mode (default RK45, or "
+                             "GeneralizedAlpha when RK45 finds the model stiff)")
 
 
 def default_mode(model: Model) -> str:
@@ -154,14 +155,19 @@ def run(args: argparse.Namespace) -> int:
     check_mode(model, mode)
     times = output_times(settings, args.steps, args.t_end)
     empty = empty_result(model, mode)
-    checks.output_memory(len(times), len(empty.columns()), "--steps (or TIMESTEP)")
+    checks.output_memory(len(times), output_bytes(model, integrated=mode == "dynamic"),
+                         "--steps (or TIMESTEP)")
     columns = args.columns or default_columns(empty, mode)
     check_columns(empty, columns, args.against)
     print(model.summary())
     print(f"{mode} analysis of {Path(args.file).name}: {len(times)} output times to "
           f"t = {times[-1]:.6g} s")
     try:
-        result = analyse(model, settings, mode, times, args.method, progress=True)
+        result = analyse(model, settings, mode, times, args.method or "RK45", progress=True)
+        if args.method is None and isinstance(result.error, StiffnessError):
+            # the user chose no method: run the one that fits, as they would expect
+            print(f"{result.message}\nrunning again with GeneralizedAlpha")
+            result = analyse(model, settings, mode, times, "GeneralizedAlpha", progress=True)
     except KeyboardInterrupt as interrupt:
         result = getattr(interrupt, "partial_result", None)
         if result is None:

@@ -19,10 +19,21 @@ from typing import Literal
 import numpy as np
 
 from . import checks
-from .engine import MAX_ITERATIONS, Engine, initial_q, load_vector, q_index, q_scale
+from .engine import (
+    MAX_ITERATIONS,
+    OUTPUTS,
+    Engine,
+    initial_q,
+    load_vector,
+    output_bytes,
+    output_sizes,
+    q_index,
+    q_scale,
+)
 from .errors import ArgumentError, ConvergenceError, FlexmbdError, SimulationError
 from .linearization import Linearization, equilibrium_state, linearize, static_tangent
 from .model import Model
+from .progress import progress_bar
 from .results import SimulationResult, check_on_failure, conclude
 from .settings import RunSettings
 
@@ -71,6 +82,7 @@ def static_equilibrium(
     tolerance: float | None = None,
     max_iterations: int = MAX_ITERATIONS,
     on_failure: Literal["raise", "return"] = "raise",
+    progress: bool | None = None,
 ) -> StaticResult:
     """Static equilibria under the model's loads and load steps.
 
@@ -88,6 +100,7 @@ def static_equilibrium(
         max_iterations: Newton iterations per attempt before the step is halved.
         on_failure: ``"raise"`` (with the converged rows as ``error.partial_result``) or
             ``"return"`` them with ``success=False``.
+        progress: progress bar over the load steps (default: many steps on a terminal).
 
     Returns:
         :class:`StaticResult`, one row per load step.
@@ -109,36 +122,45 @@ def static_equilibrium(
         inputs[j] = checks.real(value, f"input_increment {label}")
     given = bool(np.any(increment) or np.any(inputs))
     steps = (1 if given else 0) if steps is None else steps
-    if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 0:
-        raise ArgumentError("steps", f"must be a whole number >= 0, got {steps!r}")
+    steps = checks.whole(steps, "steps", 0, checks.LARGEST_STEPS)
+    rows = steps + 1
+    # the applied loads are one more row of nx values
+    checks.output_memory(rows, output_bytes(model, integrated=False) +
+                         8 * model.n_coordinates, "steps")
     solver = _Solver(model, Engine(model), tolerance, checks.iteration_limit(max_iterations))
     own = solver.engine.compiled["f_const"]
-    rows: list[dict[str, np.ndarray]] = []
-    factors: list[float] = []
-    applied: list[np.ndarray] = []
-    error: BaseException | None = None
+    sizes = output_sizes(model)
+    arrays = {name: np.empty((rows, sizes[name])) for name in OUTPUTS}
+    factors, applied = np.arange(rows) / max(steps, 1), np.empty((rows, model.n_coordinates))
+    done, error = 0, None
+
+    def keep(load: np.ndarray) -> None:
+        nonlocal done
+        state = solver.state
+        for name, values in arrays.items():
+            values[done] = state[name]
+        applied[done] = load
+        done += 1
+
     try:
-        # row 0: the model's and the given loads, switched on from the unloaded reference
-        solver.follow(lambda s: ((s - 1.0) * own + s * base, initial_q(model)),
-                      lambda s: f"the initial loads (row 0) at {s:.6g} of their value")
-        rows.append(solver.state), factors.append(0.0), applied.append(base.copy())
-        for k in range(1, steps + 1):
-            def target(s, k=k):
-                factor = (k - 1 + s) / steps
-                return base + factor * increment, initial_q(model) + factor * inputs
-            solver.follow(target, lambda s, k=k: f"load factor {(k - 1 + s) / steps:.6g} "
-                                                 f"(step {k} of {steps})")
-            rows.append(solver.state), factors.append(k / steps)
-            applied.append(base + k / steps * increment)
+        with progress_bar(factors, "load steps", progress) as advance:
+            # row 0: the model's and the given loads, switched on from the unloaded reference
+            solver.follow(lambda s: ((s - 1.0) * own + s * base, initial_q(model)),
+                          lambda s: f"the initial loads (row 0) at {s:.6g} of their value")
+            keep(base)
+            for k in range(1, steps + 1):
+                def target(s, k=k):
+                    factor = (k - 1 + s) / steps
+                    return base + factor * increment, initial_q(model) + factor * inputs
+                solver.follow(target, lambda s, k=k: f"load factor {(k - 1 + s) / steps:.6g} "
+                                                     f"(step {k} of {steps})")
+                keep(base + k / steps * increment)
+                if advance is not None:
+                    advance(factors[k])
     except (FlexmbdError, KeyboardInterrupt) as caught:
         error = caught
-    done = len(rows)
-    names = ("x", "xd", "xdd", "e", "ed", "edd", "q", "qd", "qdd", "sigma", "reactions",
-             "driving")
-    arrays = {name: (np.array([r[name] for r in rows]) if rows else
-                     np.zeros((0, 0))) for name in names}
-    result = StaticResult(model, np.array(factors), applied=np.array(applied).reshape(
-        done, model.n_coordinates), **arrays)
+    result = StaticResult(model, factors[:done], applied=applied[:done],
+                          **{name: values[:done] for name, values in arrays.items()})
     return conclude(result, error, on_failure,
                     f"converged {done} load step{'s' if done != 1 else ''}")
 

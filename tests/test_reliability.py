@@ -12,6 +12,10 @@ import flexmbd as fm
 from flexmbd import checks, outputs, progress
 from flexmbd.cli import main as cli
 from flexmbd.dat import dat_from_text
+from flexmbd.linearization import linearize
+from flexmbd.modes import vibration_modes
+
+from .models import andrews_squeezer, squeezer_angles
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 FLEX = str(EXAMPLES / "slider_crank_flex.dat")
@@ -141,6 +145,36 @@ def test_outputs_that_cannot_fit_in_memory_are_refused(monkeypatch, tmp_path):
     path.write_text(text)
     with pytest.raises(fm.InputFileError, match="TIMESTEP: steps: 100000001 output times"):
         fm.read_dat(path)
+    flex, _ = fm.read_dat(FLEX)
+    with pytest.raises(fm.ArgumentError, match=r"steps: 1000001 output times of \d+ values"):
+        fm.static_equilibrium(flex, loads={"x5.1": 1.0}, steps=10**6)
+
+
+def test_the_memory_estimate_is_what_a_run_holds_and_writing_adds_none(tmp_path):
+    """The refusal above rests on :func:`output_bytes`: the memory a simulation holds per
+    output time, measured by tracemalloc between runs of 10000 and 20000 outputs, is
+    within 5 % of it (it was 2.3 times the old estimate, and CSV writing tripled it), and
+    writing the CSV file takes the same few MB whatever the rows."""
+    import tracemalloc
+
+    from flexmbd.engine import output_bytes
+
+    model, _ = fm.read_dat(FLEX)
+    fm.simulate(model, np.linspace(0, 0.02, 11)).save(tmp_path / "warm.csv")
+    held, writing = [], []
+    for rows in (10001, 20001):
+        tracemalloc.start()
+        try:
+            result = fm.simulate(model, np.linspace(0, 0.02, rows))
+            held.append(tracemalloc.get_traced_memory()[1])
+            tracemalloc.reset_peak()
+            before = tracemalloc.get_traced_memory()[0]
+            result.save(tmp_path / "out.csv")
+            writing.append(tracemalloc.get_traced_memory()[1] - before)
+        finally:
+            tracemalloc.stop()
+    assert (held[1] - held[0]) / 10000 == pytest.approx(output_bytes(model), rel=0.05)
+    assert writing[1] < 1.1 * writing[0] + 2**16 and writing[1] < 2**24
 
 
 @pytest.mark.parametrize("options, argument", [
@@ -204,6 +238,78 @@ def test_the_motion_does_not_depend_on_the_unit_of_mass(factor):
     np.testing.assert_allclose(result.e, reference.e, rtol=0, atol=1e-9)
 
 
+# --- stiffness and points an integrator cannot pass --------------------------------------
+#: the flexible slider-crank with its rod's bending stiffness times 1e8: a bending mode of
+#: about 4e7 rad/s that the outputs, 1e-4 s apart, cannot show
+STIFF_ROD = {ROD_STIFFNESS: "ESTIFF 2 5654866.776461628 1.272e9"}
+
+
+def test_the_spectral_radius_of_an_oscillator_is_its_highest_frequency():
+    """Two masses on springs, y = [u; v], u'' = -K u: the power iteration on finite
+    differences gives the highest omega of eig(K) to 1e-6."""
+    from flexmbd.integrate import spectral_radius
+
+    K = np.array([[2e6, -1e6], [-1e6, 1e6]])
+
+    def fun(t, y):
+        return np.concatenate([y[2:], -K @ y[:2]])
+
+    omega = np.sqrt(np.linalg.eigvalsh(K).max())
+    assert spectral_radius(fun, 0.0, np.array([1e-3, 0.0, 0.0, 0.5])) == \
+        pytest.approx(omega, rel=1e-6)
+
+
+def test_a_stiff_model_under_an_explicit_method_is_named_stiff_at_once(monkeypatch):
+    """RK45 on the rod made 1e8 times stiffer would crawl for minutes at steps of its
+    stability limit; with the pace looked at every step (instead of every 2 s once a run
+    is projected to take 30 s) it stops at its first step, says the model is stiff and
+    which method fits, and keeps what it computed. The mode it names is the rod's
+    highest vibration frequency at the start, computed from K and M."""
+    from flexmbd import integrate
+
+    monkeypatch.setattr(integrate, "STIFF_LOOK", 0.0)
+    monkeypatch.setattr(integrate, "STIFF_PROJECTED", 0.0)
+    model = _flex_with(STIFF_ROD)
+    result = fm.simulate(model, np.linspace(0.0, 0.01, 101), on_failure="return")
+    assert isinstance(result.error, fm.StiffnessError) and len(result.t) >= 1
+    assert "the model is stiff for RK45" in result.message
+    assert "method='GeneralizedAlpha'" in result.message
+    rate = float(result.message.split("a mode of ")[1].split(" rad/s")[0])
+    highest = np.sqrt(vibration_modes(linearize(model)).omega2.max())
+    assert rate == pytest.approx(highest, rel=0.05)  # three digits, at the step it stopped
+    # the model as the course gives it: its fastest mode, 2e3 rad/s, is seen by outputs
+    # 1e-4 s apart, so RK45 runs on however closely its pace is watched
+    assert fm.simulate(_flex_with({}), np.linspace(0.0, 0.01, 101)).success
+
+
+def test_flexmbd_run_switches_a_stiff_file_to_generalized_alpha_unless_told(
+        tmp_path, monkeypatch, capsys):
+    from flexmbd import integrate
+
+    monkeypatch.setattr(integrate, "STIFF_LOOK", 0.0)
+    monkeypatch.setattr(integrate, "STIFF_PROJECTED", 0.0)
+    path = tmp_path / "stiff.dat"
+    text = Path(FLEX).read_text().replace(ROD_STIFFNESS, STIFF_ROD[ROD_STIFFNESS])
+    path.write_text(text.replace("TIMESTEP 0.08377580409572781 800", "TIMESTEP 0.01 100"))
+    assert cli(["run", str(path), "--out", str(tmp_path / "a.csv")]) == 0
+    out = capsys.readouterr().out
+    assert "the model is stiff for RK45" in out and "running again with GeneralizedAlpha" \
+        in out and "completed 101 points" in out
+    assert cli(["run", str(path), "--method", "RK45", "--out", str(tmp_path / "b.csv")]) == 1
+    assert "the model is stiff for RK45" in capsys.readouterr().out
+
+
+def test_an_implicit_method_that_cannot_pass_aligned_bars_stops_within_seconds():
+    """Radau at rtol 1e-10 reaches 3 parallelograms' aligned bars at t = 0.156 s and then
+    takes steps of 1e-14 to 1e-9 s that never add up; it stops after a few thousand
+    steps, naming the time (before, 158 000 steps and 78 s on ten loops)."""
+    result = fm.simulate(parallelograms(3), np.linspace(0.0, 2.0, 201),
+                         initial={"x2.1": (0.0, 11.0)}, method="Radau", rtol=1e-10,
+                         atol=1e-12, on_failure="return")
+    assert not result.success and result.stats["nsteps"] < 10_000
+    assert "the Radau integrator cannot get past t = 0.15" in result.message
+
+
 @pytest.mark.parametrize("replacements, words", [
     ({ROD_MASS: "EM 2 0"}, "no mass moves with e2.2 (beam 2, bending at p), e2.3"),
     ({SLIDER_MASS: "XM 5 1e300"}, "the masses span 1e+300 (node 5) to 0.0668 (element 2"),
@@ -218,15 +324,35 @@ def test_negative_masses_are_refused_where_they_make_the_kinetic_energy_negative
     # a small negative rotary inertia corrects a body modelled by point masses: allowed
     corrected = _flex_with({SLIDER_MASS: f"{SLIDER_MASS}\nXM 6 -1e-6"})
     assert corrected.nodal_masses[6] == -1e-6
-    with pytest.raises(fm.InputFileError) as info:  # a slider of -1 kg is not
-        _flex_with({SLIDER_MASS: "XM 5 -1"})
-    assert info.value.line == 22 and "XM: the negative mass of node(s) 5 outweighs the mass " \
-        "of element(s) 2" in str(info.value)
+    with pytest.raises(fm.InputFileError) as info:  # a crank pin of -1 kg is not
+        _flex_with({SLIDER_MASS: "XM 3 -1"})
+    assert info.value.line == 22 and "XM: the negative mass of node(s) 3 outweighs the mass " \
+        "of element(s) 1, 2 there: the motion along x2.1 (node 2, phi), which moves x3.2 " \
+        "(node 3, y), would have negative kinetic energy" in str(info.value)
     b = fm.ModelBuilder("pendulum")
     b.add_node(1, 0.0, 0.0).add_node(2, 1.0, 0.0).add_rigid_beam(1, 1, 3, 2).fix(1)
     b.dynamic_coordinate(3).set_mass(1, 1.0).add_point_mass(2, -2.0)
     with pytest.raises(fm.ModelError, match=r"negative mass of node\(s\) 2 outweighs"):
         b.build()
+
+
+#: the IVP test set's solution of Andrews' squeezer at t = 0.03 s (PSIDE at 1e-14): beta,
+#: theta, gamma, phi, delta, omega, epsilon [rad]
+SQUEEZER_AT_003 = [0.1581077119629904e+2, -0.1575637105984298e+2, 0.4082224013073101e-1,
+                   -0.5347301163226948, 0.5244099658805304, 0.5347301163226948,
+                   0.1048080741042263e+1]
+
+
+def test_a_lumped_rigid_body_with_negative_rotary_inertia_runs():
+    """Andrews' squeezer with its bodies lumped into end masses and negative rotary
+    inertias: no motion the rigid links allow has negative kinetic energy, so the model
+    builds, and it reaches the test set's reference to 1e-10 of each angle."""
+    model = andrews_squeezer()
+    assert min(model.nodal_masses[n] for n in (12, 15, 17)) < 0
+    result = fm.simulate(model, np.linspace(0.0, 0.03, 4), method="DOP853", rtol=1e-11,
+                         atol=1e-13, tolerance=1e-13)
+    np.testing.assert_allclose(squeezer_angles(result)[-1], SQUEEZER_AT_003, rtol=1e-10,
+                               atol=1e-10)
 
 
 def test_a_load_that_is_not_finite_is_named_and_the_run_returned():

@@ -15,6 +15,7 @@ def test_ruff_is_clean():
     ruff = str(beside_python) if beside_python.exists() else shutil.which("ruff")
     if ruff is None:
         pytest.skip("ruff is not installed (it comes with the test extra)")
-    done = subprocess.run([ruff, "check", "flexmbd", "examples", "tests", "benchmarks", "docs"],
+    done = subprocess.run([ruff, "check", "flexmbd", "examples", "tests", "benchmarks", "docs",
+                           ".ci"],
                           cwd=ROOT, capture_output=True, text=True)
     assert done.returncode == 0, done.stdout + done.stderr

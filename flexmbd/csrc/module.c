@@ -11,9 +11,11 @@
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
+#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "alpha.h"
 #include "core.h"
@@ -1363,41 +1365,102 @@ static PyTypeObject CoreType = {
 };
 
 /* --- result files ---------------------------------------------------------------------------- */
-/* csv_rows(values): the rows of a (n, m) float64 array as CSV text (bytes), each number as
- * "%.17g" writes it (text.c), without a header */
-static PyObject *csv_rows(PyObject *self, PyObject *args)
+/* Write all of `size` bytes to the file descriptor `fd`; 0, or -1 with errno set. */
+static int write_all(int fd, const char *text, size_t size)
 {
-    PyObject *array_object;
-    Py_buffer b;
-    (void)self;
-    if (!PyArg_ParseTuple(args, "O", &array_object))
-        return NULL;
-    if (PyObject_GetBuffer(array_object, &b, PyBUF_FORMAT | PyBUF_ND | PyBUF_C_CONTIGUOUS) < 0)
-        return NULL;
-    if (b.ndim != 2 || b.itemsize != sizeof(double) || strcmp(b.format, "d")) {
-        PyBuffer_Release(&b);
-        PyErr_SetString(PyExc_ValueError, "csv_rows: a 2-d float64 array is needed");
-        return NULL;
-    }
-    const Py_ssize_t rows = b.shape[0], columns = b.shape[1];
-    PyObject *text = PyBytes_FromStringAndSize(NULL, rows * columns * 25 + 1);
-    if (!text) {
-        PyBuffer_Release(&b);
-        return NULL;
-    }
-    char *p = PyBytes_AS_STRING(text);
-    const double *values = b.buf;
-    for (Py_ssize_t r = 0; r < rows; r++)
-        for (Py_ssize_t k = 0; k < columns; k++) {
-            p += format_17g(values[r * columns + k], p);
-            *p++ = k + 1 < columns ? ',' : '\n';
+    while (size > 0) {
+        const ssize_t done = write(fd, text, size);
+        if (done < 0) {
+            if (errno == EINTR)
+                continue;
+            return -1;
         }
-    PyBuffer_Release(&b);
-    _PyBytes_Resize(&text, p - PyBytes_AS_STRING(text));
-    return text;
+        text += done;
+        size -= (size_t)done;
+    }
+    return 0;
 }
 
-/* format_17g(x): one number as csv_rows writes it (for the tests) */
+/* csv_write(fd, columns): the rows of equally long float64 columns (1-d, any strides) as
+ * CSV lines on the file descriptor fd, each number as "%.17g" writes it (text.c). Rows
+ * are formatted into a buffer of CSV_BUFFER bytes and written as it fills: the memory
+ * stays the same whatever the rows, and no large allocation costs the kernel page faults
+ * (a thread formatting half of the rows gained nothing in a fresh process: the second
+ * processor's wake-up took as long). Other threads of Python run meanwhile (the columns
+ * must not change). */
+#define CSV_BUFFER 65536
+static PyObject *csv_write(PyObject *self, PyObject *args)
+{
+    int fd;
+    PyObject *sequence;
+    (void)self;
+    if (!PyArg_ParseTuple(args, "iO", &fd, &sequence))
+        return NULL;
+    PyObject *items = PySequence_Fast(sequence, "csv_write: columns must be a sequence");
+    if (!items)
+        return NULL;
+    const Py_ssize_t columns = PySequence_Fast_GET_SIZE(items);
+    Py_buffer *b = PyMem_Calloc(columns > 0 ? (size_t)columns : 1, sizeof(Py_buffer));
+    char *text = PyMem_Malloc(CSV_BUFFER);
+    Py_ssize_t held = 0, rows = 0;
+    int failed = !b || !text;
+    if (failed)
+        PyErr_NoMemory();
+    for (; !failed && held < columns; held++) {
+        if (PyObject_GetBuffer(PySequence_Fast_GET_ITEM(items, held), &b[held],
+                               PyBUF_FORMAT | PyBUF_STRIDES) < 0) {
+            failed = 1;
+            break;
+        }
+        const Py_buffer *c = &b[held];
+        if (c->ndim != 1 || c->itemsize != sizeof(double) || strcmp(c->format, "d") ||
+            (held > 0 && c->shape[0] != rows)) {
+            PyErr_SetString(PyExc_ValueError, "csv_write: equally long 1-d float64 columns "
+                                              "are needed");
+            held++;
+            failed = 1;
+            break;
+        }
+        rows = c->shape[0];
+    }
+    int error = 0;
+    if (!failed && columns > 0) {
+        Py_BEGIN_ALLOW_THREADS
+        size_t used = 0;
+        for (Py_ssize_t r = 0; r < rows && !error; r++)
+            for (Py_ssize_t k = 0; k < columns; k++) {
+                if (used > CSV_BUFFER - 32) {        /* a number takes 25 bytes at most */
+                    if (write_all(fd, text, used)) {
+                        error = errno;
+                        break;
+                    }
+                    used = 0;
+                }
+                const char *at = (const char *)b[k].buf + r * b[k].strides[0];
+                used += (size_t)format_17g(*(const double *)at, text + used);
+                text[used++] = k + 1 < columns ? ',' : '\n';
+            }
+        if (!error && write_all(fd, text, used))
+            error = errno;
+        Py_END_ALLOW_THREADS
+        if (error) {
+            errno = error;
+            PyErr_SetFromErrno(PyExc_OSError);
+            failed = 1;
+        }
+    }
+    for (Py_ssize_t k = 0; k < held; k++)
+        if (b[k].obj)
+            PyBuffer_Release(&b[k]);
+    PyMem_Free(b);
+    PyMem_Free(text);
+    Py_DECREF(items);
+    if (failed)
+        return NULL;
+    Py_RETURN_NONE;
+}
+
+/* format_17g(x): one number as csv_write writes it (for the tests) */
 static PyObject *format_number(PyObject *self, PyObject *args)
 {
     double x;
@@ -1457,8 +1520,8 @@ static PyObject *kernel(PyObject *self, PyObject *args)
 }
 
 static PyMethodDef module_methods[] = {
-    {"csv_rows", csv_rows, METH_VARARGS,
-     "csv_rows(values): rows of a (n, m) float64 array as CSV text (bytes), as %.17g."},
+    {"csv_write", csv_write, METH_VARARGS,
+     "csv_write(fd, columns): equally long float64 columns as CSV rows on fd, as %.17g."},
     {"format_17g", format_number, METH_VARARGS, "format_17g(x): x as %.17g writes it."},
     {"kernel", kernel, METH_VARARGS,
      "kernel(type, name, c, p, v, g, out): one generated element kernel."},

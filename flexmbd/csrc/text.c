@@ -34,8 +34,15 @@ static int have_powers;
 
 int format_17g(double x, char *out)
 {
+    if (x == 0.0) {                                   /* "0" or "-0", as printf */
+        const int negative = signbit(x) != 0;
+        memcpy(out, "-0", 3);
+        if (!negative)
+            memmove(out, out + 1, 2);
+        return 1 + negative;
+    }
 #if LDBL_MANT_DIG >= 64
-    if (!isfinite(x) || x == 0.0)
+    if (!isfinite(x))
         return printf_17g(x, out);
     if (!have_powers) {
         for (int k = LOWEST; k <= HIGHEST; k++)

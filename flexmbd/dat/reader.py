@@ -56,6 +56,7 @@ from ..elements.base import (
     SPATIAL_TRANSLATIONAL,
     is_translational,
 )
+from ..engine import output_bytes
 from ..errors import ArgumentError, InputFileError, ModelError
 from ..model import CoordinateClass, DeformationClass, Model
 from ..motion import Polynomial
@@ -231,8 +232,8 @@ class _Reader:
                 checks.integrator_tolerances(self.settings["rtol"], self.settings["atol"],
                                              length)
             if "TIMESTEP" in given:
-                checks.output_memory(self.settings["steps"] + 1, model.n_coordinates +
-                                     model.n_deformations + model.n_dof, "steps")
+                checks.output_memory(self.settings["steps"] + 1, output_bytes(model),
+                                     "steps")
         except ArgumentError as error:
             keyword = {"max_iterations": "ITERSTEP", "tolerance": "ITERSTEP", "rtol": "ERROR",
                        "atol": "ERROR", "steps": "TIMESTEP"}[error.argument]
