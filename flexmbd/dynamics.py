@@ -32,7 +32,7 @@ from .free_rotations import (
     repartitioned,
     watched_positions,
 )
-from .integrate import AlphaOptions, StepsCollapsedError, check_method, integrate
+from .integrate import EXPLICIT, AlphaOptions, StepsCollapsedError, check_method, integrate
 from .kinematics import coordinates, first_order_transfer
 from .model import Model
 from .motion import Law
@@ -98,9 +98,8 @@ def initial_state(model: Model, initial: Mapping[str, tuple[float, float]] | Non
     return q0[d], qd0[d]
 
 
-#: scipy's explicit methods, and the steps per output beyond which a failure of theirs is
-#: reported as the likely result of stiffness
-EXPLICIT = ("RK45", "RK23", "DOP853")
+#: the steps per output beyond which a failure of an explicit method is reported as the
+#: likely result of stiffness
 STIFF_STEPS = 10
 
 #: the columns of :func:`simulate`'s ``outputs`` settings

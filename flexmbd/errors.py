@@ -60,9 +60,9 @@ class SimulationError(FlexmbdError, RuntimeError):
 
 
 class StiffnessError(SimulationError):
-    """An explicit integrator (RK45, RK23, DOP853) is held to tiny steps by a fast mode
-    that the outputs cannot show: the model is stiff for it; the message names the mode
-    and the method that fits (generalized-alpha)."""
+    """An integrator of SciPy's is held to tiny steps by a fast mode that the outputs
+    cannot show: the model is stiff for it; the message names the mode and the method
+    that fits (generalized-alpha)."""
 
 
 class ConvergenceError(SimulationError):

@@ -170,9 +170,11 @@ class _Crawl:
                 f"{CRAWL_STEPS} steps together covered {sum(self.steps):.2g} s (the last "
                 f"{solver.step_size:.2g} s); the motion is not smooth enough there for its "
                 f"tolerance (near a singular configuration round-off grows); loosen rtol, "
-                f"or use {_OTHERS[method in ('RK23', 'RK45', 'DOP853')]}", float(solver.t))
+                f"or use {_OTHERS[method in EXPLICIT]}", float(solver.t))
 
 
+#: scipy's explicit methods; the others (Radau, BDF, LSODA) solve for their steps
+EXPLICIT = ("RK45", "RK23", "DOP853")
 #: what else to try where a method cannot get past a point: for an explicit one (True),
 #: an implicit one
 _OTHERS = {True: "method='GeneralizedAlpha'",
@@ -182,10 +184,13 @@ _OTHERS = {True: "method='GeneralizedAlpha'",
 CRAWL_STEPS, CRAWL_SHARE = 200, 1e-7
 
 
-#: a step longer than this share of the fastest mode's ``1/rho`` is set by that mode
-#: (resolving it to a tolerance of 1e-6 takes steps of about 0.3 / rho; an explicit
-#: method's stability allows up to 1.7 / rho for RK23, 3.3 for RK45, 6 for DOP853)
+#: an explicit step longer than this share of the fastest mode's ``1/rho`` is set by that
+#: mode (resolving it to a tolerance of 1e-6 takes steps of about 0.3 / rho; stability
+#: allows up to 1.7 / rho for RK23, 3.3 for RK45, 6 for DOP853)
 HELD_BY_FASTEST = 0.3
+#: an implicit step shorter than this many ``1/rho`` (half a period) does not step over
+#: the fastest mode, as an implicit method is meant to
+STEPS_OVER = 3.0
 #: outputs this many periods of the fastest mode apart cannot show it: a mode the
 #: outputs cannot show, which sets the steps, makes the problem stiff for the method
 UNSEEN_PERIODS = 10.0
@@ -195,13 +200,15 @@ STIFF_LOOK, STIFF_PROJECTED = 2.0, 30.0
 
 
 class _Stiffness:
-    """Stops an explicit method that crawls because the problem is stiff. Every
+    """Stops a run that crawls because the problem is stiff for its method. Every
     :data:`STIFF_LOOK` seconds, when the run at its pace so far would take longer than
     :data:`STIFF_PROJECTED` seconds, the fastest mode's rate ``rho`` (the spectral radius
     of ``df/dy``, by power iteration on finite differences of ``fun``) is compared with
-    the step and the outputs: a mode that sets the step (``h rho`` at least
-    :data:`HELD_BY_FASTEST`) but that the outputs, :data:`UNSEEN_PERIODS` of its periods
-    apart, cannot show is what an implicit method steps over."""
+    the step and the outputs. A mode that the outputs, :data:`UNSEEN_PERIODS` of its
+    periods apart, cannot show, and that sets the steps of an explicit method (``h rho``
+    at least :data:`HELD_BY_FASTEST`) or that an implicit one does not step over (``h
+    rho`` below :data:`STEPS_OVER`: its finite-difference Jacobian of the accelerations
+    does not follow that mode), is what generalized-alpha steps over."""
 
     def __init__(self, fun, t_eval: np.ndarray, method: str, clock=time.monotonic):
         self.fun, self.method, self.clock = fun, method, clock
@@ -220,17 +227,23 @@ class _Stiffness:
         if projected < STIFF_PROJECTED:
             return
         rho = spectral_radius(self.fun, solver.t, solver.y)
-        if rho is None or solver.step_size * rho < HELD_BY_FASTEST or \
-                self.interval * rho < 2 * np.pi * UNSEEN_PERIODS:
+        if rho is None or self.interval * rho < 2 * np.pi * UNSEEN_PERIODS:
             return
+        reach = solver.step_size * rho
+        explicit = self.method in EXPLICIT
+        if (reach < HELD_BY_FASTEST) if explicit else (reach >= STEPS_OVER):
+            return
+        why = ("holds its steps to" if explicit else
+               "is not stepped over (its finite-difference Jacobian of the accelerations "
+               "does not follow that mode): its steps are")
         raise StiffnessError(
             f"the model is stiff for {self.method}: a mode of {rho:.3g} rad/s (a period of "
             f"{2 * np.pi / rho:.2g} s, far below the output interval {self.interval:.2g} s) "
-            f"holds its steps to {solver.step_size:.2g} s, so the run would take about "
+            f"{why} {solver.step_size:.2g} s, so the run would take about "
             f"{_duration(projected)} (t = {solver.t:.6g} s of {self.t_end:.6g} s after "
-            f"{now - self.start:.0f} s); use an implicit method: method='GeneralizedAlpha' "
-            f"(flexmbd run --method GeneralizedAlpha), which steps over the fast mode at "
-            f"steps of the output interval", float(solver.t))
+            f"{now - self.start:.0f} s); use method='GeneralizedAlpha' (flexmbd run "
+            f"--method GeneralizedAlpha), which steps over the fast mode at steps of the "
+            f"output interval", float(solver.t))
 
 
 def _duration(seconds: float) -> str:
@@ -297,8 +310,7 @@ def _integrate_scipy(fun, y0, t_eval, method, rtol, atol, max_step, progress, on
     bar = nullcontext(progress) if callable(progress) else \
         progress_bar(t_eval, f"simulating ({method})", progress)
     crawl = _Crawl(t_eval[-1] - t_eval[0])
-    stiffness = _Stiffness(fun, t_eval, method) if method in ("RK23", "RK45", "DOP853") \
-        else None
+    stiffness = _Stiffness(fun, t_eval, method)
     with bar as advance:
         while solver.status == "running":
             try:
@@ -309,8 +321,7 @@ def _integrate_scipy(fun, y0, t_eval, method, rtol, atol, max_step, progress, on
                                f"{step_message}")
                     break
                 crawl.check(solver, method)
-                if stiffness is not None:
-                    stiffness.check(solver)
+                stiffness.check(solver)
                 k = _outputs(solver, t_eval, k, ys, on_output)
                 if advance is not None:
                     advance(solver.t)

@@ -280,6 +280,13 @@ def test_a_stiff_model_under_an_explicit_method_is_named_stiff_at_once(monkeypat
     # the model as the course gives it: its fastest mode, 2e3 rad/s, is seen by outputs
     # 1e-4 s apart, so RK45 runs on however closely its pace is watched
     assert fm.simulate(_flex_with({}), np.linspace(0.0, 0.01, 101)).success
+    # BDF crawls too (steps of 1e-8 s, 8 % in 90 s): its finite-difference Jacobian does
+    # not follow the stiff mode, so it does not step over it
+    result = fm.simulate(model, np.linspace(0.0, 0.01, 101), method="BDF",
+                         on_failure="return")
+    assert isinstance(result.error, fm.StiffnessError)
+    assert "the model is stiff for BDF" in result.message and "is not stepped over" in \
+        result.message
 
 
 def test_flexmbd_run_switches_a_stiff_file_to_generalized_alpha_unless_told(
