@@ -1,4 +1,4 @@
-"""Build of the compiled core, ``flexmbd._core`` (C, no dependencies beyond a compiler and
+"""Build of the compiled core, ``flexmbd.engine._core`` (C, no dependencies beyond a compiler and
 the Python headers). Everything else is in pyproject.toml."""
 
 import sysconfig
@@ -6,8 +6,8 @@ import sysconfig
 from setuptools import Extension, setup
 from setuptools.command.build_ext import build_ext
 
-SOURCES = ["flexmbd/csrc/module.c", "flexmbd/csrc/system.c", "flexmbd/csrc/alpha.c",
-           "flexmbd/csrc/band.c", "flexmbd/csrc/text.c", "flexmbd/csrc/kernels.c"]
+SOURCES = ["flexmbd/engine/csrc/module.c", "flexmbd/engine/csrc/system.c", "flexmbd/engine/csrc/alpha.c",
+           "flexmbd/engine/csrc/band.c", "flexmbd/engine/csrc/text.c", "flexmbd/engine/csrc/kernels.c"]
 FLAGS = ["-O3", "-std=c99", "-fno-math-errno"]
 
 
@@ -35,13 +35,13 @@ class BuildCore(build_ext):
         except Exception as error:
             include = sysconfig.get_paths()["include"]
             raise SystemExit(
-                f"flexmbd: cannot compile its core (flexmbd._core): {error}\n"
+                f"flexmbd: cannot compile its core (flexmbd.engine._core): {error}\n"
                 f"flexmbd needs a C compiler ({compiler}) and the Python headers "
                 f"(Python.h in {include}); on Debian or Ubuntu: apt install gcc python3-dev"
             ) from None
 
 
-setup(ext_modules=[Extension("flexmbd._core", SOURCES, extra_compile_args=FLAGS,
-                             depends=["flexmbd/csrc/core.h", "flexmbd/csrc/alpha.h",
-                                      "flexmbd/csrc/text.h"])],
+setup(ext_modules=[Extension("flexmbd.engine._core", SOURCES, extra_compile_args=FLAGS,
+                             depends=["flexmbd/engine/csrc/core.h", "flexmbd/engine/csrc/alpha.h",
+                                      "flexmbd/engine/csrc/text.h"])],
       cmdclass={"build_ext": BuildCore})

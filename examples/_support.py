@@ -8,7 +8,7 @@ import sys
 from dataclasses import dataclass
 
 from flexmbd.errors import FlexmbdError
-from flexmbd.outputs import check_display, check_output
+from flexmbd.io.outputs import check_display, check_output
 
 
 @dataclass(frozen=True)

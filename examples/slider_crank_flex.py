@@ -54,8 +54,8 @@ from flexmbd.examples._support import (
 
 import flexmbd as fm
 from flexmbd import plot, results
+from flexmbd.analysis.integrate import METHODS
 from flexmbd.checks import LARGEST_RTOL, SMALLEST_RTOL
-from flexmbd.integrate import METHODS
 
 L1 = 0.15  #: crank length [m]
 L2 = 0.30  #: rod length [m]

@@ -140,7 +140,7 @@ def print_partitions(model: fm.Model, x: np.ndarray) -> None:
 
 def print_symbolic(model: fm.Model) -> None:
     """The deformation functions and ``F_q`` as simplified SymPy expressions."""
-    from flexmbd import symbolic
+    from flexmbd.analysis import symbolic
 
     print("\nsymbolic deformation functions e = D(x):")
     for label, expr in zip(model.deformation_labels, symbolic.deformations(model), strict=True):

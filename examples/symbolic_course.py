@@ -2,7 +2,7 @@
 
 The course derived its formulas with a symbolic toolbox and generated numeric
 functions for its simulations. Each step here comes from the same element
-definitions as the compiled engine (:mod:`flexmbd.symbolic`) and is checked
+definitions as the compiled engine (:mod:`flexmbd.analysis.symbolic`) and is checked
 against it:
 
 1. the sliding bar's ``ydot_q`` from the truss's ``F_q``;
@@ -40,7 +40,7 @@ from flexmbd import plot
 
 
 def _sympy():
-    from flexmbd.symbolic import _sympy as load
+    from flexmbd.analysis.symbolic import _sympy as load
 
     return load()
 
@@ -48,7 +48,7 @@ def _sympy():
 def sliding_bar_velocity():
     """``ydot_q`` of the sliding truss in the symbols ``x_p, y_q, xdot_p``: ``-x_p xdot_p /
     y_q`` (end p on the x axis, q on the y axis)."""
-    from flexmbd import symbolic
+    from flexmbd.analysis import symbolic
 
     sp = _sympy()
     model = sliding_bar.truss_model()
@@ -73,7 +73,7 @@ def slider_crank_path(model: fm.Model, phi2):
 def slider_transfer(model: fm.Model | None = None):
     """``(phi2, F_q, F_qq)``: the first and second-order transfer functions of the slider
     ``x5.1`` along ``phi2`` on the closed-form path, simplified."""
-    from flexmbd import symbolic
+    from flexmbd.analysis import symbolic
 
     sp = _sympy()
     model = model or slider_crank_dynamics.build_model()
@@ -89,7 +89,7 @@ def slider_transfer(model: fm.Model | None = None):
 def mass_difference():
     """``Mbar`` lumped minus consistent for rod mass ``m2`` and slider mass ``m5``
     (symbols), simplified: exactly 0 for a rigid rod (THEORY 5)."""
-    from flexmbd import symbolic
+    from flexmbd.analysis import symbolic
 
     sp = _sympy()
     m2, m5, phi2 = sp.symbols("m2 m5 phi2", positive=True)
@@ -114,7 +114,7 @@ def driving_torque():
     modulo ``s^2 + c^2 = 1`` and ``r^2 = l2^2 - l1^2 s^2``, which keeps SymPy fast where
     ``simplify`` of the ``asin`` form takes minutes.
     """
-    from flexmbd import symbolic
+    from flexmbd.analysis import symbolic
 
     sp = _sympy()
     model = slider_crank_dynamics.build_model()
@@ -157,7 +157,7 @@ def _at(expr, values: dict[str, float]) -> float:
 def flexible_generated(revolutions: float = 0.25, points: int = 41):
     """``(crank angle, v/l2 generated, v/l2 engine, engine result)`` of EXERCISES 4 part 1
     (one beam) at ``points`` times over ``revolutions``."""
-    from flexmbd.generated import GeneratedEquations
+    from flexmbd.analysis.generated import GeneratedEquations
 
     model = slider_crank_flex.build_model(1)
     times = np.linspace(0.0, slider_crank_flex.turn_time(revolutions), points)

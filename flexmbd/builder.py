@@ -18,7 +18,6 @@ from typing import Literal
 import numpy as np
 
 from . import checks
-from .diagnosis import diagnose_rank, negative_mass_problem
 from .elements import (
     ELEMENT_TYPES,
     SPATIAL_ROTATIONAL,
@@ -36,7 +35,8 @@ from .elements import (
     Truss,
 )
 from .elements.base import is_translational
-from .engine import dense_jacobian
+from .engine import deformations_and_jacobian, workspace_of
+from .engine.diagnosis import diagnose_rank, negative_mass_problem
 from .errors import ArgumentError, ModelError, Problem
 from .model import (
     DIRECTION_NAMES,
@@ -456,7 +456,8 @@ class ModelBuilder:
         problems += check_solvability(model)
         if problems:
             raise ModelError(problems)
-        negative = negative_mass_problem(model)
+        negative = negative_mass_problem(workspace_of(model)) if any(
+            mass < 0 for mass in model.nodal_masses.values()) else None
         if negative:
             raise ModelError([Problem(negative[0], *(("nodal mass", n) for n in negative[1]))])
         return model
@@ -819,7 +820,7 @@ def check_solvability(model: Model) -> list[Problem]:
     if rows == cols == 0:
         return []
     if rows and cols:
-        D_x = dense_jacobian(model, np.asarray(model.x0))
+        D_x = deformations_and_jacobian(model, np.asarray(model.x0))[1]
         text, free, redundant = diagnose_rank(model, D_x[np.ix_(model.constrained,
                                                                 model.dependent)])
     elif rows:

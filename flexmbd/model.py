@@ -251,6 +251,22 @@ class Model:
                      if not given)
 
     @property
+    def free_rotations(self) -> list[tuple[int, ...]]:
+        """The coordinate indices ``(lam0, ..., lam3)`` of every rotational node whose Euler
+        parameters are three dynamic and one dependent (a free body, a spherical joint),
+        in node order: their calculable parameter is chosen again while they turn
+        (:mod:`flexmbd.analysis.free_rotations`)."""
+        found = []
+        for node in sorted(self.nodes.values(), key=lambda n: n.number):
+            if node.kind != SPATIAL_ROTATIONAL:
+                continue
+            classes = list(self.coordinate_class[list(node.coordinates)])
+            if classes.count(CoordinateClass.DYNAMIC) == 3 and \
+                    classes.count(CoordinateClass.DEPENDENT) == 1:
+                found.append(tuple(node.coordinates))
+        return found
+
+    @property
     def is_spatial(self) -> bool:
         """Whether the model is spatial (its nodes have ``x, y, z`` and Euler parameters)."""
         return any(node.kind in SPATIAL_KINDS for node in self.nodes.values())

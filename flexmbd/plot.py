@@ -1,19 +1,25 @@
 """Figures and animations of results (matplotlib, imported only when used).
 
-Figures are created without pyplot, so saving never opens a window; pass
-``show=True`` to the functions that offer it for an interactive window.
+Plotting receives results and models and draws them; it imports no analysis and no
+result class (a result's ``plot`` method forwards here). Figures are created without
+pyplot, so saving never opens a window; pass ``show=True`` to the functions that offer
+it for an interactive window.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .elements.base import SPATIAL_ROTATIONAL, is_translational
+from .engine import workspace_of
 from .errors import OptionalDependencyError, OutputError
 from .model import CoordinateClass, Model
-from .results import KinematicResult
+
+if TYPE_CHECKING:
+    from .results import KinematicResult
 
 #: arrows are scaled so that the longest one over the run is this share of the model size
 ARROW_SHARE = 0.3
@@ -40,9 +46,7 @@ def element_polylines(model: Model, x: np.ndarray, exaggeration: float = 1.0,
     [m]; ``e`` are the deformations at ``x`` when known."""
     x = np.asarray(x, dtype=float)
     if e is None:
-        from .kinematics import deformations
-
-        e = deformations(model, x)
+        e = workspace_of(model).assembly.deformations(x)
     lines = []
     for element in model.elements.values():
         xe = x[list(element.coordinates)][None]

@@ -239,14 +239,13 @@ class SimulationResult(KinematicResult):
 def write_csv(path: str | Path, columns: dict[str, np.ndarray]) -> Path:
     """Write equally long columns ``{name: values}`` as CSV with a header row; every number
     as ``"%.17g"`` writes it, which reads back to the same double. Returns the path."""
-    from . import _core
+    from .engine import write_rows
 
     def write(p: Path) -> None:
         with open(p, "wb") as file:
             file.write((",".join(columns) + "\n").encode())
             file.flush()  # the core writes the rows to the file itself, after the header
-            _core.csv_write(file.fileno(), [np.asarray(v, dtype=float).reshape(-1)
-                                            for v in columns.values()])
+            write_rows(file.fileno(), list(columns.values()))
     return _writing(path, write)
 
 

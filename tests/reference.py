@@ -23,6 +23,8 @@ import numpy as np
 import flexmbd as fm
 from flexmbd.engine import Engine, compile_model
 
+from .elementwise import deformations_and_jacobian
+
 
 def elastic_law(model: fm.Model) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``S``, ``C`` ``(ne, ne)`` and ``sigma0`` ``(ne,)`` of the dynamic and released
@@ -62,7 +64,7 @@ def terms(model: fm.Model, q: np.ndarray, qd: np.ndarray, x_guess=None, forces=N
           t: float = 0.0) -> Terms:
     """Solve the positions at ``q`` and evaluate the reduced equations there."""
     x = fm.solve_position(model, q, x_guess)
-    e, D_x = fm.engine.deformations_and_jacobian(model, x)
+    e, D_x = deformations_and_jacobian(model, x)
     rows, dep = model.constrained, model.dependent
     D_c = D_x[np.ix_(rows, dep)]
     nq, nxm = model.n_dof, len(model.independent_coordinates)

@@ -9,7 +9,7 @@ from flexmbd.examples import slider_crank_dynamics, slider_crank_flex
 
 import flexmbd as fm
 from flexmbd.cli import main as cli
-from flexmbd.dat import dat_from_text, dat_text
+from flexmbd.io.dat import dat_from_text, dat_text
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 DAT_FILES = sorted(EXAMPLES.glob("*.dat"))
@@ -311,9 +311,9 @@ def test_sliding_bar_file_runs_kinematics_by_default(tmp_path):
 
 
 def test_a_missing_hdf5_writer_is_reported_before_the_run(tmp_path, capsys, monkeypatch):
-    import flexmbd.outputs
+    import flexmbd.io.outputs
 
-    monkeypatch.setattr(flexmbd.outputs, "find_spec", lambda name: None)
+    monkeypatch.setattr(flexmbd.io.outputs, "find_spec", lambda name: None)
     assert cli(["run", str(EXAMPLES / "sliding_bar.dat"), "--out", str(tmp_path / "r.h5")]) == 1
     captured = capsys.readouterr()
     assert "needs h5py" in captured.err and "analysis" not in captured.out

@@ -9,8 +9,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import flexmbd as fm
-from flexmbd.dat import dat_from_text, dat_text
-from flexmbd.dat.syntax import DYNAMICS, KINEMATICS, UNSUPPORTED
+from flexmbd.io.dat import dat_from_text, dat_text
+from flexmbd.io.dat.syntax import DYNAMICS, KINEMATICS, UNSUPPORTED
 from tests.test_dat import DAT_FILES, EVERYTHING
 from tests.test_dat_spatial import SPATIAL_EVERYTHING
 

@@ -7,7 +7,7 @@ import pytest
 
 import flexmbd as fm
 from flexmbd.cli import main as cli
-from flexmbd.dat import dat_from_text, dat_text
+from flexmbd.io.dat import dat_from_text, dat_text
 from tests.test_dat import state
 
 #: a spatial file that uses every spatial keyword: a driven hinge turning a flexible arm,

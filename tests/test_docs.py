@@ -20,7 +20,7 @@ from urllib.parse import unquote, urlsplit
 import pytest
 
 import flexmbd as fm
-from flexmbd.dat import syntax
+from flexmbd.io.dat import syntax
 
 ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"

@@ -1,6 +1,6 @@
 """The compiled element kernels against the one definition of each element type.
 
-Every kernel is generated from :meth:`ElementType.deformations` (flexmbd.codegen);
+Every kernel is generated from :meth:`ElementType.deformations` (flexmbd.engine.codegen);
 here it is evaluated through the core and compared with the definition evaluated
 with numpy and differentiated by central differences at random configurations,
 and with SymPy's differentiation of the same definition. The generated file must
@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from flexmbd import _core, codegen
 from flexmbd.elements import ELEMENT_TYPES, Beam, RigidBeam
 from flexmbd.elements.base import COORDINATES_PER_NODE, ROTATIONAL, SPATIAL_ROTATIONAL
+from flexmbd.engine import _core, codegen
 
 TYPES = list(ELEMENT_TYPES.values())
 NUMBER = {cls: k for k, cls in enumerate(TYPES)}
@@ -69,7 +69,7 @@ def central(f, c, h=1e-6):
 def test_the_generated_kernels_are_those_of_the_current_definitions():
     """The hash of the element definitions the kernels were generated from, compiled into
     the core, equals the hash of the definitions now: edit an element and this fails
-    until `python -m flexmbd.codegen` is run and the core rebuilt."""
+    until `python -m flexmbd.engine.codegen` is run and the core rebuilt."""
     assert codegen.definitions_hash() == _core.DEFINITIONS_HASH
     assert codegen.KERNELS.read_text().count(codegen.definitions_hash()) == 2
     assert tuple(ELEMENT_TYPES) == _core.KEYWORDS

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import flexmbd as fm
-from flexmbd.integrate import AlphaOptions
+from flexmbd.analysis.integrate import AlphaOptions
 
 OMEGA = 2 * math.pi  # rad/s: a period of 1 s
 

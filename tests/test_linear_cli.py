@@ -10,7 +10,7 @@ import pytest
 
 import flexmbd as fm
 from flexmbd.cli import main
-from flexmbd.dat.writer import dat_text
+from flexmbd.io.dat.writer import dat_text
 
 #: a cantilever column of two second-order beams: EI = 2, L = 1, axial tip load 1 N plus
 #: a transverse increment of 0.5 N over 4 load steps

@@ -11,11 +11,11 @@ from scipy.optimize import brentq
 
 import flexmbd as fm
 from examples.slider_crank_flex import build_model
+from flexmbd.analysis.linearization import equilibrium_state, linearize
+from flexmbd.analysis.modes import buckling, compliance, modes_along, vibration_modes
+from flexmbd.analysis.statespace import state_space
+from flexmbd.analysis.statics import static_equilibrium
 from flexmbd.engine import Engine
-from flexmbd.linearization import equilibrium_state, linearize
-from flexmbd.modes import buckling, compliance, modes_along, vibration_modes
-from flexmbd.statespace import state_space
-from flexmbd.statics import static_equilibrium
 
 L, EI, RHO_A = 1.0, 2.0, 0.5
 #: (beta_n L) of the first three bending modes of a clamped-free beam
@@ -126,7 +126,7 @@ def test_a_singular_stiffness_that_factors_by_rounding_is_not_taken_as_regular()
     reduced path would give a rigid mode of omega^2 ~ 1e-16 and swamp the other
     eigenvalues, so it must take the general one. Every number is exact in binary, so
     every BLAS kernel factors it alike."""
-    from flexmbd.modes import _cholesky, _well_posed
+    from flexmbd.analysis.modes import _cholesky, _well_posed
 
     v = np.array([1.0, 0.5, 0.75])
     K = np.outer(v, v) + np.diag([0.0, 0.0, 2.0])
@@ -397,7 +397,7 @@ def assembled_equals_element_by_element(model: fm.Model, rng):
     """Engine.assembly against the per-element kernels at a random configuration near
     ``x0``: ``e``, ``D_x``, ``D_x A`` and the stress-weighted Hessian times ``A``; returns the
     assembly for checks of the elastic law."""
-    from flexmbd.engine import deformations_and_jacobian, dense_hessian
+    from .elementwise import deformations_and_jacobian, dense_hessian, quadratic_velocity
 
     x = model.x0 + 0.1 * rng.standard_normal(model.n_coordinates)
     sigma = rng.standard_normal(model.n_deformations)
@@ -408,9 +408,16 @@ def assembled_equals_element_by_element(model: fm.Model, rng):
     assert np.array_equal(assembly.deformations(x), e_each)
     A = rng.standard_normal((model.n_coordinates, 4))
     assert np.allclose(assembly.jacobian_times(x, A), D_x_each @ A, rtol=1e-14, atol=1e-14)
-    H = np.einsum("i,ijk->jk", sigma, dense_hessian(model, x))
+    H_each = dense_hessian(model, x)
+    assert np.array_equal(assembly.hessian(x), H_each)
+    H = np.einsum("i,ijk->jk", sigma, H_each)
     assert np.allclose(assembly.stress_hessian_times(x, sigma, A), H @ A, rtol=1e-13,
                        atol=1e-13)
+    # the quadratic velocity terms from the Hessians against the jets' own kernels
+    xd = rng.standard_normal(model.n_coordinates)
+    jets = quadratic_velocity(model, x, xd)
+    assert np.allclose(assembly.quadratic_velocity(x, xd), jets, rtol=1e-12,
+                       atol=1e-12 * np.abs(jets).max())
     return assembly
 
 
@@ -478,7 +485,7 @@ def test_the_assembled_arrays_equal_the_element_by_element_ones_in_space():
 
 
 def test_the_layers_of_a_scatter_hold_each_index_once():
-    from flexmbd.assembly import _layers
+    from flexmbd.engine.assembly import _layers
 
     indices = np.random.default_rng(2).integers(0, 7, size=40)
     layers = _layers(indices)

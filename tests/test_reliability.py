@@ -9,11 +9,12 @@ import numpy as np
 import pytest
 
 import flexmbd as fm
-from flexmbd import checks, outputs, progress
+from flexmbd import checks, progress
+from flexmbd.analysis.linearization import linearize
+from flexmbd.analysis.modes import vibration_modes
 from flexmbd.cli import main as cli
-from flexmbd.dat import dat_from_text
-from flexmbd.linearization import linearize
-from flexmbd.modes import vibration_modes
+from flexmbd.io import outputs
+from flexmbd.io.dat import dat_from_text
 
 from .models import andrews_squeezer, squeezer_angles
 
@@ -247,7 +248,7 @@ STIFF_ROD = {ROD_STIFFNESS: "ESTIFF 2 5654866.776461628 1.272e9"}
 def test_the_spectral_radius_of_an_oscillator_is_its_highest_frequency():
     """Two masses on springs, y = [u; v], u'' = -K u: the power iteration on finite
     differences gives the highest omega of eig(K) to 1e-6."""
-    from flexmbd.integrate import spectral_radius
+    from flexmbd.analysis.integrate import spectral_radius
 
     K = np.array([[2e6, -1e6], [-1e6, 1e6]])
 
@@ -265,7 +266,7 @@ def test_a_stiff_model_under_an_explicit_method_is_named_stiff_at_once(monkeypat
     is projected to take 30 s) it stops at its first step, says the model is stiff and
     which method fits, and keeps what it computed. The mode it names is the rod's
     highest vibration frequency at the start, computed from K and M."""
-    from flexmbd import integrate
+    from flexmbd.analysis import integrate
 
     monkeypatch.setattr(integrate, "STIFF_LOOK", 0.0)
     monkeypatch.setattr(integrate, "STIFF_PROJECTED", 0.0)
@@ -291,7 +292,7 @@ def test_a_stiff_model_under_an_explicit_method_is_named_stiff_at_once(monkeypat
 
 def test_flexmbd_run_switches_a_stiff_file_to_generalized_alpha_unless_told(
         tmp_path, monkeypatch, capsys):
-    from flexmbd import integrate
+    from flexmbd.analysis import integrate
 
     monkeypatch.setattr(integrate, "STIFF_LOOK", 0.0)
     monkeypatch.setattr(integrate, "STIFF_PROJECTED", 0.0)

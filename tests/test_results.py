@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import flexmbd as fm
-from flexmbd import _core
+from flexmbd.engine import _core
 from flexmbd.errors import OutputError
 from flexmbd.results import write_csv
 

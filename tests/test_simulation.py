@@ -6,11 +6,12 @@ import numpy as np
 import pytest
 
 import flexmbd as fm
-from flexmbd import engine
-from flexmbd.diagnosis import weakest_direction
 from flexmbd.engine import Engine, resolve_laws
+from flexmbd.engine import workspace as engine
+from flexmbd.engine.diagnosis import weakest_direction
 
 from . import reference
+from .elementwise import dense_jacobian
 
 GRAVITY = np.array([0.0, -9.81])
 LENGTH, MASS, TIP, EI = 1.0, 1.0, 0.5, 5.0
@@ -197,7 +198,7 @@ def test_a_long_chain_is_regular_though_less_well_conditioned():
     run = fm.simulate(model, np.linspace(0.0, 5e-4, 3), method="GeneralizedAlpha",
                       step=2.5e-4, iterations=1, outputs="positions")
     assert run.success and len(run.t) == 3
-    D_x = engine.dense_jacobian(model, np.asarray(model.x0))
+    D_x = dense_jacobian(model, np.asarray(model.x0))
     D_c = D_x[np.ix_(model.constrained, model.dependent)]
     words = weakest_direction(model, D_c)
     assert " more" in words and words.count("(beam") <= 8

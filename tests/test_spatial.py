@@ -281,7 +281,7 @@ def test_state_space_of_a_spatial_model_in_moments_and_rotations():
 def test_symbolic_transfer_functions_refuse_spatial_models_at_once():
     """Closed-form transfer functions of a spatial model would take SymPy hours: refused
     with the numeric function to use; its deformation functions stay symbolic."""
-    from flexmbd import symbolic
+    from flexmbd.analysis import symbolic
 
     model = slider_crank()
     for name in ("first_order_transfer", "second_order_transfer", "deformation_transfer"):

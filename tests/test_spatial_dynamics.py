@@ -2,7 +2,7 @@
 section 8): the torque-free body's invariants and its instability about the intermediate
 axis, the heavy top's steady precession, the spherical pendulum's period, conical motion
 and energy through half turns, and the energy of flexible spatial beams. Free rotations
-re-choose their calculable Euler parameter on the way (``flexmbd.free_rotations``);
+re-choose their calculable Euler parameter on the way (``flexmbd.analysis.free_rotations``);
 the orientation readings are checked against scipy's rotations.
 """
 

@@ -8,7 +8,7 @@ import pytest
 
 import flexmbd as fm
 from flexmbd.cli import main as cli
-from flexmbd.dat import dat_text
+from flexmbd.io.dat import dat_text
 
 K, C, PRELOAD, MASS = 400.0, 1.5, 2.0, 0.25  # N/m, N s/m, N, kg
 U0 = 0.01  # initial stretch [m]

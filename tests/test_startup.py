@@ -45,8 +45,8 @@ def test_a_command_imports_its_own_module_only():
             "    main(['example', '--list'])\n"
             "print(' '.join(sorted(m for m in sys.modules if m.startswith('flexmbd'))))")
     modules = _python(code).split()
-    for other in ("flexmbd.run_file", "flexmbd.linear_cli", "flexmbd.course_cli",
-                  "flexmbd.studies.sweep", "flexmbd.studies.cli", "flexmbd.engine"):
+    for other in ("flexmbd.cli.run", "flexmbd.cli.linear", "flexmbd.cli.course",
+                  "flexmbd.studies.sweep", "flexmbd.cli.sweep", "flexmbd.engine"):
         assert other not in modules
 
 

@@ -20,7 +20,8 @@ from flexmbd.examples import EXAMPLES_DIR
 from flexmbd.examples import slider_crank_flex as flex
 
 import flexmbd as fm
-from flexmbd.dat.parameters import DatTemplate
+from flexmbd.io.dat import dat_from_text
+from flexmbd.io.dat.parameters import DatTemplate
 from flexmbd.studies import cases, parse_values
 from flexmbd.studies.case import Study
 
@@ -95,7 +96,7 @@ def test_dat_names_pick_the_value_and_vary_it():
     # independently: the same change made by hand in the text, read as a file
     by_hand = FLEX_DAT.read_text().replace("12.72   # EA", "20.5   # EA").replace(
         "INPUTX   2 1  0.0 150.0", "INPUTX   2 1  0.0 120.0")
-    model, settings = fm.dat.dat_from_text(by_hand, FLEX_DAT)
+    model, settings = dat_from_text(by_hand, FLEX_DAT)
     varied, varied_settings = template(**{"ESTIFF:2:2": 20.5, "INPUTX:2:3": 120.0})
     times = settings.output_times()[:60]
     a, b = fm.simulate(model, times), fm.simulate(varied, times)
@@ -161,8 +162,8 @@ def test_a_run_that_stops_early_keeps_its_rows(tmp_path):
 def test_named_modes_analysis_against_the_file_edited_by_hand():
     """The stage's mass (XM) of the leaf-spring guide lowers its first frequency; each case
     equals the modes of the file with that line changed by hand."""
-    from flexmbd.modes import vibration_modes
-    from flexmbd.statics import file_equilibrium
+    from flexmbd.analysis.modes import vibration_modes
+    from flexmbd.analysis.statics import file_equilibrium
 
     template = DatTemplate.read(GUIDE_DAT)
     line = template.locate("ESTIFF:1:2").line
@@ -171,7 +172,7 @@ def test_named_modes_analysis_against_the_file_edited_by_hand():
     for k, ei in enumerate((0.04375, 0.02)):
         lines = GUIDE_DAT.read_text().splitlines()
         lines[line - 1] = f"ESTIFF 1 2100000.0 {ei}"
-        model, settings = fm.dat.dat_from_text("\n".join(lines), GUIDE_DAT)
+        model, settings = dat_from_text("\n".join(lines), GUIDE_DAT)
         modes = vibration_modes(file_equilibrium(model, settings).linearization(), 2)
         assert data["f1"][k] == pytest.approx(modes.frequencies[0], rel=1e-12)
         assert data["f2"][k] == pytest.approx(modes.frequencies[1], rel=1e-12)
@@ -181,9 +182,9 @@ def test_named_modes_analysis_against_the_file_edited_by_hand():
 def test_sweep_command_keeps_as_many_frequencies_as_the_file_has_modes(tmp_path, capsys):
     """The one-beam slider-crank has two dynamic degrees of freedom (the crank angle is an
     input): the default metrics of a modes study are f1 and f2, equal to the file's modes."""
+    from flexmbd.analysis.modes import vibration_modes
+    from flexmbd.analysis.statics import file_equilibrium
     from flexmbd.cli import main
-    from flexmbd.modes import vibration_modes
-    from flexmbd.statics import file_equilibrium
 
     out = tmp_path / "modes.parquet"
     assert main(["sweep", str(FLEX_DAT), "--analysis", "modes", "--vary", "ESTIFF:2:2=20",

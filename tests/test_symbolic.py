@@ -6,7 +6,7 @@ import pytest
 sp = pytest.importorskip("sympy")
 
 import flexmbd as fm  # noqa: E402
-from flexmbd import symbolic  # noqa: E402
+from flexmbd.analysis import symbolic  # noqa: E402
 
 from .models import slider_crank  # noqa: E402
 from .test_kinematics import four_bar_with_spring  # noqa: E402

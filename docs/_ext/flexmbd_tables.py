@@ -1,7 +1,7 @@
 """Tables of the user guide made from the library's own definitions, so they cannot go stale.
 
 * ``flexmbd-keywords`` with ``:block: kinematics`` or ``dynamics``: every keyword the
-  ``.dat`` reader takes, its arguments and meaning (:mod:`flexmbd.dat.syntax`).
+  ``.dat`` reader takes, its arguments and meaning (:mod:`flexmbd.io.dat.syntax`).
 * ``flexmbd-elements``: every element type, its nodes, deformations and values
   (:data:`flexmbd.elements.ELEMENT_TYPES`).
 
@@ -18,8 +18,8 @@ from docutils import nodes
 from docutils.parsers.rst import directives
 from sphinx.util.docutils import SphinxDirective
 
-from flexmbd.dat import syntax
 from flexmbd.elements import ELEMENT_TYPES
+from flexmbd.io.dat import syntax
 
 
 def _cell(text: str) -> nodes.entry:
@@ -54,7 +54,7 @@ class KeywordTable(SphinxDirective):
         rows = []
         for keyword, spec in table.items():
             if not spec.meaning:
-                raise self.error(f"{keyword} has no meaning in flexmbd.dat.syntax")
+                raise self.error(f"{keyword} has no meaning in flexmbd.io.dat.syntax")
             rows.append([f"`{keyword}`", f"`{spec.usage(keyword)}`", spec.meaning])
         return [_table(["keyword", "line", "meaning"], rows, [12, 40, 48])]
 

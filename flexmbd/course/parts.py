@@ -111,21 +111,21 @@ def negated_rows(function, rows: list[int]):
 
 
 def model_answer(of, function: str):
-    """A part's answer: ``function`` of :mod:`flexmbd.kinematics` (deformations, jacobian)
+    """A part's answer: ``function`` of :mod:`flexmbd.analysis.kinematics` (deformations, jacobian)
     on the model ``of()`` at the coordinates ``x`` a part is called with."""
     def answer(x):
-        from .. import kinematics
+        from ..analysis import kinematics
 
         return getattr(kinematics, function)(of(), np.asarray(x, dtype=float))
     return answer
 
 
 def model_reference(of, function: str):
-    """A part's SymPy reference: ``function`` of :mod:`flexmbd.symbolic` (deformations,
+    """A part's SymPy reference: ``function`` of :mod:`flexmbd.analysis.symbolic` (deformations,
     jacobian, quadratic_velocity) applied to the model ``of()``, called with the model's
     coordinate symbols (and rate symbols for the quadratic velocity terms)."""
     def reference():
-        from .. import symbolic
+        from ..analysis import symbolic
 
         model = of()
         names = [[str(s) for s in symbolic.coordinate_symbols(model)]]

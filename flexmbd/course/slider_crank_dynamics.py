@@ -11,8 +11,8 @@ import functools
 
 import numpy as np
 
-from .. import dynamics
-from .. import kinematics as kin
+from ..analysis import dynamics
+from ..analysis import kinematics as kin
 from ..motion import Polynomial
 from .parts import Exercise, Mistake, lettered, without_nodal_masses
 
@@ -83,7 +83,7 @@ def _symbolic_mass(lumped: bool):
     def reference():
         import sympy as sp
 
-        from .. import symbolic
+        from ..analysis import symbolic
 
         M = symbolic.mass_matrix(model(), lumped=lumped, nodal_masses={5: 0})
         names = [str(s) for s in symbolic.coordinate_symbols(model())]

@@ -14,8 +14,8 @@ import functools
 
 import numpy as np
 
-from .. import kinematics as kin
-from ..dynamics import inverse_dynamics, reduced_mass_matrix
+from ..analysis import kinematics as kin
+from ..analysis.dynamics import inverse_dynamics, reduced_mass_matrix
 from ..engine import Engine
 from ..motion import Polynomial
 from .parts import Exercise, Mistake, lettered, negated_rows, without_nodal_masses
@@ -113,7 +113,7 @@ def _symbolic_beam(function: str):
     def reference():
         import sympy as sp
 
-        from .. import symbolic
+        from ..analysis import symbolic
 
         names = [str(symbolic.coordinate_symbols(model())[i]) for i in BEAM]
         expr = getattr(symbolic, function)(model())

@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from .. import kinematics as kin
+from ..analysis import kinematics as kin
 from .parts import Exercise, Mistake, lettered, model_answer, model_reference, negated_rows
 
 DRAWN = math.pi / 3  #: the drawn configuration, phi2 = 60 degrees

@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from .. import kinematics as kin
+from ..analysis import kinematics as kin
 from .parts import Exercise, Mistake, lettered, model_answer, model_reference, negated_rows
 
 L0 = 2.0  #: bar length [m]

@@ -1,17 +1,11 @@
 """Element types, planar and spatial: one file each (see :mod:`flexmbd.elements.base`).
 
 A new type is a file defining an :class:`ElementType` and one entry in
-:data:`ELEMENT_TYPES`; run ``python -m flexmbd.codegen`` to generate its compiled
+:data:`ELEMENT_TYPES`; run ``python -m flexmbd.engine.codegen`` to generate its compiled
 kernels.
 """
 
-from .base import (
-    ROTATIONAL,
-    SPATIAL_ROTATIONAL,
-    SPATIAL_TRANSLATIONAL,
-    TRANSLATIONAL,
-    ElementType,
-)
+from .base import ROTATIONAL, SPATIAL_ROTATIONAL, SPATIAL_TRANSLATIONAL, TRANSLATIONAL, ElementType
 from .beam import Beam
 from .euler import EulerNormalization
 from .hinge import Hinge

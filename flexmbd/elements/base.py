@@ -19,7 +19,7 @@ Everything else follows from these: the compiled kernels (deformations with thei
 Jacobian, the quadratic velocity terms, the Hessians, the mass matrix, the
 velocity-dependent inertia and the gravity load) are generated from
 :meth:`~ElementType.deformations` and :meth:`~ElementType.material_point` by
-:mod:`flexmbd.codegen`; the builder, the ``.dat`` reader and writer and the plots
+:mod:`flexmbd.engine.codegen`; the builder, the ``.dat`` reader and writer and the plots
 ask the class. A new type is one file and a line in :mod:`flexmbd.elements`.
 """
 

@@ -2,14 +2,7 @@
 
 from __future__ import annotations
 
-from .base import (
-    AXIAL_DAMPING,
-    AXIAL_STIFFNESS,
-    ElementType,
-    chord,
-    elongation_law,
-    translational,
-)
+from .base import AXIAL_DAMPING, AXIAL_STIFFNESS, ElementType, chord, elongation_law, translational
 
 
 def elongation(c, p_at: int, q_at: int, length, m, width: int = 2):

@@ -127,15 +127,15 @@ def split_build(built) -> tuple[Model, RunSettings]:
 def named_analysis(name: str, model: Model, settings: RunSettings):
     """Run the analysis ``name`` of :data:`ANALYSES` as ``flexmbd run`` and the linearized
     commands do, with the file's settings; failures are returned, not raised."""
-    from ..run_file import analyse, check_mode, default_mode
+    from ..analysis.runs import analyse, check_mode, default_mode
 
     if name in ("static", "modes", "buckling"):
-        from ..statics import file_equilibrium
+        from ..analysis.statics import file_equilibrium
 
         statics = file_equilibrium(model, settings)
         if name == "static" or not statics.success:
             return statics
-        from ..modes import buckling, vibration_modes
+        from ..analysis.modes import buckling, vibration_modes
 
         found = {"modes": vibration_modes, "buckling": buckling}[name]
         return found(statics.linearization(), min(MODE_COUNT, len(model.dynamic_q_labels)))

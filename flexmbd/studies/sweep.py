@@ -11,7 +11,7 @@ from importlib.util import find_spec
 from pathlib import Path
 
 from ..errors import ArgumentError, OptionalDependencyError
-from ..outputs import check_output
+from ..io.outputs import check_output
 from ..progress import case_counter
 from .case import ANALYSES, Study, check_outputs, describe
 from .cluster import check_main_guard, connected
@@ -29,7 +29,7 @@ def sweep(build, grid, analysis, outputs, client=None, *,
         build: ``build(**parameters)`` returning a :class:`~flexmbd.Model` or a ``(model,
             settings)`` pair; or the path of a SPACAR file, whose values the parameters
             name as ``KEYWORD:NUMBER...:POSITION`` (``"ESTIFF:2:2"`` is EI of element 2;
-            see :class:`~flexmbd.dat.parameters.DatTemplate`).
+            see :class:`~flexmbd.io.dat.parameters.DatTemplate`).
         grid: ``{name: values}`` for every combination, or a list of ``{name: value}``
             cases.
         analysis: a function of the model returning a result (``lambda model:
@@ -129,7 +129,7 @@ def _require(module: str, what: str) -> None:
 def _check_build(build, cases: list[dict]) -> Callable:
     """``build`` as a callable; a SPACAR file (a path or its template) checked against the
     cases before any runs: every parameter name located, every value a number."""
-    from ..dat.parameters import DatTemplate
+    from ..io.dat.parameters import DatTemplate
 
     if isinstance(build, (str, os.PathLike)):
         build = DatTemplate.read(Path(build))

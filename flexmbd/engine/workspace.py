@@ -20,18 +20,17 @@ engine.
 
 from __future__ import annotations
 
+import threading
 from collections import deque
 from collections.abc import Callable, Mapping
 from functools import cached_property
 
 import numpy as np
 
-from . import checks
-from .assembly import Assembly
-from .diagnosis import at_time, massless_message, singular_message
-from .elements import ELEMENT_TYPES
-from .elements.base import SPATIAL_ROTATIONAL, is_translational
-from .errors import (
+from .. import checks
+from ..elements import ELEMENT_TYPES
+from ..elements.base import SPATIAL_ROTATIONAL, is_translational
+from ..errors import (
     ArgumentError,
     ConvergenceError,
     FlexmbdError,
@@ -39,9 +38,10 @@ from .errors import (
     SimulationError,
     SingularConfigurationError,
 )
-from .free_rotations import free_rotations
-from .model import CoordinateClass, DeformationClass, Model
-from .motion import Law, Polynomial, as_law
+from ..model import CoordinateClass, DeformationClass, Model
+from ..motion import Law, Polynomial, as_law
+from .assembly import Assembly
+from .diagnosis import at_time, massless_message, singular_message
 
 try:
     from . import _core
@@ -52,17 +52,17 @@ except ImportError as error:  # no fallback: the core is the engine (see check_c
 def check_core() -> None:
     """Refuse to run without the compiled core, or on kernels compiled for other element
     types than the package's (the package itself imports without it, so that
-    ``python -m flexmbd.codegen`` can make the kernels the core is built from)."""
+    ``python -m flexmbd.engine.codegen`` can make the kernels the core is built from)."""
     if _core is None:
         raise ImportError(
-            f"flexmbd's compiled core (flexmbd._core) is not built or cannot be loaded "
+            f"flexmbd's compiled core (flexmbd.engine._core) is not built or cannot be loaded "
             f"({_CORE_MISSING}); install flexmbd with `pip install -e .` from its folder, "
             f"which compiles it (needs a C compiler and the Python headers)")
     if tuple(ELEMENT_TYPES) != _core.KEYWORDS:
         raise ImportError(
             f"flexmbd's compiled core has the element types {_core.KEYWORDS}, the package "
-            f"{tuple(ELEMENT_TYPES)}: regenerate the kernels (python -m flexmbd.codegen) and "
-            f"reinstall (pip install -e .)")
+            f"{tuple(ELEMENT_TYPES)}: regenerate the kernels (python -m "
+            f"flexmbd.engine.codegen) and reinstall (pip install -e .)")
 
 
 #: default Newton tolerance relative to the model's characteristic length (THEORY 3)
@@ -75,7 +75,18 @@ CORE_BUILD = _core.BUILD if _core is not None else "not built"
 _TYPE_NUMBER = {cls: k for k, cls in enumerate(ELEMENT_TYPES.values())}
 
 
-# --- element values at one configuration (per-state functions, the builder's checks) -----
+def write_rows(fd: int, columns: list[np.ndarray]) -> None:
+    """Write equally long float64 columns ``(n,)`` as CSV rows on the file descriptor
+    ``fd``, every number as ``"%.17g"`` writes it, by the core in 64 kB pieces.
+
+    Raises:
+        OSError: the file cannot take them (a full disk).
+    """
+    check_core()
+    _core.csv_write(fd, [np.asarray(v, dtype=float).reshape(-1) for v in columns])
+
+
+# --- element values of a model before it is compiled (the builder's checks) --------------
 def element_kernel(element, name: str, x: np.ndarray, size: int,
                    xd: np.ndarray | None = None) -> np.ndarray:
     """One generated kernel (``"deform_jac"``, ``"hessian"``, ``"quadratic"``, ...) of one
@@ -89,14 +100,10 @@ def element_kernel(element, name: str, x: np.ndarray, size: int,
     return out
 
 
-def dense_jacobian(model: Model, x: np.ndarray) -> np.ndarray:
-    """``D_x`` ``(ne, nx)`` at ``x`` (dense; for inspection and checks), with the
-    deformations ``e`` from the same kernels: see :func:`deformations_and_jacobian`."""
-    return deformations_and_jacobian(model, x)[1]
-
-
 def deformations_and_jacobian(model: Model, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``e = D(x)`` ``(ne,)`` and ``D_x`` ``(ne, nx)`` from the generated kernels."""
+    """``e = D(x)`` ``(ne,)`` and ``D_x`` ``(ne, nx)`` element by element, for a model that
+    cannot be compiled yet (the builder diagnoses a ``D_c`` that is not square with it);
+    a compiled model's :class:`~flexmbd.engine.assembly.Assembly` gives the same."""
     x = np.asarray(x, dtype=float)
     e, D_x = np.zeros(model.n_deformations), np.zeros((model.n_deformations, len(x)))
     for element in model.elements.values():
@@ -106,28 +113,6 @@ def deformations_and_jacobian(model: Model, x: np.ndarray) -> tuple[np.ndarray, 
         e[rows] = out[:nd]
         D_x[np.ix_(rows, list(element.coordinates))] = out[nd:].reshape(nd, nc)
     return e, D_x
-
-
-def dense_hessian(model: Model, x: np.ndarray) -> np.ndarray:
-    """``D_xx`` ``(ne, nx, nx)`` at ``x`` (dense; for inspection and small models)."""
-    x = np.asarray(x, dtype=float)
-    H = np.zeros((model.n_deformations, len(x), len(x)))
-    for element in model.elements.values():
-        nd, nc = len(element.deformations), len(element.coordinates)
-        coords = list(element.coordinates)
-        H[np.ix_(list(element.deformations), coords, coords)] = element_kernel(
-            element, "hessian", x, nd * nc * nc).reshape(nd, nc, nc)
-    return H
-
-
-def quadratic_velocity(model: Model, x: np.ndarray, xd: np.ndarray) -> np.ndarray:
-    """``(D_xx xdot) xdot`` ``(ne,)`` (THEORY 2)."""
-    x, xd = np.asarray(x, dtype=float), np.asarray(xd, dtype=float)
-    out = np.zeros(model.n_deformations)
-    for element in model.elements.values():
-        nd = len(element.deformations)
-        out[list(element.deformations)] = element_kernel(element, "quadratic", x, nd, xd)
-    return out
 
 
 # --- compiling a model ----------------------------------------------------------------------
@@ -173,7 +158,7 @@ def _band_of(n_nodes: int, edges: list[tuple[int, int]]) -> np.ndarray:
 
 
 def compile_model(model: Model) -> dict[str, object]:
-    """The arrays of ``flexmbd._core.Core`` for ``model`` (see ``csrc/core.h``).
+    """The arrays of ``flexmbd.engine._core.Core`` for ``model`` (see ``csrc/core.h``).
 
     Elements are taken in the order of their numbers and evaluated type by type with
     the types' vectorised laws; the entries of ``D_c`` and of the saddle-point matrix
@@ -516,11 +501,43 @@ def output_bytes(model: Model, columns: tuple[str, ...] | None = None,
     joins its segments' arrays into new ones at the end."""
     sizes = output_sizes(model)
     values = sum(sizes[name] for name in (columns or OUTPUTS))
-    if integrated and free_rotations(model):
+    if integrated and model.free_rotations:
         values *= 2
     if integrated:
         values += 2 * int(np.sum(~np.asarray(model.q_is_input)))
     return 8 * (values + 1)
+
+
+def _cache(model: Model) -> dict:
+    """What is computed once per model, kept on the model itself so that it goes with it:
+    its compiled arrays, the conditioning of its reference configuration and each
+    thread's workspace. The model stays immutable: none of it is part of its value."""
+    return model.__dict__.setdefault("_engine_cache", {})
+
+
+def _compiled(model: Model) -> tuple[dict[str, object], float | None]:
+    """The model's compiled arrays (computed on first use; the core copies them) and the
+    conditioning of ``D_c`` at its reference configuration when known."""
+    entry = _cache(model)
+    if "compiled" not in entry:
+        entry["compiled"] = compile_model(model)
+    return entry["compiled"], entry.get("reference")
+
+
+def workspace_of(model: Model, tolerance: float | None = None,
+              max_iterations: int = MAX_ITERATIONS) -> Engine:
+    """The model's workspace for evaluations at one state (Pinocchio's ``Data`` of a
+    ``Model``): an :class:`Engine` compiled on first use and kept for the model's life,
+    one per thread (its core holds the last configuration and factorisation), with the
+    position solve's ``tolerance`` and ``max_iterations`` set as asked. Runs over a time
+    grid take an engine of their own."""
+    local = _cache(model).setdefault("local", threading.local())
+    engine = getattr(local, "engine", None)
+    if engine is None:
+        engine = local.engine = Engine(model, tolerance, max_iterations)
+    else:
+        engine.configure(tolerance, max_iterations)
+    return engine
 
 
 class Engine:
@@ -543,15 +560,18 @@ class Engine:
                           checks.position_tolerance(tolerance, length,
                                                     float(np.abs(model.x0).max(initial=0))))
         self.max_iterations = checks.iteration_limit(max_iterations)
-        #: the model's arrays as the core has them (element laws, index maps, orderings)
-        self.compiled = compile_model(model)
+        #: the model's arrays as the core has them (element laws, index maps, orderings),
+        #: compiled once per model
+        self.compiled, reference = _compiled(model)
         self.core = _core.Core(self.compiled)
         #: scaled conditioning of D_c below which a converged position counts as singular:
         #: near a singular root Newton converges only linearly and stops about
         #: sqrt(tolerance) away from it, where D_c still looks regular. Relative to the
         #: reference configuration's conditioning where that is below 1: a long chain of
         #: beams is regular but less well conditioned than one link.
-        reference = self.core.factor(np.asarray(model.x0, dtype=float))
+        if reference is None:
+            reference = self.core.factor(np.asarray(model.x0, dtype=float))
+            _cache(model)["reference"] = reference
         self.reference_conditioning = min(1.0, reference)
         self.regularity_limit = 10.0 * float(np.sqrt(
             self.tolerance / model.characteristic_length)) * self.reference_conditioning
@@ -560,10 +580,28 @@ class Engine:
         self.core.settings(self.tolerance, self.max_iterations, self.regularity_limit,
                            self.reference_conditioning)
 
+    def configure(self, tolerance: float | None = None,
+                  max_iterations: int = MAX_ITERATIONS) -> None:
+        """Set the position solve's tolerance [m, rad] (default ``1e-10`` times the model
+        size) and iteration limit, for evaluations at one state."""
+        length = self.model.characteristic_length
+        wanted = (RELATIVE_TOLERANCE * length if tolerance is None else
+                  checks.position_tolerance(tolerance, length,
+                                            float(np.abs(self.model.x0).max(initial=0))))
+        max_iterations = checks.iteration_limit(max_iterations)
+        if (wanted, max_iterations, self.integrated) == (self.tolerance, self.max_iterations,
+                                                         False):
+            return
+        self.tolerance, self.max_iterations, self.integrated = wanted, max_iterations, False
+        self.regularity_limit = 10.0 * float(np.sqrt(
+            wanted / length)) * self.reference_conditioning
+        self.core.settings(self.tolerance, self.max_iterations, self.regularity_limit,
+                           self.reference_conditioning)
+
     @cached_property
     def assembly(self) -> Assembly:
         """Model-wide arrays from the element kernels in one call each (``D_x``, the
-        stress Hessian, the elastic law): :class:`~flexmbd.assembly.Assembly`."""
+        stress Hessian, the elastic law): :class:`~flexmbd.engine.assembly.Assembly`."""
         return Assembly(self.core, self.compiled, self.model.n_coordinates,
                         self.model.n_deformations)
 
@@ -700,12 +738,12 @@ class Engine:
                 what = (f"D_c is singular within the position tolerance (scaled smallest "
                         f"singular value {status['conditioning']:.2g} < "
                         f"{status['limit']:.2g})")
-            D_x = dense_jacobian(model, x)
+            D_x = self.assembly.deformations_and_jacobian(x)[1]
             D_c = D_x[np.ix_(model.constrained, model.dependent)]
             return SingularConfigurationError(
                 singular_message(model, D_c, time_or_none, what, self.integrated), time_or_none)
         if code == _core.MASSLESS:
-            text, singular = massless_message(model, x, time_or_none)
+            text, singular = massless_message(self, x, time_or_none)
             return (SingularConfigurationError if singular else SimulationError)(
                 text, time_or_none)
         if code == _core.NOT_FINITE:
@@ -725,7 +763,7 @@ class Engine:
     @staticmethod
     def stopped_for_partition(status: Mapping[str, object]) -> bool:
         """Whether a generalized-alpha run stopped because a free rotation's calculable
-        Euler parameter got small (:mod:`flexmbd.free_rotations`)."""
+        Euler parameter got small (:mod:`flexmbd.analysis.free_rotations`)."""
         return status["code"] == _core.PARTITION
 
     def _diverged(self, time: float | None) -> str:
@@ -800,6 +838,34 @@ class Engine:
         vectors = [np.ascontiguousarray(v, dtype=float) for v in (x, q, qd, qdd, step)]
         self.call(self.core.inertia_slopes, *vectors, bool(rates), out)
         return out
+
+    def transfer(self, x: np.ndarray, D_x: np.ndarray | None = None) -> np.ndarray:
+        """``F_q = dx/dq`` ``(nx, nq)`` at the configuration ``x`` ``(nx,)`` from one
+        factorisation of ``D_c``: the rows of ``x(c)`` solve ``D_c F_c = [0; I_e(m)] -
+        D_x[rows, x(m)]`` (THEORY 4); ``D_x`` ``(ne, nx)`` when the caller has it. An entry
+        has the unit of its coordinate per unit of its entry of ``q``.
+
+        Raises:
+            SingularConfigurationError: ``D_c`` is singular at ``x``.
+        """
+        model = self.model
+        nxm = len(model.independent_coordinates)
+        rows, dependent = np.asarray(model.constrained), np.asarray(model.dependent)
+        F_q = np.zeros((model.n_coordinates, model.n_dof))
+        F_q[model.independent_coordinates, np.arange(nxm)] = 1.0
+        if len(rows):
+            if D_x is None:
+                D_x = self.assembly.deformations_and_jacobian(x)[1]
+            rhs = np.zeros((len(rows), model.n_dof))
+            rhs[:, :nxm] = -D_x[np.ix_(rows, model.independent_coordinates)]
+            own = np.arange(len(model.independent_deformations))  # D_c's rows: e(o), e(m)
+            rhs[len(model.rigid) + own, nxm + own] = 1.0
+            if not self.factor(x) > 0.0:
+                D_c = D_x[np.ix_(rows, dependent)]
+                raise SingularConfigurationError(singular_message(
+                    model, D_c, None, "D_c is singular"))
+            F_q[dependent] = self.solve(rhs)
+        return F_q
 
     def factor(self, x: np.ndarray) -> float:
         """Factorise ``D_c`` at ``x``; returns its scaled conditioning, 0 when singular (a

@@ -1,7 +1,7 @@
 """The symbolic path: deformation functions, Jacobians and transfer functions in SymPy.
 
 The expressions come from the same :meth:`ElementType.deformations` definitions
-from which the compiled kernels are generated (:mod:`flexmbd.codegen`), so the
+from which the compiled kernels are generated (:mod:`flexmbd.engine.codegen`), so the
 symbolic and numeric paths rest on one definition of every element. Reference
 lengths and angles are taken from the model and turned into exact numbers where
 they are simple (``sqrt(3)`` stays ``sqrt(3)``). Needs the ``symbolic`` extra
@@ -17,8 +17,8 @@ import functools
 
 import numpy as np
 
-from .errors import ModelError, OptionalDependencyError
-from .model import Model
+from ..errors import ModelError, OptionalDependencyError
+from ..model import Model
 
 
 def _sympy():
@@ -193,8 +193,8 @@ def _element_masses(model: Model, given):
 def _consistent(model: Model, number: int):
     """Per unit mass of element ``number``: its consistent mass matrix, velocity-dependent
     inertia and gravity load in the model's coordinate, rate and gravity values
-    (:func:`flexmbd.codegen.consistent_inertia`), integrated once per model and element."""
-    from .codegen import consistent_inertia
+    (:func:`flexmbd.engine.codegen.consistent_inertia`), integrated once per model and element."""
+    from ..engine.codegen import consistent_inertia
 
     sp = _sympy()
     element = model.elements[number]
@@ -216,7 +216,7 @@ def mass_matrix(model: Model, lumped: bool | None = None, element_masses=None,
         nodal_masses: ``{node: mass}`` [kg, kg m^2] overriding the model's point masses.
 
     The consistent element matrices come from the element types' material points, the
-    same integrals the compiled kernels are generated from (:mod:`flexmbd.codegen`).
+    same integrals the compiled kernels are generated from (:mod:`flexmbd.engine.codegen`).
     """
     sp = _sympy()
     nx = model.n_coordinates

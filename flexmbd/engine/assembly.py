@@ -10,9 +10,10 @@ The compiled core evaluates one generated kernel for every element in one call
 * products with the block-diagonal elastic law ``S`` or ``C`` ``(ne, ne)``.
 
 The products go block by block, so they cost ``O(n_elements)`` per column of ``A``
-instead of a dense matrix product. The per-element functions of :mod:`flexmbd.engine`
-(``deformations_and_jacobian``, ``dense_hessian``) give the same values one element at
-a time, for any model without an engine; a test holds the two together.
+instead of a dense matrix product. The per-state functions of
+:mod:`flexmbd.analysis.kinematics` take their dense ``D_x``, ``D_xx`` and quadratic
+velocity terms from here too; the tests hold them against the kernels evaluated one
+element at a time.
 """
 
 from __future__ import annotations
@@ -106,6 +107,27 @@ class Assembly:
             e[group.defs] = values
             D_x[group.defs[:, :, None], group.coords[:, None, :]] = jacobians
         return e, D_x
+
+    def hessian(self, x: np.ndarray) -> np.ndarray:
+        """``D_xx`` ``(ne, nx, nx)`` at ``x`` ``(nx,)`` (dense: for inspection and small
+        models)."""
+        out = self._evaluate("hessian", x)
+        H = np.zeros((self.ne, self.nx, self.nx))
+        for group in self.groups:
+            coords = group.coords
+            H[group.defs[:, :, None, None], coords[:, None, :, None],
+              coords[:, None, None, :]] = group.hessians(out)
+        return H
+
+    def quadratic_velocity(self, x: np.ndarray, xd: np.ndarray) -> np.ndarray:
+        """``(D_xx xdot) xdot`` ``(ne,)`` at ``x`` with rates ``xd`` ``(nx,)`` (THEORY 2),
+        from the elements' Hessians."""
+        out = self._evaluate("hessian", x)
+        terms = np.zeros(self.ne)
+        for group in self.groups:
+            rates = xd[group.coords]
+            terms[group.defs] = np.einsum("ndab,na,nb->nd", group.hessians(out), rates, rates)
+        return terms
 
     def jacobian_times(self, x: np.ndarray, A: np.ndarray) -> np.ndarray:
         """``D_x A`` ``(ne, k)`` at ``x`` for ``A`` ``(nx, k)``."""

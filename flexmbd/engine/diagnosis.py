@@ -13,8 +13,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .errors import FlexmbdError
-from .model import Model
+from ..errors import FlexmbdError
+from ..model import Model
 
 
 def _largest(vector: np.ndarray, share: float = 0.1) -> np.ndarray:
@@ -121,18 +121,17 @@ def mass_sources(model: Model) -> list[tuple[str, float]]:
 REGULAR_MASS = 1e-12
 
 
-def massless_message(model: Model, x: np.ndarray, time: float | None) -> tuple[str, bool]:
+def massless_message(engine, x: np.ndarray, time: float | None) -> tuple[str, bool]:
     """Why the accelerations could not be solved at the configuration ``x`` ``(nx,)``, and
     whether the reduced mass matrix of the dynamic degrees of freedom is singular there:
     no mass moving with some of them, a mass matrix that is not finite or not positive
     definite, or masses too far apart to be resolved. A regular one leaves the velocities
     or the loads (a motion that diverges)."""
-    from .dynamics import reduced_mass_matrix
-
+    model = engine.model
     dynamic = np.flatnonzero(~np.asarray(model.q_is_input))
     where = at_time(time)
     try:
-        reduced = reduced_mass_matrix(model, x)[np.ix_(dynamic, dynamic)]
+        reduced = _reduced_mass(engine, x)[np.ix_(dynamic, dynamic)]
     except FlexmbdError:  # e.g. D_c singular there too: the matrix is not known
         reduced = np.full((len(dynamic), len(dynamic)), np.nan)
     if not np.all(np.isfinite(reduced)):
@@ -163,7 +162,14 @@ def massless_message(model: Model, x: np.ndarray, time: float | None) -> tuple[s
             f"{where}"), True
 
 
-def negative_mass_problem(model: Model) -> tuple[str, list[int]] | None:
+def _reduced_mass(engine, x: np.ndarray) -> np.ndarray:
+    """``F_q^T M F_q`` ``(nq, nq)`` at ``x`` on ``engine`` (an :class:`~flexmbd.engine.Engine`,
+    given, not imported: the engine's errors are worded here)."""
+    F_q = engine.transfer(x)
+    return F_q.T @ engine.mass(x)[0] @ F_q
+
+
+def negative_mass_problem(engine) -> tuple[str, list[int]] | None:
     """A negative point mass or rotary inertia (the correction of a rigid body lumped into
     point masses, ``J = i - m c (l - c)``, as SPACAR's own lumped rigid beam carries) is
     allowed while no motion of the mechanism has a negative kinetic energy: the reduced
@@ -172,18 +178,16 @@ def negative_mass_problem(model: Model) -> tuple[str, list[int]] | None:
     reference configuration (element mass matrices only turn with their elements).
     Returns the problem in words, naming that motion, and the nodes whose negative
     masses take part in it, or ``None``."""
+    model = engine.model
     negative = {node for node, mass in model.nodal_masses.items() if mass < 0}
     if not negative or not model.n_dof:
         return None
-    from .dynamics import mass_matrix
-    from .kinematics import first_order_transfer
-
     x0 = np.asarray(model.x0, dtype=float)
     try:
-        F_q = first_order_transfer(model, x0)
+        F_q = engine.transfer(x0)
     except FlexmbdError:  # the constraints' own problem is reported by its check
         return None
-    values, vectors = np.linalg.eigh(F_q.T @ mass_matrix(model, x0) @ F_q)
+    values, vectors = np.linalg.eigh(F_q.T @ engine.mass(x0)[0] @ F_q)
     if values[0] >= -1e-12 * max(abs(values[-1]), 1e-300):
         return None
     motion = F_q @ vectors[:, 0]

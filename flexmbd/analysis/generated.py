@@ -2,7 +2,7 @@
 
 The course derived its equations symbolically and generated numeric functions for its
 Simulink models. :class:`GeneratedEquations` does the same from
-:mod:`flexmbd.symbolic`: the deformations and their Jacobian (for the Newton-Raphson
+:mod:`flexmbd.analysis.symbolic`: the deformations and their Jacobian (for the Newton-Raphson
 position solve), ``F_q``, ``Mbar`` and the right-hand side of ``Mbar qddot = rhs`` are
 turned into numpy functions with common subexpressions eliminated, and
 :meth:`GeneratedEquations.simulate` integrates ``Mbar_dd qddot_d = rhs_d - Mbar_dr
@@ -17,10 +17,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import ConvergenceError, SingularConfigurationError
+from ..model import Model
 from . import symbolic
-from .errors import ConvergenceError, SingularConfigurationError
 from .kinematics import initial_q
-from .model import Model
 
 
 @dataclass(frozen=True)

@@ -16,25 +16,10 @@ import dataclasses
 
 import numpy as np
 
-from .elements.base import SPATIAL_ROTATIONAL
-from .model import CoordinateClass, Model
+from ..model import CoordinateClass, Model
 
 #: the calculable Euler parameter of a free rotation is changed below this magnitude
 PARTITION_LIMIT = 0.5
-
-
-def free_rotations(model: Model) -> list[tuple[int, ...]]:
-    """The coordinate indices ``(lam0, ..., lam3)`` of every rotational node whose Euler
-    parameters are three dynamic and one dependent, in node order."""
-    found = []
-    for node in sorted(model.nodes.values(), key=lambda n: n.number):
-        if node.kind != SPATIAL_ROTATIONAL:
-            continue
-        classes = list(model.coordinate_class[list(node.coordinates)])
-        if classes.count(CoordinateClass.DYNAMIC) == 3 and \
-                classes.count(CoordinateClass.DEPENDENT) == 1:
-            found.append(tuple(node.coordinates))
-    return found
 
 
 def watched_positions(model: Model) -> np.ndarray:
@@ -44,7 +29,7 @@ def watched_positions(model: Model) -> np.ndarray:
                                                 strict=True) if not is_input]
     rows = [[dynamic.index(model.coordinate_labels[i]) for i in lam
              if model.coordinate_class[i] == CoordinateClass.DYNAMIC]
-            for lam in free_rotations(model)]
+            for lam in model.free_rotations]
     return np.array(rows, dtype=np.int32).reshape(-1, 3)
 
 
@@ -63,7 +48,7 @@ def repartitioned(model: Model, x: np.ndarray) -> Model:
     limit at the configuration ``x``, the parameter of largest magnitude made calculable
     and the old one dynamic. Returns ``model`` itself when none needs it."""
     classes = np.array(model.coordinate_class)
-    for lam in free_rotations(model):
+    for lam in model.free_rotations:
         lam = np.asarray(lam)
         calculable = lam[classes[lam] == CoordinateClass.DEPENDENT][0]
         if abs(x[calculable]) >= PARTITION_LIMIT:

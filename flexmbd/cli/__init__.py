@@ -11,8 +11,8 @@ import importlib
 import os
 import sys
 
-from . import __version__
-from .errors import ArgumentError, FlexmbdError
+from .. import __version__
+from ..errors import ArgumentError, FlexmbdError
 
 EXIT_ERROR = 1
 EXIT_USAGE = 2
@@ -48,7 +48,7 @@ def _parser(argv: list[str]) -> argparse.ArgumentParser:
 
 
 def _add_run(commands) -> None:
-    from .run_file import add_arguments
+    from .run import add_arguments
 
     run = commands.add_parser(
         "run", help="run a SPACAR input file (flexmbd run FILE.dat --out results.csv)",
@@ -58,19 +58,19 @@ def _add_run(commands) -> None:
 
 
 def _add_linear(commands) -> None:
-    from .linear_cli import add_commands
+    from .linear import add_commands
 
     add_commands(commands)
 
 
 def _add_course(commands) -> None:
-    from .course_cli import add_commands
+    from .course import add_commands
 
     add_commands(commands)
 
 
 def _add_sweep(commands) -> None:
-    from .studies.cli import add_command
+    from .sweep import add_command
 
     add_command(commands)
 
@@ -110,7 +110,7 @@ class _Version(argparse.Action):
 
 def _core_build() -> str:
     """What the compiled core was built with, or why it cannot be loaded."""
-    from .engine import CORE_BUILD
+    from ..engine import CORE_BUILD
 
     return CORE_BUILD
 
@@ -120,7 +120,7 @@ def _one_line(error: BaseException) -> str:
 
 
 def _run_example(args: argparse.Namespace, rest: list[str]) -> int:
-    from .examples import EXAMPLES
+    from ..examples import EXAMPLES
 
     if args.list or args.name is None:
         if args.help:
@@ -154,21 +154,21 @@ def main(argv: list[str] | None = None) -> int:
         if args.command == "run":
             if rest:
                 parser.error(f"unrecognized arguments: {' '.join(rest)}")
-            from .run_file import run
+            from .run import run
 
             return run(args)
         if rest:
             parser.error(f"unrecognized arguments: {' '.join(rest)}")
         if args.command == "sweep":
-            from .studies.cli import run as run_sweep
+            from .sweep import run as run_sweep
 
             return run_sweep(args)
         if args.command == "exercise":
-            from .course_cli import run as run_course
+            from .course import run as run_course
 
             return run_course(args)
         if args.command in ("static", "modes", "buckling", "statespace"):
-            from .linear_cli import run as run_linear
+            from .linear import run as run_linear
 
             return run_linear(args)
         parser.print_help()

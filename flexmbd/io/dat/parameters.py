@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import NamedTuple
 
-from ..errors import ArgumentError
+from ...errors import ArgumentError
 from .reader import DatFile, dat_from_text, read_text
 from .syntax import _COMMENT, DYNAMICS, KINEMATICS, parse_text
 
@@ -42,7 +42,7 @@ class Slot(NamedTuple):
 class DatTemplate:
     """A SPACAR input file whose values are varied by name (see the module docstring).
 
-    Calling it with ``{name: value}`` returns the :class:`~flexmbd.dat.DatFile` of the
+    Calling it with ``{name: value}`` returns the :class:`~flexmbd.io.dat.DatFile` of the
     file with those values, so it serves as the ``build`` of :func:`flexmbd.sweep`;
     it holds the text, not the path, so it also builds on workers of other machines.
 

@@ -21,12 +21,15 @@ from typing import Literal
 
 import numpy as np
 
-from . import checks
-from .engine import Engine, Forces, initial_q, q_index, resolve_laws
-from .errors import ArgumentError, ModelError, SimulationError, StiffnessError
+from .. import checks
+from ..engine import Engine, Forces, initial_q, q_index, resolve_laws
+from ..errors import ArgumentError, ModelError, SimulationError, StiffnessError
+from ..model import Model
+from ..motion import Law
+from ..progress import progress_bar
+from ..results import SimulationResult, check_on_failure, check_times, conclude
 from .free_rotations import (
     dynamic_state,
-    free_rotations,
     partition_spent,
     relabelled,
     repartitioned,
@@ -34,10 +37,6 @@ from .free_rotations import (
 )
 from .integrate import EXPLICIT, AlphaOptions, StepsCollapsedError, check_method, integrate
 from .kinematics import coordinates, first_order_transfer
-from .model import Model
-from .motion import Law
-from .progress import progress_bar
-from .results import SimulationResult, check_on_failure, check_times, conclude
 
 #: generalized-alpha's position solves take D_x within this share of the model size: its
 #: residual need not be exact below its truncation error, and this saves chord steps
@@ -254,7 +253,7 @@ def _rho_inf(rho_inf: float | None, iterations: int | None) -> float:
 class _Run:
     """A simulation through its segments. A free rotation whose calculable Euler parameter
     gets small ends a segment; the next continues from the same state with another
-    parameter calculable (:mod:`flexmbd.free_rotations`). Outputs are in the labels of
+    parameter calculable (:mod:`flexmbd.analysis.free_rotations`). Outputs are in the labels of
     the model the user gave."""
 
     def __init__(self, model: Model, inputs, forces, tolerance, columns, method: str,
@@ -272,7 +271,7 @@ class _Run:
         segment, y, start, k = self.model, np.concatenate([q0, qd0]), None, 0
         t_end = times[0]  # where the last segment ended
         pieces, stats = [], dict.fromkeys(("nfev", "njev", "nlu", "nsteps"), 0)
-        if free_rotations(self.model):
+        if self.model.free_rotations:
             stats["repartitions"] = 0
         while True:
             # a segment after the first starts at the time it took over; that row is the

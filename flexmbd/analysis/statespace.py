@@ -10,7 +10,7 @@ coordinates or their rates:
 with ``M = M0``, ``K = K0 + N0 + G0``, ``C = C0 + D0`` (or modal damping), ``F_in`` the
 rows of ``F_q`` of the loaded coordinates; a position output is ``[F_out, 0]``, a rate
 output ``[d(F_out qdot)/dq, F_out]``; ``D = 0``. Its static gain ``D - C A^-1 B`` is the
-compliance (:func:`flexmbd.modes.compliance`) and its poles are ``+-i omega`` of the
+compliance (:func:`flexmbd.analysis.modes.compliance`) and its poles are ``+-i omega`` of the
 vibration modes when undamped.
 """
 
@@ -21,8 +21,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as linalg
 
-from .engine import Engine
-from .errors import ArgumentError, SingularConfigurationError
+from ..engine import Engine
+from ..errors import ArgumentError, SingularConfigurationError
 from .linearization import Linearization, central_differences
 from .modes import vibration_modes
 
@@ -110,7 +110,7 @@ def state_space(linearization: Linearization, inputs, outputs=(), rate_outputs=(
     """The state-space model of a linearized state.
 
     Args:
-        linearization: the state (:func:`flexmbd.linearization.linearize`).
+        linearization: the state (:func:`flexmbd.analysis.linearization.linearize`).
         inputs: coordinates loaded by the force inputs (``["x5.2"]``, INPUTF).
         outputs: coordinates given as outputs (OUTX).
         rate_outputs: coordinates whose rates are outputs (OUTXP).

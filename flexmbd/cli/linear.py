@@ -14,11 +14,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import ArgumentError
-from .model import Model
-from .outputs import check_output
-from .results import write_csv
-from .settings import RunSettings
+from ..errors import ArgumentError
+from ..io.outputs import check_output
+from ..model import Model
+from ..results import write_csv
+from ..settings import RunSettings
 
 # the analyses load when a command runs, not when the parser is built
 
@@ -66,13 +66,13 @@ def run(args: argparse.Namespace) -> int:
             check_output(getattr(args, option), kind, f"--{option}")
     if getattr(args, "count", 1) < 1:
         raise ArgumentError("--count", f"must be at least 1, got {args.count}")
-    from .run_file import read_input
+    from .run import read_input
 
     model, settings = read_input(args.file)
     print(model.summary())
     if args.command == "modes" and args.along:
         return _modes_along(args, model, settings)
-    from .statics import file_equilibrium
+    from ..analysis.statics import file_equilibrium
 
     statics = file_equilibrium(model, settings, getattr(args, "steps", None))
     if not statics.success:
@@ -104,7 +104,7 @@ def _static(args, model, settings, statics) -> int:
 
 
 def _modes(args, model, settings, statics) -> int:
-    from .modes import vibration_modes
+    from ..analysis.modes import vibration_modes
 
     modes = vibration_modes(statics.linearization(), args.count)
     _report_shapes(args, model, f"vibration modes at the equilibrium (load factor "
@@ -115,8 +115,9 @@ def _modes(args, model, settings, statics) -> int:
 
 
 def _modes_along(args, model, settings) -> int:
-    from .modes import modes_along
-    from .run_file import analyse, default_mode, output_times
+    from ..analysis.modes import modes_along
+    from ..analysis.runs import analyse, default_mode
+    from .run import output_times
 
     times = output_times(settings, None, None)
     motion = analyse(model, settings, default_mode(model), times, progress=True)
@@ -129,7 +130,7 @@ def _modes_along(args, model, settings) -> int:
         write_csv(args.out, columns)
         print(f"{len(along.t)} rows written to {args.out}")
     if args.plot and len(along.t) > 1:
-        from .plot import plot_curves
+        from ..plot import plot_curves
 
         plot_curves(along.t, {k: v for k, v in columns.items() if k != "t"}, xlabel="t [s]",
                     ylabel="frequency [Hz]", title=f"{model.name}: frequencies along the motion",
@@ -139,7 +140,7 @@ def _modes_along(args, model, settings) -> int:
 
 
 def _buckling(args, model, settings, statics) -> int:
-    from .modes import buckling
+    from ..analysis.modes import buckling
 
     result = buckling(statics.linearization(), args.count)
     _report_shapes(args, model, f"buckling load factors of the loads at load factor "
@@ -161,7 +162,7 @@ def _report_shapes(args, model, heading: str, names: tuple[str, str], values: np
         write_csv(args.out, {"mode": numbers, names[1]: values})
         print(f"{len(numbers)} rows written to {args.out}")
     if args.plot:
-        from .plot import plot_shapes
+        from ..plot import plot_shapes
 
         plot_shapes(model, x, motion, [label(k, v) for k, v in zip(numbers, values, strict=True)],
                     title=model.name, filename=args.plot)
@@ -169,7 +170,7 @@ def _report_shapes(args, model, heading: str, names: tuple[str, str], values: np
 
 
 def _statespace(args, model, settings, statics) -> int:
-    from .statespace import state_space
+    from ..analysis.statespace import state_space
 
     if not settings.force_inputs or not (settings.outputs or settings.rate_outputs):
         raise ArgumentError("FILE.dat", "a state-space model needs INPUTF (force inputs) and "
@@ -202,7 +203,7 @@ def _statespace(args, model, settings, statics) -> int:
 def _bode(system, model, filename) -> None:
     """Magnitude and phase from the first input to every output, ``C (i w - A)^-1 B`` in
     the modal coordinates of ``A`` (a transfer-function form loses precision)."""
-    from .plot import plot_panels
+    from ..plot import plot_panels
 
     poles, vectors = np.linalg.eig(system.A)
     size = np.abs(poles)
@@ -220,7 +221,7 @@ def _bode(system, model, filename) -> None:
                       ylabels=["magnitude [dB]", "phase [deg]"], title=f"{model.name}: Bode")
     for ax in fig.axes:
         ax.set_xscale("log")
-    from .plot import save_figure
+    from ..plot import save_figure
 
     save_figure(fig, filename)
 

@@ -12,12 +12,12 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..elements.base import is_translational
-from ..engine import load_slots
-from ..errors import OutputError
-from ..model import CoordinateClass, DeformationClass, Model
-from ..motion import Polynomial
-from ..settings import RunSettings
+from ...elements.base import is_translational
+from ...engine import load_slots
+from ...errors import OutputError
+from ...model import CoordinateClass, DeformationClass, Model
+from ...motion import Polynomial
+from ...settings import RunSettings
 from .syntax import LINE_DATA
 
 

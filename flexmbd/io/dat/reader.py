@@ -1,7 +1,7 @@
 """Reading a SPACAR input file, planar or spatial, into a model and its run settings.
 
 Readings chosen where the format leaves room (the user guide's page on SPACAR files
-lists them with every keyword, its table made from :mod:`flexmbd.dat.syntax`):
+lists them with every keyword, its table made from :mod:`flexmbd.io.dat.syntax`):
 
 * element lines name their nodes in the order of the element type's roles; the
   types come from :data:`flexmbd.elements.ELEMENT_TYPES` (SPACAR's ``PLBEAM``,
@@ -47,20 +47,20 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import NamedTuple
 
-from .. import checks
-from ..builder import ModelBuilder
-from ..elements import ELEMENT_TYPES, ROTATIONAL, TRANSLATIONAL, SpatialBeam
-from ..elements.base import (
+from ... import checks
+from ...builder import ModelBuilder
+from ...elements import ELEMENT_TYPES, ROTATIONAL, TRANSLATIONAL, SpatialBeam
+from ...elements.base import (
     COORDINATES_PER_NODE,
     SPATIAL_ROTATIONAL,
     SPATIAL_TRANSLATIONAL,
     is_translational,
 )
-from ..engine import output_bytes
-from ..errors import ArgumentError, InputFileError, ModelError
-from ..model import CoordinateClass, DeformationClass, Model
-from ..motion import Polynomial
-from ..settings import RunSettings
+from ...engine import output_bytes
+from ...errors import ArgumentError, InputFileError, ModelError
+from ...model import CoordinateClass, DeformationClass, Model
+from ...motion import Polynomial
+from ...settings import RunSettings
 from .syntax import LINE_DATA, DatText, Statement, parse_text
 
 #: the load components of a node of each kind, as XF and DELXF name them

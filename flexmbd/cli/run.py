@@ -8,20 +8,17 @@ from pathlib import Path
 
 import numpy as np
 
-from . import checks
-from .dat import read_dat
-from .dat.syntax import LARGEST_INTEGER
-from .dynamics import inverse_dynamics, simulate
-from .engine import output_bytes, output_sizes
-from .errors import ArgumentError, StiffnessError
-from .integrate import METHODS
-from .kinematics import kinematic_analysis
-from .model import CoordinateClass, Model
-from .outputs import check_output
-from .results import KinematicResult, SimulationResult
-from .settings import RunSettings
-
-MODES = ("kinematic", "dynamic", "inverse")
+from .. import checks
+from ..analysis.integrate import METHODS
+from ..analysis.runs import MODES, analyse, check_mode, default_mode
+from ..engine import output_bytes, output_sizes
+from ..errors import ArgumentError, StiffnessError
+from ..io.dat import read_dat
+from ..io.dat.syntax import LARGEST_INTEGER
+from ..io.outputs import check_output
+from ..model import CoordinateClass, Model
+from ..results import KinematicResult, SimulationResult
+from ..settings import RunSettings
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -46,24 +43,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "GeneralizedAlpha when RK45 finds the model stiff)")
 
 
-def default_mode(model: Model) -> str:
-    """Dynamic when the model has dynamic degrees of freedom, kinematic otherwise."""
-    return "dynamic" if np.any(~model.q_is_input) else "kinematic"
-
-
-def check_mode(model: Model, mode: str) -> None:
-    """A kinematic analysis moves only what is prescribed: it would hold the dynamic
-    degrees of freedom of a model frozen, which is never what ``--mode kinematic`` means."""
-    dynamic = model.dynamic_q_labels
-    if mode == "kinematic" and dynamic:
-        shown = ", ".join(dynamic[:6]) + (f" and {len(dynamic) - 6} more" if len(dynamic) > 6
-                                          else "")
-        raise ArgumentError("--mode", f"kinematic analysis prescribes every degree of freedom, "
-                            f"but {shown} are dynamic (DYNX/DYNE); use --mode dynamic to "
-                            f"simulate them or --mode inverse to hold them at their initial "
-                            f"values")
-
-
 def output_times(settings: RunSettings, steps: int | None, t_end: float | None) -> np.ndarray:
     """``steps + 1`` times from 0 to ``t_end``, each defaulting to the file's TIMESTEP."""
     steps = settings.steps if steps is None else steps
@@ -75,22 +54,6 @@ def output_times(settings: RunSettings, steps: int | None, t_end: float | None) 
     if not 0 < t_end < np.inf:
         raise ArgumentError("--t-end", f"must be a finite time > 0 [s], got {t_end:g}")
     return np.linspace(0.0, t_end, steps + 1)
-
-
-def analyse(model: Model, settings: RunSettings, mode: str, times: np.ndarray,
-            method: str = "RK45", progress: bool | None = None) -> KinematicResult:
-    """Run ``mode`` on ``model`` with the file's settings; failures are returned."""
-    s = settings
-    if mode == "kinematic":
-        return kinematic_analysis(model, times, tolerance=s.tolerance,
-                                  max_iterations=s.max_iterations or 25, on_failure="return",
-                                  progress=progress)
-    if mode == "inverse":
-        return inverse_dynamics(model, times, tolerance=s.tolerance, on_failure="return",
-                                progress=progress)
-    return simulate(model, times, initial=s.initial, method=method, rtol=s.rtol or 1e-6,
-                    atol=s.atol or 1e-9, tolerance=s.tolerance, with_reactions=True,
-                    on_failure="return", progress=progress)
 
 
 def empty_result(model: Model, mode: str) -> KinematicResult:
@@ -193,7 +156,7 @@ def write_outputs(args: argparse.Namespace, result: KinematicResult, mode: str,
         result.plot(columns, args.against, filename=args.plot, title=title)
         print(f"plot saved to {args.plot}")
     if args.movie:
-        from .plot import animate
+        from ..plot import animate
 
         animate(result, args.movie, title=title)
         print(f"movie saved to {args.movie}")

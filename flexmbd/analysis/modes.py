@@ -1,7 +1,8 @@
 """Eigenfrequencies and mode shapes, buckling load factors and compliance (THEORY 9).
 
-All three are eigen- or linear problems of one :class:`~flexmbd.linearization.Linearization`
-over the dynamic degrees of freedom ``d`` (prescribed entries held):
+All three are eigen- or linear problems of one
+:class:`~flexmbd.analysis.linearization.Linearization` over the dynamic degrees of freedom
+``d`` (prescribed entries held):
 
 * vibration: ``(K0 + N0 + G0) phi = omega^2 M0 phi``, shapes mass-normalized
   (``phi^T M0 phi = 1``); the gyroscopic ``C0`` and the damping are left out, as in
@@ -19,11 +20,11 @@ from dataclasses import dataclass
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from .engine import Engine
-from .errors import ArgumentError, SingularConfigurationError
+from ..engine import Engine
+from ..errors import ArgumentError, SingularConfigurationError
+from ..progress import progress_bar
+from ..results import KinematicResult
 from .linearization import Linearization, linearize
-from .progress import progress_bar
-from .results import KinematicResult
 
 __all__ = ["Buckling", "Modes", "ModesAlong", "buckling", "compliance", "modes_along",
            "vibration_modes"]

@@ -18,8 +18,8 @@ from typing import Literal
 
 import numpy as np
 
-from . import checks
-from .engine import (
+from .. import checks
+from ..engine import (
     MAX_ITERATIONS,
     OUTPUTS,
     Engine,
@@ -30,12 +30,12 @@ from .engine import (
     q_index,
     q_scale,
 )
-from .errors import ArgumentError, ConvergenceError, FlexmbdError, SimulationError
+from ..errors import ArgumentError, ConvergenceError, FlexmbdError, SimulationError
+from ..model import Model
+from ..progress import progress_bar
+from ..results import SimulationResult, check_on_failure, conclude
+from ..settings import RunSettings
 from .linearization import Linearization, equilibrium_state, linearize, static_tangent
-from .model import Model
-from .progress import progress_bar
-from .results import SimulationResult, check_on_failure, conclude
-from .settings import RunSettings
 
 __all__ = ["StaticResult", "static_equilibrium"]
 
@@ -66,7 +66,7 @@ class StaticResult(SimulationResult):
 
     def linearization(self, row: int = -1) -> Linearization:
         """The linearized equations at one row (default the last): for its vibration
-        modes, buckling loads and compliance (:mod:`flexmbd.modes`)."""
+        modes, buckling loads and compliance (:mod:`flexmbd.analysis.modes`)."""
         if not len(self.t):
             raise ArgumentError("row", "the static analysis has no converged row")
         return linearize(self.model, self.x[row], loads=self.applied[row], e=self.e[row])
@@ -259,7 +259,7 @@ class _Solver:
 
 def _row(state: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
     """The columns of a result row from a converged state at rest
-    (:func:`~flexmbd.linearization.equilibrium_state`)."""
+    (:func:`~flexmbd.analysis.linearization.equilibrium_state`)."""
     keys = ("x", "xd", "xdd", "e", "ed", "edd", "q", "qd", "qdd", "sigma", "reactions",
             "driving")
     return {key: state[key] for key in keys}

@@ -1,7 +1,7 @@
 """Time integration: the methods by name, and the front end over scipy's ``OdeSolver``s.
 
 ``GeneralizedAlpha`` is flexmbd's own integrator and lives in the compiled core
-(``flexmbd/csrc/alpha.c``): for a model it runs the whole simulation there
+(``flexmbd/engine/csrc/alpha.c``): for a model it runs the whole simulation there
 (:func:`flexmbd.simulate`), and for any ``y' = fun(t, y)`` with ``y = [q; v]``
 :func:`integrate` drives it with ``fun`` called back. scipy's methods (``RK45``,
 the course's ode45, and the others) are stepped here by hand like ``solve_ivp``,
@@ -20,9 +20,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import checks
-from .errors import ArgumentError, ConvergenceError, SimulationError, StiffnessError
-from .progress import progress_bar
+from .. import checks
+from ..errors import ArgumentError, ConvergenceError, SimulationError, StiffnessError
+from ..progress import progress_bar
 
 #: integration methods by name (the course's ode45 is RK45, the default); all but
 #: GeneralizedAlpha (fixed step, for second-order systems y = [q; v]) are scipy's

@@ -24,14 +24,14 @@ from typing import Literal
 
 import numpy as np
 
-from . import checks
-from . import engine as _engine
-from .engine import Engine, dense_hessian, dense_jacobian, initial_q, resolve_laws
-from .errors import SingularConfigurationError
-from .model import Model
-from .motion import Law
-from .progress import progress_bar
-from .results import KinematicResult, check_on_failure, check_times, conclude
+from .. import checks
+from .. import engine as _engine
+from ..engine import Engine, initial_q, resolve_laws, workspace_of
+from ..errors import SingularConfigurationError
+from ..model import Model
+from ..motion import Law
+from ..progress import progress_bar
+from ..results import KinematicResult, check_on_failure, check_times, conclude
 
 __all__ = ["accelerations", "deformation_transfer", "deformations", "first_order_transfer",
            "hessian", "initial_q", "jacobian", "kinematic_analysis", "partition_jacobian",
@@ -55,25 +55,26 @@ def generalized(model: Model, q, name: str = "q") -> np.ndarray:
 def deformations(model: Model, x: np.ndarray) -> np.ndarray:
     """Deformation parameters ``e = D(x)`` [m, rad], shape ``(ne,)``, at the coordinates
     ``x`` [m, rad] ``(nx,)``."""
-    return _engine.deformations_and_jacobian(model, coordinates(model, x))[0]
+    return workspace_of(model).assembly.deformations(coordinates(model, x))
 
 
 def jacobian(model: Model, x: np.ndarray) -> np.ndarray:
     """``D_x = dD/dx``, shape ``(ne, nx)`` (dense), at ``x`` [m, rad] ``(nx,)``; an entry is
     [m/m], [m/rad], [rad/m] or [rad/rad] by the deformation and the coordinate."""
-    return dense_jacobian(model, coordinates(model, x))
+    return workspace_of(model).assembly.deformations_and_jacobian(coordinates(model, x))[1]
 
 
 def hessian(model: Model, x: np.ndarray) -> np.ndarray:
     """``D_xx``, shape ``(ne, nx, nx)``, at ``x`` [m, rad] ``(nx,)`` (dense; meant for small
     models and checks)."""
-    return dense_hessian(model, coordinates(model, x))
+    return workspace_of(model).assembly.hessian(coordinates(model, x))
 
 
 def quadratic_velocity(model: Model, x: np.ndarray, xd: np.ndarray) -> np.ndarray:
     """``(D_xx xdot) xdot`` per deformation [m/s^2, rad/s^2], shape ``(ne,)``, at ``x``
     ``(nx,)`` [m, rad] with rates ``xd`` ``(nx,)`` [m/s, rad/s] (THEORY section 2)."""
-    return _engine.quadratic_velocity(model, coordinates(model, x), coordinates(model, xd, "xd"))
+    return workspace_of(model).assembly.quadratic_velocity(coordinates(model, x),
+                                                        coordinates(model, xd, "xd"))
 
 
 # --- positions -------------------------------------------------------------------------
@@ -152,17 +153,17 @@ def partition_jacobian(model: Model, x: np.ndarray, time: float | None = None
     Raises:
         SingularConfigurationError: ``D_c`` is singular at ``x``.
     """
-    return _partition(Engine(model), coordinates(model, x), time)
+    return _partition(workspace_of(model), coordinates(model, x), time)
 
 
 def _partition(engine: Engine, x: np.ndarray, time: float | None) -> PartitionedJacobian:
     model = engine.model
-    D_x = dense_jacobian(model, x)
+    D_x = engine.assembly.deformations_and_jacobian(x)[1]
     dependent = D_x[:, model.dependent]
     D_c = dependent[model.constrained]
     conditioning = engine.factor(x)
     if len(D_c) and not conditioning > 0.0:
-        from .diagnosis import singular_message
+        from ..engine.diagnosis import singular_message
 
         raise SingularConfigurationError(singular_message(model, D_c, time, "D_c is singular"),
                                          time)
@@ -175,7 +176,7 @@ def position_analysis(model: Model, q: np.ndarray, x_guess: np.ndarray | None = 
                       max_iterations: int = _engine.MAX_ITERATIONS) -> PositionSolution:
     """:func:`solve_position` that also returns the partitioned Jacobian at the solution:
     a :class:`PositionSolution` with ``x`` ``(nx,)`` [m, rad] and its ``jacobian``."""
-    engine = Engine(model, tolerance, max_iterations)
+    engine = workspace_of(model, tolerance, max_iterations)
     guess = None if x_guess is None else coordinates(model, x_guess, "x_guess")
     x = engine.positions(generalized(model, q), guess, time)
     return PositionSolution(x, _partition(engine, x, time))
@@ -184,7 +185,7 @@ def position_analysis(model: Model, q: np.ndarray, x_guess: np.ndarray | None = 
 # --- velocities, accelerations, transfer functions (THEORY 4) ---------------------------
 def _q_at(model: Model, x: np.ndarray) -> np.ndarray:
     """``q = [x(m); e(m)]`` of a configuration."""
-    e = deformations(model, x)
+    e = workspace_of(model).assembly.deformations(x)
     return np.concatenate([np.asarray(x)[model.independent_coordinates],
                            e[model.independent_deformations]])
 
@@ -192,7 +193,7 @@ def _q_at(model: Model, x: np.ndarray) -> np.ndarray:
 def _rates(model: Model, x: np.ndarray, qd: np.ndarray, qdd: np.ndarray
            ) -> dict[str, np.ndarray]:
     """The core's kinematics at the configuration ``x`` for rates ``qd``, ``qdd``."""
-    return Engine(model).state(_q_at(model, x), qd, qdd, x)
+    return workspace_of(model).state(_q_at(model, x), qd, qdd, x)
 
 
 def velocities(model: Model, x: np.ndarray, qd: np.ndarray) -> np.ndarray:
@@ -208,7 +209,7 @@ def accelerations(model: Model, x: np.ndarray, xd: np.ndarray, qdd: np.ndarray) 
     ``(nq,)`` with the quadratic velocity terms of the velocities ``xd`` ``(nx,)``
     [m/s, rad/s] (THEORY 4)."""
     x, xd = coordinates(model, x), coordinates(model, xd, "xd")
-    e_rates = jacobian(model, x) @ xd
+    e_rates = workspace_of(model).assembly.jacobian_times(x, xd[:, None])[:, 0]
     qd = np.concatenate([xd[model.independent_coordinates],
                          e_rates[model.independent_deformations]])
     return _rates(model, x, qd, generalized(model, qdd, "qdd"))["xdd"]
@@ -218,11 +219,7 @@ def first_order_transfer(model: Model, x: np.ndarray) -> np.ndarray:
     """``F_q = dx/dq`` ``(nx, nq)``: ``xdot = F_q qdot``; column ``j`` is the velocity for
     a unit rate of ``q_j`` (THEORY 4). ``x`` ``(nx,)`` [m, rad]; an entry has the unit of its
     coordinate per unit of its entry of ``q`` (m/m, m/rad, rad/rad, ...)."""
-    x = coordinates(model, x)
-    engine, q = Engine(model), _q_at(model, x)
-    zero = np.zeros(model.n_dof)
-    columns = [engine.state(q, unit, zero, x)["xd"] for unit in np.eye(model.n_dof)]
-    return np.stack(columns, axis=1) if columns else np.zeros((model.n_coordinates, 0))
+    return workspace_of(model).transfer(coordinates(model, x))
 
 
 def deformation_transfer(model: Model, x: np.ndarray, F_q: np.ndarray | None = None
@@ -245,7 +242,7 @@ def second_order_transfer(model: Model, x: np.ndarray) -> tuple[np.ndarray, np.n
     small models: the analyses use the quadratic velocity terms directly.
     """
     x = coordinates(model, x)
-    engine, q, nq = Engine(model), _q_at(model, x), model.n_dof
+    engine, q, nq = workspace_of(model), _q_at(model, x), model.n_dof
     zero = np.zeros(nq)
     F_qq = np.zeros((model.n_coordinates, nq, nq))
     E_qq = np.zeros((model.n_deformations, nq, nq))

@@ -8,8 +8,8 @@ import sys
 from pathlib import Path
 
 from ..errors import ArgumentError
-from ..outputs import check_output
-from .case import ANALYSES, MODE_COUNT, STATISTICS
+from ..io.outputs import check_output
+from ..studies.case import ANALYSES, MODE_COUNT, STATISTICS
 
 DESCRIPTION = """Run a SPACAR input file once per combination of the --vary values, on a
 local Dask cluster (one worker per core) or on --scheduler, and write one row per case
@@ -59,9 +59,9 @@ def add_command(commands) -> None:
 def run(args: argparse.Namespace) -> int:
     """``flexmbd sweep``: 0 when every case succeeded, 1 when some failed, 130 when
     interrupted (what finished is in the table; the same command resumes)."""
-    from ..dat.parameters import DatTemplate
-    from .grid import parse_values
-    from .sweep import sweep
+    from ..io.dat.parameters import DatTemplate
+    from ..studies.grid import parse_values
+    from ..studies.sweep import sweep
 
     check_output(args.out, "study", "--out")
     grid = {}
@@ -113,8 +113,9 @@ def default_metrics(template, grid: dict, analysis: str) -> list[str]:
     and buckling; the final value of the watched columns of a static analysis; the
     largest magnitude and the final value of the degrees of freedom otherwise (the
     driving loads of an inverse analysis)."""
-    from ..run_file import default_columns, default_mode, empty_result
-    from .case import split_build
+    from ..analysis.runs import default_mode
+    from ..studies.case import split_build
+    from .run import default_columns, empty_result
 
     first = {name: values[0] for name, values in grid.items()}
     model, settings = split_build(template(**first))
@@ -123,7 +124,7 @@ def default_metrics(template, grid: dict, analysis: str) -> list[str]:
         count = min(MODE_COUNT, len(model.dynamic_q_labels))
         return [f"{prefix}{k}" for k in range(1, count + 1)]
     if analysis == "static":
-        from ..linear_cli import watched_columns
+        from .linear import watched_columns
 
         return [f"final:{c}" for c in watched_columns(model, settings)[:4]]
     mode = default_mode(model) if analysis == "auto" else analysis

@@ -19,8 +19,8 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..elements import ELEMENT_TYPES
-from ..errors import InputFileError
+from ...elements import ELEMENT_TYPES
+from ...errors import InputFileError
 
 _COMMENT = re.compile(r"[#%*]")
 #: node, element and step numbers above this are refused (they would not fit in memory)

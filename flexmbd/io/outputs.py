@@ -8,7 +8,7 @@ import sys
 from importlib.util import find_spec
 from pathlib import Path
 
-from .errors import ArgumentError, OptionalDependencyError
+from ..errors import ArgumentError, OptionalDependencyError
 
 #: file types by what they hold, with the module each needs and its pip extra
 RESULT_TYPES = (".csv", ".npz", ".h5", ".hdf5")

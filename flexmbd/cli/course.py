@@ -7,7 +7,7 @@ import json
 import sys
 from pathlib import Path
 
-from .errors import ArgumentError
+from ..errors import ArgumentError
 
 _NAME_HELP = "the exercise, by name (sliding-bar, ...) or number (1-4)"
 
@@ -51,7 +51,7 @@ def add_commands(commands) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run one ``exercise`` action; returns the exit code."""
-    from .course import exercise
+    from ..course import exercise
 
     if args.action == "list":
         return _list(args)
@@ -62,7 +62,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _list(args) -> int:
-    from .course import EXERCISES, exercise
+    from ..course import EXERCISES, exercise
 
     chosen = [exercise(args.name)] if args.name else list(EXERCISES.values())
     for k, item in enumerate(chosen):
@@ -79,7 +79,7 @@ def _list(args) -> int:
 
 def _write(chosen, args) -> int:
     """``start`` (the template) or ``solution`` (the completed file) into a directory."""
-    from .course.templates import notebook, solution_source, template_source
+    from ..course.templates import notebook, solution_source, template_source
 
     directory = Path(args.directory)
     if directory.exists() and not directory.is_dir():
@@ -101,7 +101,7 @@ def _write(chosen, args) -> int:
 
 
 def _check(chosen, args) -> int:
-    from .course.check import check
+    from ..course.check import check
 
     if args.timeout <= 0:
         raise ArgumentError("--timeout", f"must be positive, got {args.timeout:g}")

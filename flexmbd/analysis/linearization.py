@@ -40,13 +40,13 @@ from functools import cached_property
 
 import numpy as np
 
-from .elements.base import SPATIAL_ROTATIONAL
-from .engine import Engine, load_vector, q_scale, unwrap_near
-from .errors import ArgumentError
+from ..elements.base import SPATIAL_ROTATIONAL
+from ..engine import Engine, load_vector, q_scale, unwrap_near
+from ..errors import ArgumentError
+from ..model import Model
+from ..motion import Polynomial
+from ..orientation import angular_velocity, euler_forces
 from .kinematics import coordinates, generalized
-from .model import Model
-from .motion import Polynomial
-from .orientation import angular_velocity, euler_forces
 
 #: central-difference step of N0, relative to a coordinate's size (model size or 1 rad):
 #: the cube root of the rounding error balances truncation (1e-10 relative in all)
@@ -209,7 +209,7 @@ def _elastic_state(engine: Engine, x: np.ndarray, qd: np.ndarray, qdd: np.ndarra
     stiffness ``G0 = F_q^T (sum_i sigma_i D_xx,i) F_q``."""
     state = equilibrium_state(engine, x, qd, qdd, loads, near)
     assembly, x = engine.assembly, state["x"]
-    F_q = transfer(engine, x, assembly.deformations_and_jacobian(x)[1])
+    F_q = engine.transfer(x, assembly.deformations_and_jacobian(x)[1])
     G0 = F_q.T @ (assembly.stress_hessian_times(x, state["sigma"], F_q)
                   - load_stiffness(engine, loads) @ F_q)
     return state, F_q, assembly.jacobian_times(x, F_q), G0
@@ -250,25 +250,6 @@ def equilibrium_state(engine: Engine, x: np.ndarray, qd: np.ndarray, qdd: np.nda
     if error is not None:
         raise error
     return {name: values[0].copy() for name, values in arrays.items()}
-
-
-def transfer(engine: Engine, x: np.ndarray, D_x: np.ndarray) -> np.ndarray:
-    """``F_q = dx/dq`` ``(nx, nq)`` at ``x`` from one factorisation of ``D_c``: the rows of
-    ``x(c)`` solve ``D_c F_c = [0; I_e(m)] - D_x[rows, x(m)]`` column by column (THEORY 4)."""
-    model = engine.model
-    nxm = len(model.independent_coordinates)
-    rows, dependent = np.asarray(model.constrained), np.asarray(model.dependent)
-    F_q = np.zeros((model.n_coordinates, model.n_dof))
-    F_q[model.independent_coordinates, np.arange(nxm)] = 1.0
-    if len(rows):
-        rhs = np.zeros((len(rows), model.n_dof))
-        rhs[:, :nxm] = -D_x[np.ix_(rows, model.independent_coordinates)]
-        position = {d: k for k, d in enumerate(rows)}
-        for j, d in enumerate(model.independent_deformations):
-            rhs[position[d], nxm + j] = 1.0
-        engine.factor(x)
-        F_q[dependent] = engine.solve(rhs)
-    return F_q
 
 
 def inertia_derivatives(engine: Engine, state: dict[str, np.ndarray], F_q: np.ndarray,

@@ -1,0 +1,51 @@
+"""The analyses a SPACAR file asks for, with its run settings: kinematic analysis,
+inverse dynamics or a forward simulation over a time grid (``flexmbd run``, studies of
+a file, the linearization along a file's motion)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import ArgumentError
+from ..model import Model
+from ..results import KinematicResult
+from ..settings import RunSettings
+from .dynamics import inverse_dynamics, simulate
+from .kinematics import kinematic_analysis
+
+#: the analyses of a run over time
+MODES = ("kinematic", "dynamic", "inverse")
+
+
+def default_mode(model: Model) -> str:
+    """Dynamic when the model has dynamic degrees of freedom, kinematic otherwise."""
+    return "dynamic" if np.any(~model.q_is_input) else "kinematic"
+
+
+def check_mode(model: Model, mode: str) -> None:
+    """A kinematic analysis moves only what is prescribed: it would hold the dynamic
+    degrees of freedom of a model frozen, which is never what ``--mode kinematic`` means."""
+    dynamic = model.dynamic_q_labels
+    if mode == "kinematic" and dynamic:
+        shown = ", ".join(dynamic[:6]) + (f" and {len(dynamic) - 6} more" if len(dynamic) > 6
+                                          else "")
+        raise ArgumentError("--mode", f"kinematic analysis prescribes every degree of freedom, "
+                            f"but {shown} are dynamic (DYNX/DYNE); use --mode dynamic to "
+                            f"simulate them or --mode inverse to hold them at their initial "
+                            f"values")
+
+
+def analyse(model: Model, settings: RunSettings, mode: str, times: np.ndarray,
+            method: str = "RK45", progress: bool | None = None) -> KinematicResult:
+    """Run ``mode`` on ``model`` with the file's settings; failures are returned."""
+    s = settings
+    if mode == "kinematic":
+        return kinematic_analysis(model, times, tolerance=s.tolerance,
+                                  max_iterations=s.max_iterations or 25, on_failure="return",
+                                  progress=progress)
+    if mode == "inverse":
+        return inverse_dynamics(model, times, tolerance=s.tolerance, on_failure="return",
+                                progress=progress)
+    return simulate(model, times, initial=s.initial, method=method, rtol=s.rtol or 1e-6,
+                    atol=s.atol or 1e-9, tolerance=s.tolerance, with_reactions=True,
+                    on_failure="return", progress=progress)
