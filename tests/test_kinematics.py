@@ -254,3 +254,34 @@ def test_custom_law_and_result_columns(tmp_path):
     assert header[:5] == ["t", "x1.1", "x1.2", "x2.1", "x2.2"] and "edd1.1" in header
     data = np.loadtxt(path, delimiter=",", skiprows=1)
     np.testing.assert_array_equal(data[:, header.index("xdd2.2")], r["xdd2.2"])
+
+
+def test_a_model_is_compiled_once_and_each_thread_evaluates_on_its_own_workspace():
+    """Per-state functions run on the model's workspace (compiled once, kept with the
+    model); another thread gets its own engine on the same compiled arrays and the same
+    answers; a tolerance asked for once does not stay."""
+    import threading
+
+    from flexmbd.engine import workspace_of
+
+    model = slider_crank(L1, L2)
+    x = fm.solve_position(model, np.array([0.4]))
+    F_q = fm.first_order_transfer(model, x)
+    here = workspace_of(model)
+    assert workspace_of(model) is here
+    there = {}
+
+    def other_thread():
+        there["engine"] = workspace_of(model)
+        there["F_q"] = fm.first_order_transfer(model, x)
+
+    worker = threading.Thread(target=other_thread)
+    worker.start()
+    worker.join()
+    assert there["engine"] is not here and there["engine"].compiled is here.compiled
+    np.testing.assert_array_equal(there["F_q"], F_q)
+    default = here.tolerance
+    fm.solve_position(model, np.array([0.5]), tolerance=1e-6)
+    assert here.tolerance == 1e-6
+    fm.first_order_transfer(model, x)
+    assert here.tolerance == default

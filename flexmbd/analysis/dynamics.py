@@ -22,7 +22,7 @@ from typing import Literal
 import numpy as np
 
 from .. import checks
-from ..engine import Engine, Forces, initial_q, q_index, resolve_laws
+from ..engine import Engine, Forces, initial_q, q_index, resolve_laws, workspace_of
 from ..errors import ArgumentError, ModelError, SimulationError, StiffnessError
 from ..model import Model
 from ..motion import Law
@@ -54,7 +54,7 @@ def mass_matrix(model: Model, x: np.ndarray) -> np.ndarray:
         x = np.asarray(x, dtype=float)
     except (TypeError, ValueError):
         raise ArgumentError("x", "must be an array of coordinates") from None
-    engine = Engine(model)
+    engine = workspace_of(model)
     if x.ndim == 1:
         return engine.mass(coordinates(model, x))[0]
     if x.ndim != 2 or x.shape[1] != model.n_coordinates or not np.all(np.isfinite(x)):
@@ -294,10 +294,8 @@ class _Run:
             if error is not None or end is None:
                 break
             t_end, y_end = end
-            guess = np.empty(segment.n_coordinates)
-            engine.core.configuration(guess)
             try:
-                state = engine.integrated_state(laws, t_end, y_end, guess)
+                state = engine.integrated_state(laws, t_end, y_end, engine.configuration())
             except SimulationError as failure:
                 error = failure
                 break
@@ -317,11 +315,10 @@ class _Run:
         n = len(y) // 2
         if self.alpha is not None:
             end = np.empty(2 * n)
-            status = engine.core.alpha_run(
-                times, y[:n], y[n:],
-                near=GA_JACOBIAN_POINT * engine.model.characteristic_length,
-                watch=watched.ravel() if len(watched) else None, end=end,
-                **self.alpha.core_arguments())
+            status = engine.alpha_run(
+                times, y[:n], y[n:], end, watched.ravel() if len(watched) else None,
+                GA_JACOBIAN_POINT * engine.model.characteristic_length,
+                self.alpha.core_arguments())
             counts = {name: int(status[name]) for name in ("nfev", "njev", "nlu", "nsteps")}
             if engine.stopped_for_partition(status):
                 return status["reached"], None, counts, (float(status["time"]), end)
@@ -337,15 +334,12 @@ def _scipy_run(engine: Engine, laws, times, y0, method, rtol, atol, max_step, ad
     ``watched`` free rotation's partition is spent. A rejected trial step restarts the
     position solves from ``start`` when given (a re-partitioned segment's first
     configuration: the model's reference may be singular in its partition)."""
-    core, n = engine.core, len(y0) // 2
+    n = len(y0) // 2
     accelerations = np.empty(n)
 
     def fun(t, y):
-        engine.call(core.accelerations, t, np.ascontiguousarray(y), accelerations)
+        engine.accelerations(t, y, accelerations)
         return np.concatenate([y[n:], accelerations])
-
-    def output(k, t, y):
-        engine.call(core.output, k, float(t), np.ascontiguousarray(y))
 
     def restart(t, y):  # after a rejected trial step: continue from the state it left
         engine.start(laws, t, y[:n], configuration=start)
@@ -353,9 +347,9 @@ def _scipy_run(engine: Engine, laws, times, y0, method, rtol, atol, max_step, ad
     def spent(t, y):
         return partition_spent(watched, y[:n])
 
-    run = integrate(fun, y0, times, method=method, rtol=rtol,
-                    atol=atol, max_step=max_step, progress=advance or False,
-                    on_output=output, on_reject=restart, stop=spent if len(watched) else None)
+    run = integrate(fun, y0, times, method=method, rtol=rtol, atol=atol, max_step=max_step,
+                    progress=advance or False, on_output=engine.output, on_reject=restart,
+                    stop=spent if len(watched) else None)
     error = run.error
     if error is None and not run.success:
         error = SimulationError(run.message, float(run.t[-1]) if len(run.t) else None)
@@ -414,7 +408,7 @@ def inverse_dynamics(
         arrays = engine.prepare(laws, len(times), dynamics=True, forces=forces,
                                 progress=advance)
         engine.start(laws, times[0])
-        status = engine.core.kinematic_run(times)
+        status = engine.kinematic_run(times)
     if not with_reactions:
         arrays.pop("reactions")
     done = status["reached"]

@@ -296,7 +296,7 @@ def kinematic_analysis(
         arrays = engine.prepare(laws, len(times), progress=bar,
                                 columns=("x", "xd", "xdd", "e", "ed", "edd"))
         engine.start(laws, times[0])
-        status = engine.core.kinematic_run(times)
+        status = engine.kinematic_run(times)
     done = status["reached"]
     result = KinematicResult(model, times[:done], **{k: v[:done] for k, v in arrays.items()})
     return conclude(result, engine.error(status), on_failure,

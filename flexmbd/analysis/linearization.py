@@ -41,7 +41,7 @@ from functools import cached_property
 import numpy as np
 
 from ..elements.base import SPATIAL_ROTATIONAL
-from ..engine import Engine, load_vector, q_scale, unwrap_near
+from ..engine import Engine, load_vector, q_scale, unwrap_near, workspace_of
 from ..errors import ArgumentError
 from ..model import Model
 from ..motion import Polynomial
@@ -162,7 +162,7 @@ def linearize(model: Model, x=None, qd=None, qdd=None, *, loads=None,
     Returns:
         :class:`Linearization`.
     """
-    engine = engine or Engine(model, tolerance)
+    engine = engine or workspace_of(model, tolerance)
     x = coordinates(model, model.x0 if x is None else x)
     zero = np.zeros(model.n_dof)
     qd = zero if qd is None else generalized(model, qd, "qd")
@@ -223,8 +223,8 @@ def load_stiffness(engine: Engine, loads: np.ndarray) -> np.ndarray:
     tangent subtracts ``F_q^T (df/dx) F_q`` (the spatial theory, section 6)."""
     nx = engine.model.n_coordinates
     slopes = np.zeros((nx, nx))
-    total = engine.compiled["f_const"] + loads
-    for at in np.asarray(engine.compiled["rotations"]).reshape(-1, 4):
+    total = engine.constant_loads + loads
+    for at in engine.rotation_coordinates:
         moment = total[at[1:]]
         if np.any(moment):
             slopes[np.ix_(at, at)] = euler_forces(np.eye(4), moment).T
@@ -245,8 +245,8 @@ def equilibrium_state(engine: Engine, x: np.ndarray, qd: np.ndarray, qdd: np.nda
     laws = [Polynomial(*values) for values in zip(q, qd, qdd, strict=True)]
     forces = None if not np.any(loads) else (lambda t, x_, xd_: loads)
     arrays = engine.prepare(laws, 1, dynamics=True, forces=forces)
-    engine.core.reset(np.ascontiguousarray(x))
-    error = engine.error(engine.core.kinematic_run(np.zeros(1)))
+    engine.reset(x)
+    error = engine.error(engine.kinematic_run(np.zeros(1)))
     if error is not None:
         raise error
     return {name: values[0].copy() for name, values in arrays.items()}

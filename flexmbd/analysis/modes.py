@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from ..engine import Engine
+from ..engine import workspace_of
 from ..errors import ArgumentError, SingularConfigurationError
 from ..progress import progress_bar
 from ..results import KinematicResult
@@ -243,7 +243,7 @@ def modes_along(result: KinematicResult, count: int = 6, progress: bool | None =
     count = _count(count, int(np.sum(~np.asarray(model.q_is_input))))
     nxm = model.independent_coordinates
     emd = model.independent_deformations
-    engine = Engine(model)
+    engine = workspace_of(model)
     nt = len(result.t)
     omega2 = np.full((nt, count), np.nan)
     # many small problems: BLAS threads would cost more in hand-over than they gain

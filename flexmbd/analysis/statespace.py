@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as linalg
 
-from ..engine import Engine
+from ..engine import workspace_of
 from ..errors import ArgumentError, SingularConfigurationError
 from .linearization import Linearization, central_differences
 from .modes import vibration_modes
@@ -175,5 +175,5 @@ def _rate_transfer(lin: Linearization) -> np.ndarray:
     model, dynamic = lin.model, lin.dynamic
     if not np.any(lin.qd):
         return np.zeros((model.n_coordinates, len(dynamic)))
-    return central_differences(Engine(model), lin.q, lin.qd, lin.qdd, lin.x,
+    return central_differences(workspace_of(model), lin.q, lin.qd, lin.qdd, lin.x,
                                lambda state: state["xd"], dynamic)

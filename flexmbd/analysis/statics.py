@@ -29,6 +29,7 @@ from ..engine import (
     output_sizes,
     q_index,
     q_scale,
+    workspace_of,
 )
 from ..errors import ArgumentError, ConvergenceError, FlexmbdError, SimulationError
 from ..model import Model
@@ -127,8 +128,9 @@ def static_equilibrium(
     # the applied loads are one more row of nx values
     checks.output_memory(rows, output_bytes(model, integrated=False) +
                          8 * model.n_coordinates, "steps")
-    solver = _Solver(model, Engine(model), tolerance, checks.iteration_limit(max_iterations))
-    own = solver.engine.compiled["f_const"]
+    solver = _Solver(model, workspace_of(model), tolerance,
+                     checks.iteration_limit(max_iterations))
+    own = solver.engine.constant_loads
     sizes = output_sizes(model)
     arrays = {name: np.empty((rows, sizes[name])) for name in OUTPUTS}
     factors, applied = np.arange(rows) / max(steps, 1), np.empty((rows, model.n_coordinates))

@@ -678,7 +678,7 @@ class Engine:
         integrated entries ``dynamic`` when given. A start the continuation cannot reach
         is left to the run, which reports its failure."""
         if configuration is not None:
-            self.core.reset(np.ascontiguousarray(configuration, dtype=float))
+            self.reset(configuration)
             return
         q = self.law_values(laws, t)[0]
         if dynamic is not None:
@@ -728,8 +728,7 @@ class Engine:
                 time_or_none, iterations=int(status["iterations"]),
                 residual=float(status["residual"]))
         if code in (_core.SINGULAR, _core.SINGULAR_TOLERANCE, _core.MASSLESS):
-            x = np.empty(model.n_coordinates)
-            self.core.configuration(x)
+            x = self.configuration()
             if not np.all(np.isfinite(x)):  # not a property of the mechanism: a blow-up
                 return SimulationError(self._diverged(time_or_none), time_or_none)
         if code in (_core.SINGULAR, _core.SINGULAR_TOLERANCE):
@@ -774,6 +773,53 @@ class Engine:
                  if self.integrated else "the laws or the applied loads are out of range")
         return f"the motion diverged {at_time(time)}: the configuration is no longer " \
                f"finite; {cause}"
+
+    # --- runs over a time grid (after prepare and start) --------------------------------------
+    def kinematic_run(self, times: np.ndarray) -> dict[str, object]:
+        """Every output time of a prepared run whose ``q`` all follow laws (kinematic
+        analysis, inverse dynamics, a state of the static analysis): the core's status
+        (``reached``, ``code``, ...), for :meth:`error`."""
+        return self.core.kinematic_run(np.ascontiguousarray(times, dtype=float))
+
+    def alpha_run(self, times: np.ndarray, q: np.ndarray, qd: np.ndarray,
+                  end: np.ndarray, watch: np.ndarray | None, near: float,
+                  options: Mapping[str, float | int]) -> dict[str, object]:
+        """A prepared, integrated run by generalized-alpha in the core from the dynamic
+        ``q``, ``qdot`` ``(nd,)``, stopping where a ``watch``-ed free rotation's partition
+        is spent (its state then in ``end`` ``(2 nd,)``); the core's status and
+        counters (``nfev``, ``njev``, ``nlu``, ``nsteps``)."""
+        return self.core.alpha_run(times, q, qd, near=near, watch=watch, end=end, **options)
+
+    def accelerations(self, t: float, y: np.ndarray, out: np.ndarray) -> None:
+        """The dynamic entries of ``qddot`` into ``out`` ``(nd,)`` at time ``t`` [s] and
+        state ``y = [q_d; qdot_d]`` of a prepared, integrated run."""
+        self.call(self.core.accelerations, t, np.ascontiguousarray(y), out)
+
+    def output(self, k: int, t: float, y: np.ndarray) -> None:
+        """Record output ``k`` of a prepared run at time ``t`` [s] and state ``y``."""
+        self.call(self.core.output, k, float(t), np.ascontiguousarray(y))
+
+    def configuration(self) -> np.ndarray:
+        """The configuration ``x`` ``(nx,)`` of the last evaluation (of the last failure)."""
+        x = np.empty(self.model.n_coordinates)
+        self.core.configuration(x)
+        return x
+
+    def reset(self, x: np.ndarray) -> None:
+        """Start the next position solve from the configuration ``x`` ``(nx,)``."""
+        self.core.reset(np.ascontiguousarray(x, dtype=float))
+
+    @property
+    def constant_loads(self) -> np.ndarray:
+        """The model's constant loads and moments (XF) ``(nx,)`` [N, N m] as the core
+        applies them."""
+        return self.compiled["f_const"]
+
+    @property
+    def rotation_coordinates(self) -> np.ndarray:
+        """The Euler parameters ``(k, 4)`` (coordinate indices) of the spatial rotational
+        nodes."""
+        return np.asarray(self.compiled["rotations"]).reshape(-1, 4)
 
     def call(self, method: Callable, *args):
         """Call a single evaluation of the core; its failure as flexmbd's error."""

@@ -120,6 +120,47 @@ void band_solve(const Band *b, double *x)
     }
 }
 
+/* A X = R for k right-hand sides at once, in place: x holds R row by row, (n, k), the k
+ * values of a row side by side, so every step of the substitutions runs along a row.
+ * Each column gets the operations band_solve would give it, in the same order. */
+void band_solve_many(const Band *b, double *x, int k)
+{
+    const int n = b->n, kl = b->kl, kv = b->kl + b->ku;
+    for (int j = 0; j < n - 1; j++) {          /* L, with the interchanges */
+        const int lm = kl < n - 1 - j ? kl : n - 1 - j;
+        double *xj = x + (size_t)j * k;
+        const int l = b->ipiv[j];
+        if (l != j) {
+            double *xl = x + (size_t)l * k;
+            for (int c = 0; c < k; c++) {
+                const double t = xl[c];
+                xl[c] = xj[c];
+                xj[c] = t;
+            }
+        }
+        const double *col = &AB(j, j);
+        for (int i = 1; i <= lm; i++) {
+            const double a = col[i];
+            double *xi = x + (size_t)(j + i) * k;
+            for (int c = 0; c < k; c++)
+                xi[c] -= a * xj[c];
+        }
+    }
+    for (int j = n - 1; j >= 0; j--) {         /* U, bandwidth kl + ku above the diagonal */
+        const double *col = &AB(j, j);
+        double *xj = x + (size_t)j * k;
+        for (int c = 0; c < k; c++)
+            xj[c] /= col[0];
+        const int top = kv < j ? kv : j;
+        for (int i = 1; i <= top; i++) {
+            const double a = col[-i];
+            double *xi = x + (size_t)(j - i) * k;
+            for (int c = 0; c < k; c++)
+                xi[c] -= a * xj[c];
+        }
+    }
+}
+
 void band_solve_t(const Band *b, double *x)
 {
     const int n = b->n, kl = b->kl, kv = b->kl + b->ku;

@@ -51,6 +51,7 @@ void band_free(Band *b);
 void band_copy(Band *to, const Band *from);
 int band_factor(Band *b);                      /* 0, or k + 1 for a zero pivot k */
 void band_solve(const Band *b, double *x);     /* A x = rhs, in place */
+void band_solve_many(const Band *b, double *x, int k);  /* A X = R, x (n, k) row-major */
 void band_solve_t(const Band *b, double *x);   /* A^T x = rhs, in place */
 double band_inverse_norm(Band *b, int *column);  /* estimate of ||A^-1||_1 (Hager, Higham) */
 double band_column_norm(Band *b, int j);       /* ||A^-1 e_j||_1, one solve */
@@ -194,6 +195,7 @@ double fm_conditioning(const FmModel *m, FmState *s);
 int fm_nearly_singular(const FmModel *m, FmState *s);   /* D_c ill-conditioned for its model */
 int fm_factor_at(const FmModel *m, FmState *s, const double *x);
 void fm_solve_dc(const FmModel *m, FmState *s, double *r, int transposed);
+int fm_solve_dc_many(const FmModel *m, FmState *s, double *r, int count);
 void fm_jacobian_times(const FmModel *m, const double *J, const double *v, double *out);
 void fm_jacobian_t_times(const FmModel *m, const double *J, const double *w, double *out);
 

@@ -1185,6 +1185,13 @@ static PyObject *Core_solve(Core *c, PyObject *args)
     if (!r)
         return NULL;
     const int count = c->m.nr ? (int)(v.view[0].len / sizeof(double) / c->m.nr) : 0;
+    if (!transposed && count > 1) {
+        const int code = fm_solve_dc_many(&c->m, &c->out, r, count);
+        release(&v);
+        if (code)
+            return PyErr_NoMemory();
+        Py_RETURN_NONE;
+    }
     for (int k = 0; k < count; k++)
         fm_solve_dc(&c->m, &c->out, r + (size_t)k * c->m.nr, transposed);
     release(&v);

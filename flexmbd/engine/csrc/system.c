@@ -254,6 +254,25 @@ void fm_solve_dc(const FmModel *m, FmState *s, double *r, int transposed)
         solve_dc(m, s, r, s->w2);
 }
 
+/* D_c^-1 R for `count` right-hand sides r (count, nr), each in place, in one pass of the
+ * band through all of them (as fm_solve_dc gives each); FM_NO_MEMORY without room. */
+int fm_solve_dc_many(const FmModel *m, FmState *s, double *r, int count)
+{
+    const size_t n = (size_t)m->nr;
+    double *work = malloc(sizeof(double) * (n * (size_t)count + 1));
+    if (!work)
+        return FM_NO_MEMORY;
+    for (int k = 0; k < count; k++)
+        for (int i = 0; i < m->nr; i++)
+            work[(size_t)m->dc_rowband[i] * count + k] = m->dc_rowscale[i] * r[k * n + i];
+    band_solve_many(&s->dc, work, count);
+    for (int k = 0; k < count; k++)
+        for (int j = 0; j < m->nr; j++)
+            r[k * n + j] = m->dc_colscale[j] * work[(size_t)m->dc_colband[j] * count + k];
+    free(work);
+    return FM_OK;
+}
+
 /* --- positions (THEORY 3) -----------------------------------------------------------------
  * Newton-Raphson for x(c) from a guess, in one of two modes:
  * - the integrator's (refresh = 0): D_c from the guess (or from nearby, `use_factor`) serves
