@@ -248,7 +248,7 @@ STIFF_ROD = {ROD_STIFFNESS: "ESTIFF 2 5654866.776461628 1.272e9"}
 def test_the_spectral_radius_of_an_oscillator_is_its_highest_frequency():
     """Two masses on springs, y = [u; v], u'' = -K u: the power iteration on finite
     differences gives the highest omega of eig(K) to 1e-6."""
-    from flexmbd.analysis.integrate import spectral_radius
+    from flexmbd.analysis.watch import spectral_radius
 
     K = np.array([[2e6, -1e6], [-1e6, 1e6]])
 
@@ -266,10 +266,10 @@ def test_a_stiff_model_under_an_explicit_method_is_named_stiff_at_once(monkeypat
     is projected to take 30 s) it stops at its first step, says the model is stiff and
     which method fits, and keeps what it computed. The mode it names is the rod's
     highest vibration frequency at the start, computed from K and M."""
-    from flexmbd.analysis import integrate
+    from flexmbd.analysis import watch
 
-    monkeypatch.setattr(integrate, "STIFF_LOOK", 0.0)
-    monkeypatch.setattr(integrate, "STIFF_PROJECTED", 0.0)
+    monkeypatch.setattr(watch, "STIFF_LOOK", 0.0)
+    monkeypatch.setattr(watch, "STIFF_PROJECTED", 0.0)
     model = _flex_with(STIFF_ROD)
     result = fm.simulate(model, np.linspace(0.0, 0.01, 101), on_failure="return")
     assert isinstance(result.error, fm.StiffnessError) and len(result.t) >= 1
@@ -292,10 +292,10 @@ def test_a_stiff_model_under_an_explicit_method_is_named_stiff_at_once(monkeypat
 
 def test_flexmbd_run_switches_a_stiff_file_to_generalized_alpha_unless_told(
         tmp_path, monkeypatch, capsys):
-    from flexmbd.analysis import integrate
+    from flexmbd.analysis import watch
 
-    monkeypatch.setattr(integrate, "STIFF_LOOK", 0.0)
-    monkeypatch.setattr(integrate, "STIFF_PROJECTED", 0.0)
+    monkeypatch.setattr(watch, "STIFF_LOOK", 0.0)
+    monkeypatch.setattr(watch, "STIFF_PROJECTED", 0.0)
     path = tmp_path / "stiff.dat"
     text = Path(FLEX).read_text().replace(ROD_STIFFNESS, STIFF_ROD[ROD_STIFFNESS])
     path.write_text(text.replace("TIMESTEP 0.08377580409572781 800", "TIMESTEP 0.01 100"))

@@ -6,6 +6,7 @@ import functools
 import json
 import math
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -154,7 +155,8 @@ def test_a_run_that_stops_early_keeps_its_rows(tmp_path):
     data = fm.sweep(FLEX_DAT, {"ESTIFF:2:2": [1.0, 20.0], "INPUTX:2:3": [150.0]}, "dynamic",
                     ["absmax:e2.2", "t"], "serial")
     assert list(data["status"].values) == ["failed", "ok"]
-    assert "the RK45 integrator cannot get past t = " in data["error"].values[0]
+    assert re.search(r"the RK45 integrator (failed at|cannot get past) t = ",
+                     data["error"].values[0])
     stopped = data["t"].values[0]
     assert 0 < np.count_nonzero(~np.isnan(stopped)) < data["t"].sizes["step"]
 

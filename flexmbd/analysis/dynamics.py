@@ -35,8 +35,17 @@ from .free_rotations import (
     repartitioned,
     watched_positions,
 )
-from .integrate import EXPLICIT, AlphaOptions, StepsCollapsedError, check_method, integrate
+from .integrate import (
+    EXPLICIT,
+    AlphaOptions,
+    Method,
+    ScipyOptions,
+    check_method,
+    check_options,
+    integrate,
+)
 from .kinematics import coordinates, first_order_transfer
+from .watch import StepsCollapsedError
 
 #: generalized-alpha's position solves take D_x within this share of the model size: its
 #: residual need not be exact below its truncation error, and this saves chord steps
@@ -116,16 +125,12 @@ def simulate(
     method: str = "RK45",
     rtol: float = 1e-6,
     atol: float = 1e-9,
-    max_step: float = np.inf,
-    step: float | None = None,
-    iterations: int | None = None,
-    renew_every: int = 1,
-    rho_inf: float | None = None,
     tolerance: float | None = None,
     with_reactions: bool = False,
     outputs: Literal["all", "velocities", "positions"] = "all",
     progress: bool | None = None,
     on_failure: Literal["raise", "return"] = "raise",
+    **options,
 ) -> SimulationResult:
     """Forward simulation of the dynamic degrees of freedom.
 
@@ -144,23 +149,6 @@ def simulate(
             elongation; it runs entirely in the compiled core).
         rtol, atol: integrator tolerances on ``[q_d, qdot_d]`` (for GeneralizedAlpha:
             of its Newton iteration).
-        max_step: largest integrator step [s].
-        step: step size [s] of GeneralizedAlpha (default: the output interval).
-        iterations: GeneralizedAlpha's Newton corrections per step: ``None`` (default)
-            iterates to ``rtol``/``atol`` and, with ``rho_inf = 1``, keeps the energy of
-            a conservative system (1e-5 of its kinetic energy over 100 periods of a
-            flexible rotor); ``1`` is the linearly implicit method, one evaluation and
-            one Newton correction per step, as accurate for a driven slow motion at
-            about half the cost, but it needs numerical damping (``rho_inf <= 0.8``)
-            to stay stable and does not keep the energy: check it with an energy
-            balance.
-        renew_every: with ``iterations`` set, steps between renewals of
-            GeneralizedAlpha's Newton matrix (default 1: every step).
-        rho_inf: GeneralizedAlpha's spectral radius at infinite frequency, 0 (strongest
-            damping of unresolved modes) to 1 (none, energy kept). Default 1 when Newton
-            iterates, 0.8 with ``iterations`` set. Damping dissipates the energy of
-            modes the step does not resolve (6e-4 of a flexible rotor's over 100
-            periods of its first mode at 40 steps per period, rho_inf = 0.8).
         tolerance: Newton tolerance of the position solve [m, rad].
         with_reactions: keep the loads of supports and drives (``f<node>.<k>`` columns).
         outputs: what each output time records: ``"all"`` (default: positions, rates,
@@ -171,6 +159,26 @@ def simulate(
         progress: progress bar (default: long interactive runs only).
         on_failure: ``"raise"`` the :class:`SimulationError` (with the output so far
             as ``error.partial_result``) or ``"return"`` it with ``success=False``.
+        **options: the method's own (:data:`flexmbd.analysis.integrate.METHODS`); a
+            method refuses, by name, an option it does not take.
+
+            SciPy's methods: ``max_step`` [s], the largest step, and ``first_step`` [s].
+
+            GeneralizedAlpha: ``step`` [s] (default: the output interval; ``max_step``
+            bounds it too). ``iterations``, its Newton corrections per step: ``None``
+            (default) iterates to ``rtol``/``atol`` and, with ``rho_inf = 1``, keeps the
+            energy of a conservative system (1e-5 of its kinetic energy over 100 periods
+            of a flexible rotor); ``1`` is the linearly implicit method, one evaluation
+            and one Newton correction per step, as accurate for a driven slow motion at
+            about half the cost, but it needs numerical damping (``rho_inf <= 0.8``) to
+            stay stable and does not keep the energy: check it with an energy balance.
+            ``renew_every``: with ``iterations`` set, steps between renewals of the
+            Newton matrix (default 1: every step). ``rho_inf``: the spectral radius at
+            infinite frequency, 0 (strongest damping of unresolved modes) to 1 (none,
+            energy kept); default 1 when Newton iterates, 0.8 with ``iterations`` set.
+            Damping dissipates the energy of modes the step does not resolve (6e-4 of a
+            flexible rotor's over 100 periods of its first mode at 40 steps per period,
+            rho_inf = 0.8).
 
     Returns:
         :class:`~flexmbd.results.SimulationResult` with ``stats`` of the integrator.
@@ -186,7 +194,8 @@ def simulate(
     if not model.has_mass:
         raise ModelError("the model has no mass: give elements set_mass() or nodes "
                          "add_point_mass() before simulating")
-    check_method(method)
+    spec = check_method(method)
+    options = check_options(spec, options)
     if not isinstance(outputs, str) or outputs not in RECORDED:
         raise ArgumentError("outputs", f"must be one of {', '.join(map(repr, RECORDED))}, "
                                        f"not {outputs!r}")
@@ -194,30 +203,18 @@ def simulate(
         raise ArgumentError("with_reactions", "needs outputs='all' (reactions come with the "
                                               "accelerations)")
     rtol, atol = checks.integrator_tolerances(rtol, atol, model.characteristic_length)
-    if not (isinstance(max_step, float) and max_step == np.inf) and \
-            not checks.real(max_step, "max_step") > 0:
-        raise ArgumentError("max_step", f"must be positive, got {max_step!r}")
     span = float(times[-1] - times[0])
-    alpha = None
-    if method == "GeneralizedAlpha":
-        interval = float(np.diff(times).min())
-        if step is not None and not checks.real(step, "step") > 0:
-            raise ArgumentError("step", f"must be positive, got {step!r}")
-        alpha = AlphaOptions(min(interval if step is None else float(step), float(max_step)),
-                             _rho_inf(rho_inf, iterations), rtol, atol, iterations,
-                             renew_every)
-        checks.step_count(span, alpha.step, "step")
-    elif step is not None or iterations is not None or renew_every != 1 or rho_inf is not None:
-        raise ArgumentError("step", f"step, iterations, renew_every and rho_inf belong to "
-                                    f"GeneralizedAlpha; {method} chooses its own steps (bound "
-                                    f"them with max_step)")
+    if spec.in_core:
+        settings: AlphaOptions | ScipyOptions = _alpha_options(times, rtol, atol, **options)
+        checks.step_count(span, settings.step, "step")
     else:
-        checks.step_count(span, max_step, "max_step")
+        settings = ScipyOptions(rtol, atol, **options)
+        checks.step_count(span, settings.max_step, "max_step")
     q0, qd0 = initial_state(model, initial)
-    work = round((times[-1] - times[0]) / alpha.step) if alpha else len(times)
+    work = round(span / settings.step) if spec.in_core else len(times)
     with progress_bar(times, f"simulating ({method})", progress, work) as advance:
-        run = _Run(model, inputs, forces, tolerance, RECORDED[outputs], method, alpha,
-                   (rtol, atol, max_step), advance)
+        run = _Run(model, inputs, forces, tolerance, RECORDED[outputs], spec, settings,
+                   advance)
         arrays, done, error, stats = run.through(times, q0, qd0)
     if not with_reactions:
         arrays.pop("reactions", None)
@@ -233,6 +230,19 @@ def simulate(
 #: modes keep large unless numerical damping takes their amplitude (a conservative
 #: flexible pendulum gains or loses most of its energy over a hundred swings at 0.9)
 FIXED_ITERATIONS_RHO_INF = 0.8
+
+
+def _alpha_options(times: np.ndarray, rtol: float, atol: float, *, step: float | None = None,
+                   rho_inf: float | None = None, iterations: int | None = None,
+                   renew_every: int = 1, max_step: float = np.inf) -> AlphaOptions:
+    """GeneralizedAlpha's settings for a run over ``times``: the step by default the
+    smallest output interval, bounded by ``max_step`` [s]."""
+    if step is not None and not checks.real(step, "step") > 0:
+        raise ArgumentError("step", f"must be positive, got {step!r}")
+    bound = ScipyOptions(max_step=max_step).max_step  # checked as SciPy's methods check it
+    interval = float(np.diff(times).min())
+    return AlphaOptions(min(interval if step is None else float(step), float(bound)),
+                        _rho_inf(rho_inf, iterations), rtol, atol, iterations, renew_every)
 
 
 def _rho_inf(rho_inf: float | None, iterations: int | None) -> float:
@@ -256,12 +266,10 @@ class _Run:
     parameter calculable (:mod:`flexmbd.analysis.free_rotations`). Outputs are in the labels of
     the model the user gave."""
 
-    def __init__(self, model: Model, inputs, forces, tolerance, columns, method: str,
-                 alpha: AlphaOptions | None, tolerances: tuple[float, float, float],
-                 advance):
+    def __init__(self, model: Model, inputs, forces, tolerance, columns, method: Method,
+                 settings: AlphaOptions | ScipyOptions, advance):
         self.model, self.inputs, self.forces, self.tolerance = model, inputs, forces, tolerance
-        self.columns, self.method, self.alpha, self.tolerances = columns, method, alpha, \
-            tolerances
+        self.columns, self.method, self.settings = columns, method, settings
         self.advance = advance
         self.laws = resolve_laws(model, inputs)  # bad inputs are reported before any work
 
@@ -313,22 +321,22 @@ class _Run:
         (``None``: the model's own): outputs reached, error, counters, and ``(t, y)``
         where a free rotation's partition was spent (else ``None``)."""
         n = len(y) // 2
-        if self.alpha is not None:
+        if isinstance(self.settings, AlphaOptions):
             end = np.empty(2 * n)
             status = engine.alpha_run(
                 times, y[:n], y[n:], end, watched.ravel() if len(watched) else None,
                 GA_JACOBIAN_POINT * engine.model.characteristic_length,
-                self.alpha.core_arguments())
+                self.settings.core_arguments())
             counts = {name: int(status[name]) for name in ("nfev", "njev", "nlu", "nsteps")}
             if engine.stopped_for_partition(status):
                 return status["reached"], None, counts, (float(status["time"]), end)
             return status["reached"], engine.error(status), counts, None
-        return _scipy_run(engine, laws, times, y, self.method, *self.tolerances, self.advance,
-                          watched, start)
+        return _scipy_run(engine, laws, times, y, self.method.name, self.settings,
+                          advance=self.advance, watched=watched, start=start)
 
 
-def _scipy_run(engine: Engine, laws, times, y0, method, rtol, atol, max_step, advance,
-               watched, start=None):
+def _scipy_run(engine: Engine, laws, times, y0, method: str, settings: ScipyOptions, *,
+               advance, watched, start=None):
     """A scipy integrator over the core's accelerations; each output evaluated as soon as
     it is reached, from the solution of the evaluation before it. It stops where a
     ``watched`` free rotation's partition is spent. A rejected trial step restarts the
@@ -347,9 +355,12 @@ def _scipy_run(engine: Engine, laws, times, y0, method, rtol, atol, max_step, ad
     def spent(t, y):
         return partition_spent(watched, y[:n])
 
-    run = integrate(fun, y0, times, method=method, rtol=rtol, atol=atol, max_step=max_step,
+    scipy_options = {"max_step": settings.max_step}
+    if settings.first_step is not None:
+        scipy_options["first_step"] = settings.first_step
+    run = integrate(fun, y0, times, method=method, rtol=settings.rtol, atol=settings.atol,
                     progress=advance or False, on_output=engine.output, on_reject=restart,
-                    stop=spent if len(watched) else None)
+                    stop=spent if len(watched) else None, **scipy_options)
     error = run.error
     if error is None and not run.success:
         error = SimulationError(run.message, float(run.t[-1]) if len(run.t) else None)

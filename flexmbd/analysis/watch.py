@@ -1,0 +1,142 @@
+"""What ends a run of one of SciPy's integrators that cannot succeed, soon after it
+becomes clear: a point the steps cannot get past (:class:`Crawl`) and a stiffness the
+method cannot step over (:class:`Stiffness`)."""
+
+from __future__ import annotations
+
+import time
+from collections import deque
+
+import numpy as np
+
+from ..errors import SimulationError, StiffnessError
+
+
+class StepsCollapsedError(SimulationError):
+    """An error-controlled integrator's steps shrank to nothing (see :class:`Crawl`)."""
+
+
+class Crawl:
+    """Ends a run that no longer gets anywhere: the last :data:`CRAWL_STEPS` steps together
+    covered less than :data:`CRAWL_SHARE` of the run, so at that pace the run would need
+    billions of steps (hours); scipy gives up only at the spacing of floating-point
+    numbers. Step sizes that bounce up and down at a point the integrator cannot pass
+    (an implicit method at aligned redundant constraints) are caught as well as steady
+    shrinking, a fraction of a second after the point is reached."""
+
+    def __init__(self, span: float, method: str, explicit: bool):
+        self.least = CRAWL_SHARE * span
+        self.method, self.explicit = method, explicit
+        self.steps: deque[float] = deque(maxlen=CRAWL_STEPS)
+
+    def check(self, solver) -> None:
+        method = self.method
+        self.steps.append(solver.step_size)
+        if len(self.steps) == CRAWL_STEPS and sum(self.steps) < self.least:
+            raise StepsCollapsedError(
+                f"the {method} integrator cannot get past t = {solver.t:.6g} s: its last "
+                f"{CRAWL_STEPS} steps together covered {sum(self.steps):.2g} s (the last "
+                f"{solver.step_size:.2g} s); the motion is not smooth enough there for its "
+                f"tolerance (near a singular configuration round-off grows); loosen rtol, "
+                f"or use {_OTHERS[self.explicit]}", float(solver.t))
+
+
+#: what else to try where a method cannot get past a point: for an explicit one (True),
+#: an implicit one
+_OTHERS = {True: "method='GeneralizedAlpha'",
+           False: "method='GeneralizedAlpha' or an explicit method (DOP853, RK45)"}
+#: a run stops when its last ``CRAWL_STEPS`` steps together covered less than
+#: ``CRAWL_SHARE`` of it
+CRAWL_STEPS, CRAWL_SHARE = 200, 1e-7
+
+
+#: an explicit step longer than this share of the fastest mode's ``1/rho`` is set by that
+#: mode (resolving it to a tolerance of 1e-6 takes steps of about 0.3 / rho; stability
+#: allows up to 1.7 / rho for RK23, 3.3 for RK45, 6 for DOP853)
+HELD_BY_FASTEST = 0.3
+#: an implicit step shorter than this many ``1/rho`` (half a period) does not step over
+#: the fastest mode, as an implicit method is meant to
+STEPS_OVER = 3.0
+#: outputs this many periods of the fastest mode apart cannot show it: a mode the
+#: outputs cannot show, which sets the steps, makes the problem stiff for the method
+UNSEEN_PERIODS = 10.0
+#: wall-clock seconds between looks at a run's pace, and the projected duration beyond
+#: which a stiff run is stopped
+STIFF_LOOK, STIFF_PROJECTED = 2.0, 30.0
+
+
+class Stiffness:
+    """Stops a run that crawls because the problem is stiff for its method. Every
+    :data:`STIFF_LOOK` seconds, when the run at its pace so far would take longer than
+    :data:`STIFF_PROJECTED` seconds, the fastest mode's rate ``rho`` (the spectral radius
+    of ``df/dy``, by power iteration on finite differences of ``fun``) is compared with
+    the step and the outputs. A mode that the outputs, :data:`UNSEEN_PERIODS` of its
+    periods apart, cannot show, and that sets the steps of an explicit method (``h rho``
+    at least :data:`HELD_BY_FASTEST`) or that an implicit one does not step over (``h
+    rho`` below :data:`STEPS_OVER`: its finite-difference Jacobian of the accelerations
+    does not follow that mode), is what generalized-alpha steps over."""
+
+    def __init__(self, fun, t_eval: np.ndarray, method: str, explicit: bool,
+                 clock=time.monotonic):
+        self.fun, self.method, self.explicit, self.clock = fun, method, explicit, clock
+        self.t0, self.t_end = float(t_eval[0]), float(t_eval[-1])
+        self.interval = (self.t_end - self.t0) / (len(t_eval) - 1)
+        self.start = clock()
+        self.next = self.start + STIFF_LOOK
+
+    def check(self, solver) -> None:
+        now = self.clock()
+        if now < self.next:
+            return
+        self.next = now + STIFF_LOOK
+        done = (solver.t - self.t0) / (self.t_end - self.t0)
+        projected = (now - self.start) / max(done, 1e-12)
+        if projected < STIFF_PROJECTED:
+            return
+        rho = spectral_radius(self.fun, solver.t, solver.y)
+        if rho is None or self.interval * rho < 2 * np.pi * UNSEEN_PERIODS:
+            return
+        reach = solver.step_size * rho
+        explicit = self.explicit
+        if (reach < HELD_BY_FASTEST) if explicit else (reach >= STEPS_OVER):
+            return
+        why = ("holds its steps to" if explicit else
+               "is not stepped over (its finite-difference Jacobian of the accelerations "
+               "does not follow that mode): its steps are")
+        raise StiffnessError(
+            f"the model is stiff for {self.method}: a mode of {rho:.3g} rad/s (a period of "
+            f"{2 * np.pi / rho:.2g} s, far below the output interval {self.interval:.2g} s) "
+            f"{why} {solver.step_size:.2g} s, so the run would take about "
+            f"{_duration(projected)} (t = {solver.t:.6g} s of {self.t_end:.6g} s after "
+            f"{now - self.start:.0f} s); use method='GeneralizedAlpha' (flexmbd run "
+            f"--method GeneralizedAlpha), which steps over the fast mode at steps of the "
+            f"output interval", float(solver.t))
+
+
+def _duration(seconds: float) -> str:
+    if seconds < 120:
+        return f"{seconds:.0f} s"
+    return f"{seconds / 60:.0f} min" if seconds < 7200 else f"{seconds / 3600:.0f} h"
+
+
+def spectral_radius(fun, t: float, y: np.ndarray, iterations: int = 12) -> float | None:
+    """``max |lambda|`` of ``df/dy`` at ``(t, y)`` [1/s], by power iteration on ``J^2``
+    (whose eigenvalues ``-omega^2`` are real for a mechanism's oscillations ``+-i omega``)
+    with ``J v`` from forward differences of ``fun``; ``None`` when ``fun`` fails
+    there."""
+    try:
+        f0 = np.asarray(fun(t, y), dtype=float)
+        v = np.random.default_rng(0).standard_normal(len(y))
+        v /= np.linalg.norm(v)
+        estimate = None
+        for _ in range(iterations):
+            for _square in range(2):
+                delta = np.sqrt(np.finfo(float).eps) * (1.0 + np.linalg.norm(y))
+                v = (np.asarray(fun(t, y + delta * v), dtype=float) - f0) / delta
+            size = np.linalg.norm(v)
+            if not np.isfinite(size) or size == 0.0:
+                return None
+            estimate, v = np.sqrt(size), v / size
+        return estimate
+    except SimulationError:
+        return None
