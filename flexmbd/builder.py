@@ -570,7 +570,7 @@ class ModelBuilder:
         element_properties = self._element_properties(elements, problems)
         first_euler = max(elements, default=0) + 1
         euler_nodes = [n for n in sorted(nodes) if nodes[n].kind == SPATIAL_ROTATIONAL]
-        inertias = self._node_inertias(elements, element_properties)
+        inertias = self._node_inertias(elements)
         for number, node in enumerate(euler_nodes, start=first_euler):
             data = {"inertia": inertias.get(node, (0.0,) * 6)}
             elements[number] = Element(number, EulerNormalization, (node,),
@@ -583,9 +583,11 @@ class ModelBuilder:
         coordinate_class = np.full(len(x0), CoordinateClass.DEPENDENT, dtype=int)
         deformation_class = np.array(default_class, dtype=int)
         laws: dict[str, Law] = {}
-        self._classify_coordinates(nodes, labels, coordinate_class, laws, problems)
-        self._classify_deformations(elements, deformation_labels, deformation_class, laws,
-                                    problems)
+        self._classify(self._coordinate_requests, nodes, "node", self._coordinates_named,
+                       labels, coordinate_class, laws, problems)
+        self._classify(self._deformation_requests, elements, "element",
+                       self._deformations_named, deformation_labels, deformation_class, laws,
+                       problems)
         self._check_nodal_loads(nodes, problems)
         return Model(
             name=self.name,
@@ -608,7 +610,7 @@ class ModelBuilder:
         return any(t.is_spatial() for _, t, _, _ in self._elements) or any(
             len(p) == 3 for p in self._positions.values())
 
-    def _node_inertias(self, elements, properties) -> dict[int, tuple[float, ...]]:
+    def _node_inertias(self, elements) -> dict[int, tuple[float, ...]]:
         """``Jb`` of every spatial rotational node with inertia: its ``XM`` plus the lumped
         rotary inertia ``(l0/2) R0 Jsec R0^T`` of each spatial beam with a section inertia
         (THEORY-SPATIAL 4), as ``(Jxx, Jxy, Jxz, Jyy, Jyz, Jzz)``."""
@@ -617,14 +619,11 @@ class ModelBuilder:
             tensors[node] += np.array(EulerNormalization.inertia_tensor(values))
         for number, inertia in self._section_inertias.items():
             element = elements.get(number)
-            if element is None or element.type is not SpatialBeam:
+            if element is None or not element.type.takes_section_inertia:
                 continue
-            jxx, jyy, jzz, jyz = inertia
-            frame = np.array(element.reference[1:10]).reshape(3, 3).T  # columns ex0, ey0, ez0
-            section = np.array([[jxx, 0.0, 0.0], [0.0, jyy, jyz], [0.0, jyz, jzz]])
-            lumped = 0.5 * element.reference[0] * frame @ section @ frame.T
-            for node in (element.nodes[1], element.nodes[3]):
-                tensors[node] += lumped
+            for role, lumped in element.type.section_inertia_on_nodes(element.reference,
+                                                                      inertia):
+                tensors[element.nodes[role]] += lumped
         return {node: tuple(float(t[i, j]) for i, j in ((0, 0), (0, 1), (0, 2), (1, 1),
                                                         (1, 2), (2, 2)))
                 for node, t in tensors.items()}
@@ -668,9 +667,10 @@ class ModelBuilder:
                                     f"negative")
                 fields.update(mass_per_length=rho_a, lumped=lumped)
             if number in self._section_inertias:
-                if etype is not SpatialBeam:
+                if not etype.takes_section_inertia:
+                    takers = [t.name for t in ELEMENT_TYPES.values() if t.takes_section_inertia]
                     problems.append(f"set_mass element {number}: a {etype.name} takes no "
-                                    f"section inertia (a spatial beam does)")
+                                    f"section inertia (a {' or '.join(takers)} does)")
                 fields["section_inertia"] = self._section_inertias[number]
             for what, declared in (("stiffness", etype.stiffness_values),
                                    ("damping", etype.damping_values)):
@@ -721,73 +721,66 @@ class ModelBuilder:
                     problems.append(f"add_rotary_inertia node {number}: only spatial rotational "
                                     f"nodes take an inertia tensor; this one is {kind}")
 
-    def _classify_coordinates(self, nodes, labels, classes, laws, problems):
+    @staticmethod
+    def _classify(requests, owners, what: str, named, labels, classes, laws, problems):
+        """Apply the classification ``requests`` to the coordinates of nodes or the
+        deformations of elements (``owners`` by number, ``what`` they are): ``named(req,
+        owner)`` gives the indices a request names, or a problem in words; a law goes with
+        the one index it names."""
         assigned: dict[int, str] = {}
-        for req in self._coordinate_requests:
-            if req.number not in nodes:
-                problems.append(f"{req.command}: node {req.number} is not in the model")
+        for req in requests:
+            owner = owners.get(req.number)
+            if owner is None:
+                problems.append(f"{req.command}: {what} {req.number} is not in the model")
                 continue
-            node = nodes[req.number]
-            if req.k is None and node.kind == SPATIAL_ROTATIONAL:
-                ks = range(2, 5)  # lam1 .. lam3, as SPACAR: lam0 follows from the norm
-                if req.law is not None:
-                    problems.append(f"{req.command} node {req.number}: a law needs exactly one "
-                                    f"direction of this {node.kind} node")
-                    continue
-            elif req.k is None:
-                ks = range(1, len(node.coordinates) + 1)
-                if req.law is not None and len(ks) > 1:
-                    problems.append(f"{req.command} node {req.number}: a law needs exactly one "
-                                    f"direction of this {node.kind} node")
-                    continue
-            else:
-                k = direction_number(node.kind, req.k)
-                if k is None or not 1 <= k <= len(node.coordinates):
-                    names = DIRECTION_NAMES[node.kind]
-                    valid = " and ".join(f"{i + 1} ({n})" for i, n in enumerate(names))
-                    problems.append(
-                        f"{req.command} node {req.number}: direction {req.k!r} does not exist; "
-                        f"a {node.kind} node has direction {valid}"
-                    )
-                    continue
-                ks = [k]
-            for k in ks:
-                i = node.coordinates[k - 1]
+            indices = named(req, owner)
+            if isinstance(indices, str):
+                problems.append(indices)
+                continue
+            for i in indices:
                 _assign(i, labels[i], req, classes, assigned, problems)
                 if req.law is not None:
                     laws[labels[i]] = req.law
 
-    def _classify_deformations(self, elements, labels, classes, laws, problems):
-        assigned: dict[int, str] = {}
-        for req in self._deformation_requests:
-            if req.number not in elements:
-                problems.append(f"{req.command}: element {req.number} is not in the model")
-                continue
-            element = elements[req.number]
-            if element.type.automatic:
-                problems.append(f"{req.command}: element {req.number} is the "
-                                f"{element.type.name} of node {element.nodes[0]}, rigid always")
-                continue
-            nd = len(element.deformations)
-            if req.k is None:
-                ks = range(1, nd + 1)
-                if req.law is not None and nd > 1:
-                    problems.append(f"{req.command} element {req.number}: a law needs exactly one "
-                                    f"deformation of this {element.type.name}")
-                    continue
-            elif isinstance(req.k, (int, np.integer)) and 1 <= req.k <= nd:
-                ks = [int(req.k)]
-            else:
-                problems.append(
-                    f"{req.command} element {req.number}: deformation {req.k!r} does not exist; "
-                    f"a {element.type.name} has deformations 1 to {nd}"
-                )
-                continue
-            for k in ks:
-                i = element.deformations[k - 1]
-                _assign(i, labels[i], req, classes, assigned, problems)
-                if req.law is not None:
-                    laws[labels[i]] = req.law
+    @staticmethod
+    def _coordinates_named(req, node) -> list[int] | str:
+        """The coordinates of ``node`` a request names: its direction, or all (the Euler
+        parameters lam1 .. lam3 of a spatial rotational node, as SPACAR: lam0 follows from
+        the norm)."""
+        if req.k is None:
+            ks = range(2, 5) if node.kind == SPATIAL_ROTATIONAL else \
+                range(1, len(node.coordinates) + 1)
+            if req.law is not None and len(ks) > 1:
+                return (f"{req.command} node {req.number}: a law needs exactly one direction "
+                        f"of this {node.kind} node")
+        else:
+            k = direction_number(node.kind, req.k)
+            if k is None or not 1 <= k <= len(node.coordinates):
+                names = DIRECTION_NAMES[node.kind]
+                valid = " and ".join(f"{i + 1} ({n})" for i, n in enumerate(names))
+                return (f"{req.command} node {req.number}: direction {req.k!r} does not "
+                        f"exist; a {node.kind} node has direction {valid}")
+            ks = [k]
+        return [node.coordinates[k - 1] for k in ks]
+
+    @staticmethod
+    def _deformations_named(req, element) -> list[int] | str:
+        """The deformations of ``element`` a request names: one, or all."""
+        if element.type.automatic:
+            return (f"{req.command}: element {req.number} is the {element.type.name} of node "
+                    f"{element.nodes[0]}, rigid always")
+        nd = len(element.deformations)
+        if req.k is None:
+            if req.law is not None and nd > 1:
+                return (f"{req.command} element {req.number}: a law needs exactly one "
+                        f"deformation of this {element.type.name}")
+            ks = range(1, nd + 1)
+        elif isinstance(req.k, (int, np.integer)) and 1 <= req.k <= nd:
+            ks = [int(req.k)]
+        else:
+            return (f"{req.command} element {req.number}: deformation {req.k!r} does not "
+                    f"exist; a {element.type.name} has deformations 1 to {nd}")
+        return [element.deformations[k - 1] for k in ks]
 
 
 # keyed by name: members of the two IntEnums with equal values compare equal

@@ -36,7 +36,9 @@ from .free_rotations import (
     watched_positions,
 )
 from .integrate import (
+    ATOL,
     EXPLICIT,
+    RTOL,
     AlphaOptions,
     Method,
     ScipyOptions,
@@ -123,8 +125,8 @@ def simulate(
     forces: Forces | None = None,
     initial: Mapping[str, tuple[float, float]] | None = None,
     method: str = "RK45",
-    rtol: float = 1e-6,
-    atol: float = 1e-9,
+    rtol: float = RTOL,
+    atol: float = ATOL,
     tolerance: float | None = None,
     with_reactions: bool = False,
     outputs: Literal["all", "velocities", "positions"] = "all",

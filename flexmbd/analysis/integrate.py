@@ -37,6 +37,8 @@ class Method:
     summary: str
 
 
+#: the tolerances of every method by default (relative; absolute on ``[q_d, qdot_d]``)
+RTOL, ATOL = 1e-6, 1e-9
 #: SciPy's options that flexmbd passes on: the largest step and the first one [s]
 SCIPY_OPTIONS = ("max_step", "first_step")
 #: generalized-alpha's options (:class:`AlphaOptions`)
@@ -83,8 +85,8 @@ def check_options(method: Method, options: Mapping[str, object]) -> dict[str, ob
 class ScipyOptions:
     """The settings of one of SciPy's methods (see :func:`flexmbd.simulate`)."""
 
-    rtol: float = 1e-6
-    atol: float = 1e-9
+    rtol: float = RTOL
+    atol: float = ATOL
     max_step: float = np.inf
     first_step: float | None = None
 
@@ -110,8 +112,8 @@ class AlphaOptions:
 
     step: float
     rho_inf: float = 0.8
-    rtol: float = 1e-6
-    atol: float = 1e-9
+    rtol: float = RTOL
+    atol: float = ATOL
     iterations: int | None = None
     renew_every: int = 1
 
@@ -161,8 +163,8 @@ def _check_grid(t_eval) -> np.ndarray:
 
 
 def integrate(fun: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarray,
-              t_eval: np.ndarray, *, method: str = "RK45", rtol: float = 1e-6,
-              atol: float = 1e-9, progress: bool | Callable | None = None,
+              t_eval: np.ndarray, *, method: str = "RK45", rtol: float = RTOL,
+              atol: float = ATOL, progress: bool | Callable | None = None,
               on_output: Callable[[int, float, np.ndarray], None] | None = None,
               on_reject: Callable[[float, np.ndarray], None] | None = None,
               stop: Callable[[float, np.ndarray], bool] | None = None,

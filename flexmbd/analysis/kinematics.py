@@ -26,7 +26,7 @@ import numpy as np
 
 from .. import checks
 from .. import engine as _engine
-from ..engine import Engine, initial_q, resolve_laws, workspace_of
+from ..engine import KINEMATIC_OUTPUTS, Engine, initial_q, resolve_laws, workspace_of
 from ..errors import SingularConfigurationError
 from ..model import Model
 from ..motion import Law
@@ -294,7 +294,7 @@ def kinematic_analysis(
     engine = Engine(model, tolerance, max_iterations)
     with progress_bar(times, "kinematics", progress) as bar:
         arrays = engine.prepare(laws, len(times), progress=bar,
-                                columns=("x", "xd", "xdd", "e", "ed", "edd"))
+                                columns=KINEMATIC_OUTPUTS)
         engine.start(laws, times[0])
         status = engine.kinematic_run(times)
     done = status["reached"]

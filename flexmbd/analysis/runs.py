@@ -6,11 +6,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..engine import MAX_ITERATIONS
 from ..errors import ArgumentError
 from ..model import Model
 from ..results import KinematicResult
 from ..settings import RunSettings
 from .dynamics import inverse_dynamics, simulate
+from .integrate import ATOL, RTOL
 from .kinematics import kinematic_analysis
 
 #: the analyses of a run over time
@@ -41,11 +43,11 @@ def analyse(model: Model, settings: RunSettings, mode: str, times: np.ndarray,
     s = settings
     if mode == "kinematic":
         return kinematic_analysis(model, times, tolerance=s.tolerance,
-                                  max_iterations=s.max_iterations or 25, on_failure="return",
-                                  progress=progress)
+                                  max_iterations=s.max_iterations or MAX_ITERATIONS,
+                                  on_failure="return", progress=progress)
     if mode == "inverse":
         return inverse_dynamics(model, times, tolerance=s.tolerance, on_failure="return",
                                 progress=progress)
-    return simulate(model, times, initial=s.initial, method=method, rtol=s.rtol or 1e-6,
-                    atol=s.atol or 1e-9, tolerance=s.tolerance, with_reactions=True,
+    return simulate(model, times, initial=s.initial, method=method, rtol=s.rtol or RTOL,
+                    atol=s.atol or ATOL, tolerance=s.tolerance, with_reactions=True,
                     on_failure="return", progress=progress)

@@ -183,7 +183,8 @@ def file_equilibrium(model: Model, settings: RunSettings, steps: int | None = No
     return static_equilibrium(model, load_increment=dict(settings.load_increment) or None,
                               input_increment=settings.input_increment,
                               steps=steps if given else 0, tolerance=settings.tolerance,
-                              max_iterations=settings.max_iterations or 25, on_failure="return")
+                              max_iterations=settings.max_iterations or MAX_ITERATIONS,
+                              on_failure="return")
 
 
 class _Solver:
@@ -200,7 +201,6 @@ class _Solver:
         self.dynamic = np.flatnonzero(~np.asarray(model.q_is_input))
         self.x = np.asarray(model.x0, dtype=float)
         self.state: dict[str, np.ndarray] = {}
-        self.reached = 0.0  #: load factor of the last converged state on the current path
 
     def follow(self, target, where) -> None:
         """Converge at ``target(1)`` (loads ``(nx,)``, ``q`` with the prescribed entries)
@@ -262,6 +262,4 @@ class _Solver:
 def _row(state: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
     """The columns of a result row from a converged state at rest
     (:func:`~flexmbd.analysis.linearization.equilibrium_state`)."""
-    keys = ("x", "xd", "xdd", "e", "ed", "edd", "q", "qd", "qdd", "sigma", "reactions",
-            "driving")
-    return {key: state[key] for key in keys}
+    return {key: state[key] for key in OUTPUTS}

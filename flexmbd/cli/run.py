@@ -11,7 +11,7 @@ import numpy as np
 from .. import checks
 from ..analysis.integrate import METHODS
 from ..analysis.runs import MODES, analyse, check_mode, default_mode
-from ..engine import output_bytes, output_sizes
+from ..engine import KINEMATIC_OUTPUTS, output_bytes, output_sizes
 from ..errors import ArgumentError, StiffnessError
 from ..io.dat import read_dat
 from ..io.dat.syntax import LARGEST_INTEGER
@@ -23,7 +23,7 @@ from ..settings import RunSettings
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The options of ``flexmbd run``."""
-    parser.add_argument("file", metavar="FILE.dat", help="SPACAR input file (planar subset)")
+    parser.add_argument("file", metavar="FILE.dat", help="SPACAR input file (planar or spatial)")
     parser.add_argument("--mode", choices=MODES,
                         help="analysis (default: dynamic when the model has dynamic degrees "
                              "of freedom, kinematic otherwise)")
@@ -60,8 +60,7 @@ def empty_result(model: Model, mode: str) -> KinematicResult:
     """A result of ``mode`` with no rows: the columns a run will have, known before it."""
     arrays = {name: np.zeros((0, size)) for name, size in output_sizes(model).items()}
     if mode == "kinematic":
-        return KinematicResult(model, np.zeros(0), **{k: arrays[k] for k in
-                                                      ("x", "xd", "xdd", "e", "ed", "edd")})
+        return KinematicResult(model, np.zeros(0), **{k: arrays[k] for k in KINEMATIC_OUTPUTS})
     return SimulationResult(model, np.zeros(0), **arrays)
 
 

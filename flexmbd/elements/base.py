@@ -240,6 +240,49 @@ class ElementType:
                 out[:, column] = 0.5 * mass
         return out
 
+    #: whether a section inertia per length (``set_mass(..., section_inertia=...)``, a
+    #: ``.dat`` EM line's values after ``rhoA``) is lumped on the type's rotational nodes
+    takes_section_inertia: ClassVar[bool] = False
+
+    @classmethod
+    def section_inertia_on_nodes(cls, p: np.ndarray, section: tuple[float, ...]
+                                 ) -> list[tuple[int, np.ndarray]]:
+        """The rotary inertias ``(3, 3)`` [kg m^2] that a section inertia per length
+        ``section`` lumps on the type's rotational nodes, by the node's position in
+        :attr:`roles`, for one element of reference parameters ``p``; types with
+        :attr:`takes_section_inertia` define it."""
+        raise NotImplementedError
+
+    # --- the .dat file's lines of a type (SPACAR's syntax) ----------------------------------
+    @classmethod
+    def mass_line(cls, extra: tuple[float, ...]) -> tuple[dict[str, object], list[str]]:
+        """What the values after ``rhoA`` on an ``EM`` line mean for the type: keyword
+        arguments of :meth:`~flexmbd.ModelBuilder.set_mass` and the values read but not
+        used (for a note). A planar type takes a rotary inertia per length ``rhoI`` that
+        must be 0; a spatial one nothing.
+
+        Raises:
+            ValueError: what is wrong with the line, in words.
+        """
+        if cls.is_spatial():
+            if extra:
+                raise ValueError(f"a {cls.keyword} takes its mass per length rhoA only, got "
+                                 f"{len(extra) + 1} values")
+        elif len(extra) > 1:
+            raise ValueError(f"EM takes rhoA [rhoI] for a planar element, got "
+                             f"{len(extra) + 1} values")
+        elif any(extra):
+            raise ValueError("a rotary inertia per length (rhoI) is not supported for "
+                             "planar elements; set it to 0 or put rotary inertia on nodes "
+                             "with XM")
+        return {}, []
+
+    @classmethod
+    def stiffness_line(cls, values: tuple[float, ...]) -> tuple[tuple[float, ...], list[str]]:
+        """The values of an ``ESTIFF`` line that set :attr:`stiffness_values`, in their
+        order, and the values read but not used (for a note)."""
+        return values, []
+
     # --- properties ---------------------------------------------------------------------
     @classmethod
     def elastic_law(cls, p: np.ndarray, stiffness: dict[str, np.ndarray],

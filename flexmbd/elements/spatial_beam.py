@@ -88,6 +88,38 @@ class SpatialBeam(ElementType):
                       Value("bending_y", "c_Iy", "N m^2 s"),
                       Value("bending_z", "c_Iz", "N m^2 s"))
     has_mass = True
+    takes_section_inertia = True
+
+    @classmethod
+    def section_inertia_on_nodes(cls, p: np.ndarray, section: tuple[float, ...]
+                                 ) -> list[tuple[int, np.ndarray]]:
+        """Half of ``l0 R0 Jsec R0^T`` on each rotational node (THEORY-SPATIAL 4), with
+        ``Jsec`` of ``(Jxx, Jyy, Jzz, Jyz)`` [kg m] in the beam's reference frame ``R0``."""
+        jxx, jyy, jzz, jyz = section
+        frame = np.array(p[1:10]).reshape(3, 3).T  # columns ex0, ey0, ez0
+        local = np.array([[jxx, 0.0, 0.0], [0.0, jyy, jyz], [0.0, jyz, jzz]])
+        lumped = 0.5 * p[0] * frame @ local @ frame.T
+        return [(1, lumped), (3, lumped)]
+
+    @classmethod
+    def mass_line(cls, extra: tuple[float, ...]) -> tuple[dict[str, object], list[str]]:
+        """``EM e rhoA [Jxx Jyy Jzz Jyz [Jw]]``: the section inertias per length [kg m];
+        the warping inertia ``Jw`` is read and not used."""
+        if len(extra) not in (0, 4, 5):
+            raise ValueError(f"a BEAM takes rhoA and then Jxx Jyy Jzz Jyz [Jw] per length, "
+                             f"got {len(extra) + 1} values")
+        notes = ["the warping inertia Jw (EM's 6th value)"] if len(extra) == 5 and \
+            extra[4] else []
+        return ({"section_inertia": tuple(extra[:4])} if extra else {}), notes
+
+    @classmethod
+    def stiffness_line(cls, values: tuple[float, ...]) -> tuple[tuple[float, ...], list[str]]:
+        """``ESTIFF e EA GIt EIy EIz sy sz [ECw]``: the warping stiffness ``ECw`` is read and
+        not used."""
+        if len(values) == 7:
+            return values[:6], ["the warping stiffness ECw (ESTIFF's 7th value)"] if \
+                values[6] else []
+        return values, []
 
     @classmethod
     def reference_parameters(cls, xe0, data=None):

@@ -14,6 +14,7 @@ on, and what the core is made of.
 
 from .workspace import (
     CORE_BUILD,
+    KINEMATIC_OUTPUTS,
     MAX_ITERATIONS,
     OUTPUTS,
     Engine,
@@ -35,7 +36,7 @@ from .workspace import (
     write_rows,
 )
 
-__all__ = ["CORE_BUILD", "MAX_ITERATIONS", "OUTPUTS", "Engine", "Forces", "check_core",
-           "compile_model", "deformations_and_jacobian", "element_kernel", "initial_q",
-           "load_slots", "load_vector", "output_bytes", "output_sizes", "q_index", "q_scale",
-           "resolve_laws", "unwrap_near", "workspace_of", "write_rows"]
+__all__ = ["CORE_BUILD", "KINEMATIC_OUTPUTS", "MAX_ITERATIONS", "OUTPUTS", "Engine", "Forces",
+           "check_core", "compile_model", "deformations_and_jacobian", "element_kernel",
+           "initial_q", "load_slots", "load_vector", "output_bytes", "output_sizes", "q_index",
+           "q_scale", "resolve_laws", "unwrap_near", "workspace_of", "write_rows"]

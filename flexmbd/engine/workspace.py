@@ -487,6 +487,11 @@ OUTPUTS = {"x": "nx", "xd": "nx", "xdd": "nx", "e": "ne", "ed": "ne", "edd": "ne
            "driving": "nq"}
 
 
+#: the kinematic ones among :data:`OUTPUTS`: coordinates and deformations, their rates and
+#: accelerations
+KINEMATIC_OUTPUTS = ("x", "xd", "xdd", "e", "ed", "edd")
+
+
 def output_sizes(model: Model) -> dict[str, int]:
     """Values per output time of each column group of :data:`OUTPUTS`."""
     counts = {"nx": model.n_coordinates, "ne": model.n_deformations, "nq": model.n_dof}
@@ -863,9 +868,8 @@ class Engine:
         ``q, qdot, qddot`` ``(nq,)`` (THEORY 3, 4): ``{"x", "xd", "xdd", "e", "ed",
         "edd"}``, from the position solve started at ``guess`` (default ``x0``)."""
         model = self.model
-        out = {name: np.empty(model.n_coordinates if name.startswith("x") else
-                              model.n_deformations) for name in ("x", "xd", "xdd", "e", "ed",
-                                                                 "edd")}
+        sizes = output_sizes(model)
+        out = {name: np.empty(sizes[name]) for name in KINEMATIC_OUTPUTS}
         guess = np.asarray(model.x0 if guess is None else guess, dtype=float)
         vectors = [np.ascontiguousarray(v, dtype=float) for v in (q, qd, qdd)]
         self.call(self.core.state, np.nan if time is None else float(time), *vectors,

@@ -1,4 +1,4 @@
-"""SPACAR input files (``.dat``), planar subset: reading, writing, the format."""
+"""SPACAR input files (``.dat``), planar and spatial: reading, writing, the format."""
 
 from .reader import DatFile, dat_from_text, read_dat
 from .writer import dat_text, write_dat

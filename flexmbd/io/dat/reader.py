@@ -49,7 +49,7 @@ from typing import NamedTuple
 
 from ... import checks
 from ...builder import ModelBuilder
-from ...elements import ELEMENT_TYPES, ROTATIONAL, TRANSLATIONAL, SpatialBeam
+from ...elements import ELEMENT_TYPES, ROTATIONAL, TRANSLATIONAL
 from ...elements.base import (
     COORDINATES_PER_NODE,
     SPATIAL_ROTATIONAL,
@@ -80,7 +80,7 @@ class DatFile(NamedTuple):
 
 
 def read_dat(path: str | Path) -> DatFile:
-    """Read a planar SPACAR input file (``.dat``).
+    """Read a SPACAR input file (``.dat``), planar or spatial.
 
     Returns:
         :class:`DatFile` ``(model, settings)``: the model, and the file's run settings
@@ -414,24 +414,12 @@ class _Reader:
         if not etype.has_mass:
             self.fail(s, f"element {element} is a {etype.name}, which has no mass; use XM on "
                          f"its nodes")
-        section, extra = s.values[2:], {}
-        if etype is SpatialBeam:
-            if len(section) not in (0, 4, 5):
-                self.fail(s, f"a BEAM takes rhoA and then Jxx Jyy Jzz Jyz [Jw] per length, "
-                             f"got {len(s.values) - 1} values")
-            if len(section) == 5 and section[4]:
-                self.ignore("the warping inertia Jw (EM's 6th value)", s)
-            if section:
-                extra["section_inertia"] = tuple(section[:4])
-        elif etype.is_spatial() and section:
-            self.fail(s, f"a {etype.keyword} takes its mass per length rhoA only, got "
-                         f"{len(s.values) - 1} values")
-        elif len(section) > 1:
-            self.fail(s, f"EM takes rhoA [rhoI] for a planar element, got "
-                         f"{len(s.values) - 1} values")
-        elif any(section):
-            self.fail(s, "a rotary inertia per length (rhoI) is not supported for planar "
-                         "elements; set it to 0 or put rotary inertia on nodes with XM")
+        try:
+            extra, unused = etype.mass_line(tuple(s.values[2:]))
+        except ValueError as error:
+            self.fail(s, str(error))
+        for what in unused:
+            self.ignore(what, s)
         if rho_a < 0:
             self.fail(s, f"mass per length {rho_a:g} is negative")
         self.builder.set_mass(element, rho_a, formulation, **extra)
@@ -443,10 +431,10 @@ class _Reader:
         element, values = s.values[0], s.values[1:]
         etype = self.etype(s, element)
         declared = etype.stiffness_values if what == "stiffness" else etype.damping_values
-        if what == "stiffness" and etype.keyword == "BEAM" and len(values) == 7:
-            if values[6]:
-                self.ignore("the warping stiffness ECw (ESTIFF's 7th value)", s)
-            values = values[:6]
+        if what == "stiffness":
+            values, unused = etype.stiffness_line(tuple(values))
+            for value in unused:
+                self.ignore(value, s)
         if len(values) > len(declared):
             names = ", ".join(v.symbol for v in declared) or "none"
             self.fail(s, f"a {etype.keyword} takes {len(declared)} value(s) ({names}), got "

@@ -12,8 +12,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from ...analysis.integrate import ATOL, RTOL
 from ...elements.base import is_translational
-from ...engine import load_slots
+from ...engine import MAX_ITERATIONS, load_slots
 from ...errors import OutputError
 from ...model import CoordinateClass, DeformationClass, Model
 from ...motion import Polynomial
@@ -157,10 +158,10 @@ def _settings(settings: RunSettings) -> list[str]:
     if settings.t_end is not None:
         lines.append(_line("TIMESTEP", settings.t_end, settings.steps))
     if settings.atol is not None or settings.rtol is not None:
-        lines.append(_line("ERROR", settings.atol or 1e-9, settings.rtol or 1e-6))
+        lines.append(_line("ERROR", settings.atol or ATOL, settings.rtol or RTOL))
     if (settings.max_iterations is not None or settings.load_steps is not None
             or settings.tolerance is not None):
-        values = [settings.max_iterations or 25, settings.load_steps or 1]
+        values = [settings.max_iterations or MAX_ITERATIONS, settings.load_steps or 1]
         if settings.tolerance is not None:
             values.append(settings.tolerance)
         lines.append(_line("ITERSTEP", *values))
