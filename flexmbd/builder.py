@@ -10,10 +10,11 @@ from __future__ import annotations
 
 import math
 from collections import defaultdict
+from collections.abc import Sequence
 from contextlib import nullcontext
 from dataclasses import dataclass
 from types import MappingProxyType
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 
@@ -158,12 +159,12 @@ class ModelBuilder:
         (``"truss"``, ``"PLTRUSS"``, ``"rigid beam"``, ``"BEAM"``). ``data`` are the
         type's :attr:`~flexmbd.elements.base.ElementType.element_data` (a spatial beam's
         ``orientation``, a spatial hinge's ``axis``)."""
-        element_type = _element_type(element_type)
-        if element_type is not None and element_type.automatic:
-            self._problems.append(f"add_element {number}: the {element_type.name} elements "
+        etype = _element_type(element_type)
+        if etype is not None and etype.automatic:
+            self._problems.append(f"add_element {number}: the {etype.name} elements "
                                   f"are added by the builder, one per spatial rotational node")
             return self
-        if element_type is None:
+        if etype is None:
             known = ", ".join(f"{t.name!r}" for t in ELEMENT_TYPES.values() if not t.automatic)
             self._problems.append(f"add_element {number}: the element type must be one of "
                                   f"{known} (or its class or keyword)")
@@ -174,18 +175,18 @@ class ModelBuilder:
             self._problems.append(f"add_element {number}: nodes must be a sequence of node "
                                   f"numbers, got {nodes!r}")
             return self
-        if len(nodes) != len(element_type.roles):
-            roles = ", ".join(r.name for r in element_type.roles)
+        if len(nodes) != len(etype.roles):
+            roles = ", ".join(r.name for r in etype.roles)
             self._problems.append(
-                f"{element_type.name} {number} needs {len(element_type.roles)} nodes "
+                f"{etype.name} {number} needs {len(etype.roles)} nodes "
                 f"({roles}), got {len(nodes)}"
             )
             return self
-        values = {}
-        for name, default in element_type.element_data.items():
+        values: dict[str, tuple[float, ...]] = {}
+        for name, default in etype.element_data.items():
             value = data.pop(name, default)
             if value is None:
-                self._problems.append(f"{element_type.name} {number} needs its {name}")
+                self._problems.append(f"{etype.name} {number} needs its {name}")
                 return self
             try:
                 values[name] = tuple(float(v) for v in np.ravel(value))
@@ -194,15 +195,15 @@ class ModelBuilder:
             # a direction's size only scales it; beyond this it would overflow its norm
             if not values[name] or not all(abs(v) <= LARGEST_POSITION for v in values[name]):
                 self._problems.append(Problem(
-                    f"{element_type.name} {number}: {name} {value!r} is not finite numbers "
+                    f"{etype.name} {number}: {name} {value!r} is not finite numbers "
                     f"of at most {LARGEST_POSITION:g}", ("element", number)))
                 return self
         if data:
-            takes = ", ".join(element_type.element_data) or "nothing besides its nodes"
-            self._problems.append(f"{element_type.name} {number}: unknown data "
+            takes = ", ".join(etype.element_data) or "nothing besides its nodes"
+            self._problems.append(f"{etype.name} {number}: unknown data "
                                   f"{', '.join(data)}; it takes {takes}")
             return self
-        self._elements.append((number, element_type, nodes, values))
+        self._elements.append((number, etype, nodes, values))
         return self
 
     def add_truss(self, number: int, p: int, q: int) -> ModelBuilder:
@@ -483,7 +484,7 @@ class ModelBuilder:
                     f"node {node} (used by {', '.join(by_kind[kind])}) has no position: "
                     f"give it one with add_node({node}, x, y{', z' if width == 3 else ''})"
                 )
-            elif is_translational(kind) and len(position) != width:
+            elif is_translational(kind) and position is not None and len(position) != width:
                 problems.append(Problem(
                     f"node {node} is {kind} (used by {', '.join(by_kind[kind])}) and needs "
                     f"{width} coordinates, got the position {position}", ("node", node)))
@@ -537,7 +538,7 @@ class ModelBuilder:
             kind = kinds[number]
             first = len(x0)
             position = self._positions.get(number)
-            values = (list(position) if is_translational(kind)
+            values = (list(position) if is_translational(kind) and position is not None
                       else [1.0, 0.0, 0.0, 0.0] if kind == SPATIAL_ROTATIONAL else [0.0])
             x0 += values
             labels += [f"x{number}.{k}" for k in range(1, len(values) + 1)]
@@ -656,7 +657,7 @@ class ModelBuilder:
                                 f"the model")
                 continue
             etype = elements[number].type
-            fields: dict[str, object] = {}
+            fields: dict[str, Any] = {}
             if number in self._masses:
                 rho_a, lumped = self._masses[number]
                 if not etype.has_mass:
@@ -701,9 +702,10 @@ class ModelBuilder:
         return out
 
     def _check_nodal_loads(self, nodes, problems) -> None:
-        for what, table in (("add_point_mass", self._nodal_masses),
-                            ("add_force", self._nodal_forces),
-                            ("add_rotary_inertia", self._nodal_inertias)):
+        tables: tuple[tuple[str, dict[int, Any]], ...] = (
+            ("add_point_mass", self._nodal_masses), ("add_force", self._nodal_forces),
+            ("add_rotary_inertia", self._nodal_inertias))
+        for what, table in tables:
             for number, value in table.items():
                 if number not in nodes:
                     problems.append(f"{what}: node {number} is not in the model")
@@ -747,6 +749,7 @@ class ModelBuilder:
         """The coordinates of ``node`` a request names: its direction, or all (the Euler
         parameters lam1 .. lam3 of a spatial rotational node, as SPACAR: lam0 follows from
         the norm)."""
+        ks: Sequence[int]
         if req.k is None:
             ks = range(2, 5) if node.kind == SPATIAL_ROTATIONAL else \
                 range(1, len(node.coordinates) + 1)
@@ -770,6 +773,7 @@ class ModelBuilder:
             return (f"{req.command}: element {req.number} is the {element.type.name} of node "
                     f"{element.nodes[0]}, rigid always")
         nd = len(element.deformations)
+        ks: Sequence[int]
         if req.k is None:
             if req.law is not None and nd > 1:
                 return (f"{req.command} element {req.number}: a law needs exactly one "
@@ -817,11 +821,11 @@ def check_solvability(model: Model) -> list[Problem]:
         text, free, redundant = diagnose_rank(model, D_x[np.ix_(model.constrained,
                                                                 model.dependent)])
     elif rows:
-        free, redundant = [], model.constrained
+        free, redundant = np.zeros(0, dtype=int), model.constrained
         names = ", ".join(model.describe_deformation(i) for i in model.constrained)
         text = f"the equations of {names} have no dependent coordinate to solve for"
     else:
-        free, redundant = model.dependent, []
+        free, redundant = model.dependent, np.zeros(0, dtype=int)
         names = ", ".join(model.describe_coordinate(i) for i in model.dependent)
         text = f"nothing determines the coordinates {names}"
     about = [*(("coordinate", model.coordinate_labels[i]) for i in free),

@@ -7,6 +7,8 @@ line prints the message as one line and exits non-zero.
 
 from __future__ import annotations
 
+from typing import Any
+
 
 class FlexmbdError(Exception):
     """Base class of all flexmbd errors."""
@@ -56,7 +58,7 @@ class SimulationError(FlexmbdError, RuntimeError):
     def __init__(self, message: str, time: float | None = None):
         super().__init__(message)
         self.time = time
-        self.partial_result = None
+        self.partial_result: Any = None  # the result so far (flexmbd.results)
 
 
 class StiffnessError(SimulationError):

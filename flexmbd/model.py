@@ -16,6 +16,7 @@ array is indexed from 0 in the order of increasing node (element) number.
 
 from __future__ import annotations
 
+import builtins
 import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -71,7 +72,7 @@ class Element:
     was given besides its nodes (a spatial beam's ``orientation``, by name)."""
 
     number: int
-    type: type[ElementType]
+    type: builtins.type[ElementType]
     nodes: tuple[int, ...]
     coordinates: tuple[int, ...]
     deformations: tuple[int, ...]
@@ -285,10 +286,10 @@ class Model:
         if node not in self.nodes:
             raise LabelError(f"{_label_text(label)}: node {node} is not in the model")
         coords = self.nodes[node].coordinates
-        k = direction_number(self.nodes[node].kind, k)
-        if k is None or not 1 <= k <= len(coords):
+        number = direction_number(self.nodes[node].kind, k)
+        if number is None or not 1 <= number <= len(coords):
             raise LabelError(f"{_label_text(label)}: node {node} has no coordinate {k}")
-        return coords[k - 1]
+        return coords[number - 1]
 
     def deformation_index(self, label: str | tuple[int, int]) -> int:
         """Global index of a deformation given as ``"e2.1"`` or ``(2, 1)``."""
@@ -304,14 +305,14 @@ class Model:
         """``"x3.1 (node 3, x)"``: label with node and direction."""
         label = self.coordinate_labels[i]
         node, k = _parse_label(label, "x")
-        return f"{label} (node {node}, {DIRECTION_NAMES[self.nodes[node].kind][k - 1]})"
+        return f"{label} (node {node}, {DIRECTION_NAMES[self.nodes[node].kind][int(k) - 1]})"
 
     def describe_deformation(self, i: int) -> str:
         """``"e2.1 (rigid beam 2, elongation)"``: label with element type and meaning."""
         label = self.deformation_labels[i]
         elem, k = _parse_label(label, "e")
         etype = self.elements[elem].type
-        return f"{label} ({etype.name} {elem}, {etype.deformation_names[k - 1]})"
+        return f"{label} ({etype.name} {elem}, {etype.deformation_names[int(k) - 1]})"
 
     def describe_q(self, j: int) -> str:
         """Description of entry ``j`` of ``q``."""

@@ -9,7 +9,7 @@ it for an interactive window.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -134,9 +134,10 @@ def animate(result: KinematicResult, filename: str | Path | None = None, *,
     fig = _new_figure(window, figsize=(7, 5.5))
     ax = _axes(fig, model, lo, hi)
     ax.set_title(title or model.name)
-    empty = [[]] * index.shape[1]
+    empty: list[list[float]] = [[]] * index.shape[1]
 
-    n_lines = len(element_polylines(model, result.x[0], e=result.e[0]))
+    n_lines = len(element_polylines(model, result.x[0],
+                                    e=None if result.e is None else result.e[0]))
     lines = [ax.plot(*empty, "-", color="0.2", lw=2.5)[0] for _ in range(n_lines)]
     moving = ax.plot(*empty, "o", color="tab:orange", ms=6, zorder=3)[0]
     anchored = ax.plot(*empty, "s", color="k", ms=7, zorder=3)[0]
@@ -211,6 +212,7 @@ def save_animation(animation, filename: str | Path, fps: int = 25) -> Path:
     """Write an animation as ``.gif`` (Pillow) or ``.mp4`` (ffmpeg from imageio-ffmpeg)."""
     path = Path(filename)
     suffix = path.suffix.lower()
+    writer: Any
     if suffix == ".gif":
         from matplotlib.animation import PillowWriter
 
@@ -297,8 +299,8 @@ def column_unit(model: Model, name: str) -> str:
         return "-"
     prefix = next(p for p in ("sig", "xdd", "xd", "x", "edd", "ed", "e", "f")
                   if name.startswith(p))
-    number, _, k = name[len(prefix):].partition(".")
-    k = int(k or 1)
+    number, _, which = name[len(prefix):].partition(".")
+    k = int(which or 1)
     if prefix in ("sig", "e", "ed", "edd"):
         element = model.elements[int(number)]
         base = element.type.deformation_units[k - 1]

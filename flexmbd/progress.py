@@ -109,12 +109,12 @@ def case_counter(total: int, done: int, enabled: bool | None = None,
 
     bar = tqdm(total=total, initial=done, desc=description, unit="case", leave=False)
 
-    def finished(ok: bool) -> None:
+    def advance_bar(ok: bool) -> None:
         counts["failed"] += not ok
         bar.set_postfix(failed=counts["failed"], refresh=False)
         bar.update(1)
 
     try:
-        yield finished
+        yield advance_bar
     finally:
         bar.close()

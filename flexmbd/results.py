@@ -7,8 +7,10 @@ and second time derivatives with prefixes ``xd``, ``xdd``, ``ed``, ``edd``.
 from __future__ import annotations
 
 import re
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any, Literal, TypeVar
 
 import numpy as np
 
@@ -112,13 +114,15 @@ class KinematicResult:
         (:func:`flexmbd.axis_angle`)."""
         return orientation.axis_angle(self.euler_parameters(node))
 
-    def angular_velocity(self, node: int, frame: str = "global") -> np.ndarray:
+    def angular_velocity(self, node: int, frame: Literal["global", "body"] = "global"
+                         ) -> np.ndarray:
         """``omega`` (global) or ``omega'`` (body frame) of a spatial rotational node
         ``(nt, 3)`` [rad/s]."""
         return orientation.angular_velocity(self.euler_parameters(node),
                                             self.euler_parameters(node, 1), frame)
 
-    def angular_acceleration(self, node: int, frame: str = "global") -> np.ndarray:
+    def angular_acceleration(self, node: int, frame: Literal["global", "body"] = "global"
+                             ) -> np.ndarray:
         """``alpha`` (global) or ``alpha'`` (body frame) of a spatial rotational node
         ``(nt, 3)`` [rad/s^2]."""
         return orientation.angular_velocity(self.euler_parameters(node),
@@ -131,9 +135,8 @@ class KinematicResult:
     def to_npz(self, path: str | Path) -> Path:
         """Write all columns to a compressed NumPy archive: one array per column name
         (``np.load(path)["x5.1"]``) and ``columns``, the names in order."""
-        cols = self.columns()
-        return _writing(path, lambda p: np.savez_compressed(p, columns=np.array(list(cols)),
-                                                            **cols))
+        cols: dict[str, Any] = {"columns": np.array(list(self.columns())), **self.columns()}
+        return _writing(path, lambda p: np.savez_compressed(p, **cols))
 
     def to_hdf5(self, path: str | Path) -> Path:
         """Write all columns as datasets of an HDF5 file (needs h5py: the ``hdf5`` extra)."""
@@ -268,8 +271,18 @@ def _writing(path: str | Path, write) -> Path:
     return path
 
 
-def conclude(result: KinematicResult, error: BaseException | None, on_failure: str,
-             completed: str) -> KinematicResult:
+def first_rows(arrays: Mapping[str, np.ndarray], done: int) -> dict[str, Any]:
+    """The first ``done`` rows of a run's output arrays ``{name: (n, size)}``, by name: the
+    arrays of a result of the rows reached (views, no copy)."""
+    return {name: values[:done] for name, values in arrays.items()}
+
+
+#: a result of any kind (kinematic, simulation, static), given back as it came
+Result = TypeVar("Result", bound="KinematicResult")
+
+
+def conclude(result: Result, error: BaseException | None, on_failure: str,
+             completed: str) -> Result:
     """Finish a run: on failure raise ``error`` with ``result`` as its partial result
     (``on_failure="raise"``) or return ``result`` with ``success=False``. An exception
     that is not a :class:`SimulationError` (raised by a user's law or load, or an
@@ -280,7 +293,7 @@ def conclude(result: KinematicResult, error: BaseException | None, on_failure: s
         return result
     if not isinstance(error, SimulationError):
         result.success, result.message = False, f"stopped by {type(error).__name__}: {error}"
-        error.partial_result = result
+        error.partial_result = result  # type: ignore[attr-defined]  # a user's exception
         raise error
     result.success, result.message, result.error = False, str(error), error
     if on_failure == "raise":

@@ -27,7 +27,7 @@ from ..errors import ArgumentError, ModelError, SimulationError, StiffnessError
 from ..model import Model
 from ..motion import Law
 from ..progress import progress_bar
-from ..results import SimulationResult, check_on_failure, check_times, conclude
+from ..results import SimulationResult, check_on_failure, check_times, conclude, first_rows
 from .free_rotations import (
     dynamic_state,
     partition_spent,
@@ -206,21 +206,23 @@ def simulate(
                                               "accelerations)")
     rtol, atol = checks.integrator_tolerances(rtol, atol, model.characteristic_length)
     span = float(times[-1] - times[0])
+    settings: AlphaOptions | ScipyOptions
     if spec.in_core:
-        settings: AlphaOptions | ScipyOptions = _alpha_options(times, rtol, atol, **options)
-        checks.step_count(span, settings.step, "step")
+        settings = alpha = _alpha_options(times, rtol, atol, **options)
+        checks.step_count(span, alpha.step, "step")
+        work = round(span / alpha.step)
     else:
         settings = ScipyOptions(rtol, atol, **options)
         checks.step_count(span, settings.max_step, "max_step")
+        work = len(times)
     q0, qd0 = initial_state(model, initial)
-    work = round(span / settings.step) if spec.in_core else len(times)
     with progress_bar(times, f"simulating ({method})", progress, work) as advance:
         run = _Run(model, inputs, forces, tolerance, RECORDED[outputs], spec, settings,
                    advance)
         arrays, done, error, stats = run.through(times, q0, qd0)
     if not with_reactions:
         arrays.pop("reactions", None)
-    result = SimulationResult(model, times[:done], **{k: v[:done] for k, v in arrays.items()})
+    result = SimulationResult(model, times[:done], **first_rows(arrays, done))
     result.stats = {**stats, "method": method}
     return conclude(result, error, on_failure,
                     f"completed {len(times)} points to t = {times[-1]:.6g} s "
@@ -425,7 +427,7 @@ def inverse_dynamics(
     if not with_reactions:
         arrays.pop("reactions")
     done = status["reached"]
-    result = SimulationResult(model, times[:done], **{k: v[:done] for k, v in arrays.items()})
+    result = SimulationResult(model, times[:done], **first_rows(arrays, done))
     return conclude(result, engine.error(status), on_failure,
                     f"completed {len(times)} points from t = {times[0]:.6g} s to "
                     f"{times[-1]:.6g} s")

@@ -48,8 +48,8 @@ def repartitioned(model: Model, x: np.ndarray) -> Model:
     limit at the configuration ``x``, the parameter of largest magnitude made calculable
     and the old one dynamic. Returns ``model`` itself when none needs it."""
     classes = np.array(model.coordinate_class)
-    for lam in model.free_rotations:
-        lam = np.asarray(lam)
+    for entries in model.free_rotations:
+        lam = np.asarray(entries)
         calculable = lam[classes[lam] == CoordinateClass.DEPENDENT][0]
         if abs(x[calculable]) >= PARTITION_LIMIT:
             continue

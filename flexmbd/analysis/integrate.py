@@ -15,6 +15,7 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from contextlib import nullcontext
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -67,7 +68,7 @@ def check_method(method: str) -> Method:
     return METHODS[method]
 
 
-def check_options(method: Method, options: Mapping[str, object]) -> dict[str, object]:
+def check_options(method: Method, options: Mapping[str, Any]) -> dict[str, Any]:
     """``options`` for ``method``; a name it does not take is refused, saying which
     method it belongs to and which options ``method`` takes."""
     for name in options:

@@ -31,7 +31,7 @@ from ..errors import SingularConfigurationError
 from ..model import Model
 from ..motion import Law
 from ..progress import progress_bar
-from ..results import KinematicResult, check_on_failure, check_times, conclude
+from ..results import KinematicResult, check_on_failure, check_times, conclude, first_rows
 
 __all__ = ["accelerations", "deformation_transfer", "deformations", "first_order_transfer",
            "hessian", "initial_q", "jacobian", "kinematic_analysis", "partition_jacobian",
@@ -298,7 +298,7 @@ def kinematic_analysis(
         engine.start(laws, times[0])
         status = engine.kinematic_run(times)
     done = status["reached"]
-    result = KinematicResult(model, times[:done], **{k: v[:done] for k, v in arrays.items()})
+    result = KinematicResult(model, times[:done], **first_rows(arrays, done))
     return conclude(result, engine.error(status), on_failure,
                     f"completed {len(times)} points from t = {times[0]:.6g} s to "
                     f"{times[-1]:.6g} s")

@@ -44,7 +44,7 @@ from ..elements.base import SPATIAL_ROTATIONAL
 from ..engine import Engine, load_vector, q_scale, unwrap_near, workspace_of
 from ..errors import ArgumentError
 from ..model import Model
-from ..motion import Polynomial
+from ..motion import Law, Polynomial
 from ..orientation import angular_velocity, euler_forces
 from .kinematics import coordinates, generalized
 
@@ -137,7 +137,7 @@ class Linearization:
                 raise ArgumentError("labels", f"{label} is lam0 of a spatial rotational node; "
                                               f"its rotations are {label[:-1]}2 to "
                                               f"{label[:-1]}4 (about x, y and z)")
-        return self.motion_transfer[np.ix_(rows, self.dynamic)]
+        return self.motion_transfer[np.ix_(np.asarray(rows, dtype=int), self.dynamic)]
 
 
 def linearize(model: Model, x=None, qd=None, qdd=None, *, loads=None,
@@ -242,7 +242,7 @@ def equilibrium_state(engine: Engine, x: np.ndarray, qd: np.ndarray, qdd: np.nda
     q = unwrap_near(model, np.concatenate([
         x[model.independent_coordinates],
         engine.assembly.deformations(x)[model.independent_deformations]]), near)
-    laws = [Polynomial(*values) for values in zip(q, qd, qdd, strict=True)]
+    laws: list[Law] = [Polynomial(*values) for values in zip(q, qd, qdd, strict=True)]
     forces = None if not np.any(loads) else (lambda t, x_, xd_: loads)
     arrays = engine.prepare(laws, 1, dynamics=True, forces=forces)
     engine.reset(x)

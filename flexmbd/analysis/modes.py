@@ -96,6 +96,7 @@ def vibration_modes(linearization: Linearization, count: int | None = None) -> M
         empty = np.zeros(0)
         return Modes(lin, empty, empty, np.zeros((0, 0)), np.zeros((len(lin.x), 0)))
     omega2, shapes = _eigen(lin, K, M, count, vectors=True)
+    assert shapes is not None  # asked for: vectors=True
     frequencies = np.sign(omega2) * np.sqrt(np.abs(omega2)) / (2 * np.pi)
     return Modes(lin, omega2, frequencies, shapes, lin.motion_transfer[:, lin.dynamic] @ shapes)
 
@@ -145,7 +146,8 @@ def _eigen(lin: Linearization, K: np.ndarray, M: np.ndarray, count: int, vectors
         return _rounded_to_zero(omega2, len(K))[:count], shapes[:, :count]
     if not vectors:
         return np.sort(_rounded_to_zero(linalg.eigvals(K, M).real, len(K)))[:count], None
-    omega2, shapes = _lowest(*linalg.eig(K, M), M, count)
+    values, right = linalg.eig(K, M)
+    omega2, shapes = _lowest(values, right, M, count)
     return _rounded_to_zero(omega2, len(K), linalg.eigvals(K, M).real), shapes
 
 
@@ -237,7 +239,8 @@ def modes_along(result: KinematicResult, count: int = 6, progress: bool | None =
         raise ArgumentError("result", f"must be a flexmbd result (simulate, "
                                       f"kinematic_analysis, ...), got {type(result).__name__}")
     model = result.model
-    if result.xd is None or result.xdd is None:
+    if result.xd is None or result.xdd is None or result.ed is None or result.edd is None \
+            or result.e is None:
         raise ArgumentError("result", "needs the rates of the motion: simulate(..., "
                                       "outputs='all')")
     count = _count(count, int(np.sum(~np.asarray(model.q_is_input))))
@@ -248,10 +251,11 @@ def modes_along(result: KinematicResult, count: int = 6, progress: bool | None =
     omega2 = np.full((nt, count), np.nan)
     # many small problems: BLAS threads would cost more in hand-over than they gain
     with progress_bar(result.t, "modes", progress) as advance, threadpool_limits(1, "blas"):
+        e, xd, xdd, ed, edd = result.e, result.xd, result.xdd, result.ed, result.edd  # there
         for k in range(nt):
-            qd = np.concatenate([result.xd[k, nxm], result.ed[k, emd]])
-            qdd = np.concatenate([result.xdd[k, nxm], result.edd[k, emd]])
-            lin = linearize(model, result.x[k], qd, qdd, engine=engine, e=result.e[k])
+            qd = np.concatenate([xd[k, nxm], ed[k, emd]])
+            qdd = np.concatenate([xdd[k, nxm], edd[k, emd]])
+            lin = linearize(model, result.x[k], qd, qdd, engine=engine, e=e[k])
             omega2[k] = _eigen(lin, lin.block("K"), lin.block("M0"), count, vectors=False)[0]
             if advance is not None:
                 advance(result.t[k])

@@ -137,7 +137,7 @@ def state_space(linearization: Linearization, inputs, outputs=(), rate_outputs=(
     B = np.zeros((2 * nd, len(inputs)))
     B[nd:] = linalg.solve(M, lin.transfer(inputs).T, assume_a="pos")
     rows = [np.concatenate([lin.transfer([label])[0], np.zeros(nd)]) for label in outputs]
-    velocity = _rate_transfer(lin) if rate_outputs else None
+    velocity = _rate_transfer(lin) if rate_outputs else np.zeros((0, 0))
     for label in rate_outputs:
         i = model.coordinate_index(label)
         rows.append(np.concatenate([velocity[i], lin.transfer([label])[0]]))

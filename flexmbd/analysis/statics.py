@@ -34,7 +34,7 @@ from ..engine import (
 from ..errors import ArgumentError, ConvergenceError, FlexmbdError, SimulationError
 from ..model import Model
 from ..progress import progress_bar
-from ..results import SimulationResult, check_on_failure, conclude
+from ..results import SimulationResult, check_on_failure, conclude, first_rows
 from ..settings import RunSettings
 from .linearization import Linearization, equilibrium_state, linearize, static_tangent
 
@@ -70,6 +70,8 @@ class StaticResult(SimulationResult):
         modes, buckling loads and compliance (:mod:`flexmbd.analysis.modes`)."""
         if not len(self.t):
             raise ArgumentError("row", "the static analysis has no converged row")
+        if self.applied is None or self.e is None:
+            raise ArgumentError("row", "the static analysis recorded no loads or deformations")
         return linearize(self.model, self.x[row], loads=self.applied[row], e=self.e[row])
 
 
@@ -162,7 +164,7 @@ def static_equilibrium(
     except (FlexmbdError, KeyboardInterrupt) as caught:
         error = caught
     result = StaticResult(model, factors[:done], applied=applied[:done],
-                          **{name: values[:done] for name, values in arrays.items()})
+                          **first_rows(arrays, done))
     return conclude(result, error, on_failure,
                     f"converged {done} load step{'s' if done != 1 else ''}")
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -58,7 +59,8 @@ def output_times(settings: RunSettings, steps: int | None, t_end: float | None) 
 
 def empty_result(model: Model, mode: str) -> KinematicResult:
     """A result of ``mode`` with no rows: the columns a run will have, known before it."""
-    arrays = {name: np.zeros((0, size)) for name, size in output_sizes(model).items()}
+    arrays: dict[str, Any] = {name: np.zeros((0, size))
+                              for name, size in output_sizes(model).items()}
     if mode == "kinematic":
         return KinematicResult(model, np.zeros(0), **{k: arrays[k] for k in KINEMATIC_OUTPUTS})
     return SimulationResult(model, np.zeros(0), **arrays)
@@ -131,9 +133,10 @@ def run(args: argparse.Namespace) -> int:
             print(f"{result.message}\nrunning again with GeneralizedAlpha")
             result = analyse(model, settings, mode, times, "GeneralizedAlpha", progress=True)
     except KeyboardInterrupt as interrupt:
-        result = getattr(interrupt, "partial_result", None)
-        if result is None:
+        partial = getattr(interrupt, "partial_result", None)
+        if partial is None:
             raise
+        result = partial
         print(f"interrupted at t = {result.t[-1] if len(result.t) else times[0]:.6g} s")
         write_outputs(args, result, mode, columns)
         return 130

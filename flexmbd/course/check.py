@@ -112,7 +112,8 @@ def _has_sympy() -> bool:
 def _calls(exercise: Exercise, seed: int) -> tuple[list[dict], dict]:
     """The calls for the child, and per part its cases and the id of its symbolic call."""
     rng = np.random.default_rng(seed)
-    calls, plan = [], {}
+    calls: list[dict] = []
+    plan: dict = {}
     for part in exercise.parts:
         cases = part.cases(rng)
         ids = []
@@ -149,7 +150,8 @@ def _run(path: Path, calls: list[dict], timeout: float) -> tuple[dict, str | Non
                            stderr=subprocess.DEVNULL, timeout=timeout, check=False)
         except subprocess.TimeoutExpired:
             timed_out = True
-        records, problem, loaded = {}, None, False
+        records: dict = {}
+        problem, loaded = None, False
         for line in results.read_text(errors="replace").splitlines():
             try:
                 record = json.loads(line)

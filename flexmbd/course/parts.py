@@ -57,9 +57,9 @@ class Part:
     function: str
     arguments: str
     returns: str
+    answer: Callable[..., Any] = field(repr=False)
+    cases: Callable[[Any], list[tuple]] = field(repr=False)
     hint: str = ""
-    answer: Callable[..., Any] | None = field(default=None, repr=False)
-    cases: Callable[[Any], list[tuple]] | None = field(default=None, repr=False)
     mistakes: tuple[Mistake, ...] = field(default=(), repr=False)
     angles: tuple[int, ...] = ()
     symbolic: Callable[[], tuple[Sequence, Any]] | None = field(default=None, repr=False)

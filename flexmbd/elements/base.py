@@ -26,10 +26,13 @@ ask the class. A new type is one file and a line in :mod:`flexmbd.elements`.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from types import ModuleType
 from typing import Any, ClassVar
 
 import numpy as np
+
+#: what the definitions compute with: a namespace of ``sqrt``, ``sin``, ``cos`` and ``atan2``
+#: (``sympy`` for the kernels and the symbolic path, numpy, the code generator's jets)
+Math = Any
 
 TRANSLATIONAL = "translational"
 ROTATIONAL = "rotational"
@@ -191,17 +194,18 @@ class ElementType:
 
     # --- the single definition --------------------------------------------------------
     @staticmethod
-    def deformations(c: list[Any], p: list[Any], m: ModuleType) -> list[Any]:
+    def deformations(c: list[Any], p: list[Any], m: Math) -> list[Any]:
         """Deformation parameters as expressions of the element coordinates ``c`` and the
         reference parameters ``p`` (``[l0, beta0]``, as many as :attr:`reference`).
 
-        ``m`` is the module that supplies ``sqrt``, ``sin``, ``cos`` and ``atan2``:
-        ``sympy``, for the kernel generator and the symbolic path.
+        ``m`` supplies ``sqrt``, ``sin``, ``cos`` and ``atan2`` (:data:`Math`): ``sympy``
+        for the kernel generator and the symbolic path, the generator's jets for the
+        quadratic velocity terms.
         """
         raise NotImplementedError
 
     @staticmethod
-    def material_point(c: list[Any], p: list[Any], xi: Any, m: ModuleType) -> list[Any]:
+    def material_point(c: list[Any], p: list[Any], xi: Any, m: Math) -> list[Any]:
         """Position ``(x, y)`` (``(x, y, z)`` for spatial types) of the material point at
         ``xi`` in [0, 1] from ``r_p`` to ``r_q``, from which the consistent mass, the
         velocity-dependent inertia and the gravity load follow (``M = m int N^T N dxi``
@@ -210,7 +214,7 @@ class ElementType:
         raise NotImplementedError
 
     @staticmethod
-    def body_angular_velocity(c: list[Any], m: ModuleType) -> list[list[Any]] | None:
+    def body_angular_velocity(c: list[Any], m: Math) -> list[list[Any]] | None:
         """For a type that carries a rigid body's rotary inertia (the Euler element of a
         spatial rotational node): the matrix ``W`` (3 x nc) of its body angular velocity
         ``omega' = W cdot``. The inertia tensor comes from :meth:`inertia_tensor`; the

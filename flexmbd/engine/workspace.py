@@ -24,12 +24,13 @@ import threading
 from collections import deque
 from collections.abc import Callable, Mapping
 from functools import cached_property
+from typing import Any
 
 import numpy as np
 
 from .. import checks
 from ..elements import ELEMENT_TYPES
-from ..elements.base import SPATIAL_ROTATIONAL, is_translational
+from ..elements.base import SPATIAL_ROTATIONAL, ElementType, is_translational
 from ..errors import (
     ArgumentError,
     ConvergenceError,
@@ -43,6 +44,7 @@ from ..motion import Law, Polynomial, as_law
 from .assembly import Assembly
 from .diagnosis import at_time, massless_message, singular_message
 
+_core: Any
 try:
     from . import _core
 except ImportError as error:  # no fallback: the core is the engine (see check_core)
@@ -157,7 +159,7 @@ def _band_of(n_nodes: int, edges: list[tuple[int, int]]) -> np.ndarray:
     return band
 
 
-def compile_model(model: Model) -> dict[str, object]:
+def compile_model(model: Model) -> dict[str, Any]:
     """The arrays of ``flexmbd.engine._core.Core`` for ``model`` (see ``csrc/core.h``).
 
     Elements are taken in the order of their numbers and evaluated type by type with
@@ -211,12 +213,14 @@ def compile_model(model: Model) -> dict[str, object]:
     lumped_diag, S, C = np.zeros(c_off[-1]), np.zeros(law_off[-1]), np.zeros(law_off[-1])
     sigma0, f_const = np.zeros(ne), np.zeros(nx)
     elastic = np.zeros(len(elements), dtype=i32)
-    dc, sc, sa = ([], [], []), ([], [], []), ([], [], [])
-    by_type: dict[type, list[int]] = {}
+    dc: tuple[list, list, list] = ([], [], [])
+    sc: tuple[list, list, list] = ([], [], [])
+    sa: tuple[list, list, list] = ([], [], [])
+    by_type: dict[type[ElementType], list[int]] = {}
     for k, element in enumerate(elements):
         by_type.setdefault(element.type, []).append(k)
-    for etype, ks in by_type.items():
-        ks = np.array(ks)
+    for etype, members in by_type.items():
+        ks = np.array(members)
         n_c, n_d = etype.n_coordinates(), etype.n_deformations()
         coords = c_idx[c_off[ks][:, None] + np.arange(n_c)]          # (n, nc)
         defs = d_idx[d_off[ks][:, None] + np.arange(n_d)]            # (n, nd)
@@ -262,11 +266,11 @@ def compile_model(model: Model) -> dict[str, object]:
     sa_src, sa_u, sa_v = (np.concatenate(a) if a else np.zeros(0, int) for a in sa)
 
     nodal_mass = np.zeros(nx)
-    for number, mass in model.nodal_masses.items():
+    for number, point_mass in model.nodal_masses.items():
         node = model.nodes[number]
-        nodal_mass[list(node.coordinates)] += mass
+        nodal_mass[list(node.coordinates)] += point_mass
         if is_translational(node.kind):
-            f_const[list(node.coordinates)] += mass * gravity[:len(node.coordinates)]
+            f_const[list(node.coordinates)] += point_mass * gravity[:len(node.coordinates)]
     for number, load in model.nodal_forces.items():
         f_const[load_slots(model.nodes[number])] += load
     sm_coord = np.flatnonzero((free_of >= 0) & (nodal_mass != 0.0))
@@ -415,9 +419,9 @@ def resolve_laws(model: Model, inputs: Mapping[str, Law] | None = None) -> list[
         raise ArgumentError("inputs", f"must map labels to laws, e.g. {{'x2.1': "
                                       f"Polynomial(0, 150)}}, got {type(inputs).__name__}")
     for source in (model.input_laws, inputs or {}):
-        for label, law in source.items():
+        for label, given in source.items():
             try:
-                law = as_law(law)
+                law = as_law(given)
             except ArgumentError as error:
                 raise ArgumentError("inputs", f"the motion given for {label}: {error}") from None
             if not callable(law):
@@ -426,11 +430,11 @@ def resolve_laws(model: Model, inputs: Mapping[str, Law] | None = None) -> list[
                                               f"expression in t): {law!r}")
             laws[q_index(model, label, "inputs")] = law
     q0 = initial_q(model)
-    missing = []
-    for j, (law, is_input) in enumerate(zip(laws, model.q_is_input, strict=True)):
-        if law is None and is_input:
+    missing: list[str] = []
+    for j, (given_law, is_input) in enumerate(zip(laws, model.q_is_input, strict=True)):
+        if given_law is None and is_input:
             missing.append(model.describe_q(j))
-        elif law is None:
+        elif given_law is None:
             laws[j] = Polynomial(float(q0[j]))
     if missing:
         raise ModelError(
@@ -520,7 +524,7 @@ def _cache(model: Model) -> dict:
     return model.__dict__.setdefault("_engine_cache", {})
 
 
-def _compiled(model: Model) -> tuple[dict[str, object], float | None]:
+def _compiled(model: Model) -> tuple[dict[str, Any], float | None]:
     """The model's compiled arrays (computed on first use; the core copies them) and the
     conditioning of ``D_c`` at its reference configuration when known."""
     entry = _cache(model)
@@ -650,7 +654,7 @@ class Engine:
         wanted = columns or tuple(OUTPUTS)
         checks.output_memory(n_outputs, output_bytes(model, wanted, integrated))
         self.arrays = {name: np.zeros((n_outputs, sizes[name])) for name in wanted}
-        options = {}
+        options: dict[str, Any] = {}
         if python:
             options.update(law_callback=fill_laws, law_values=values)
         if forces is not None and not callable(forces):
@@ -709,7 +713,7 @@ class Engine:
         return self.state(q, qd, np.zeros_like(q), guess, t)
 
     # --- failures -------------------------------------------------------------------------
-    def error(self, status: Mapping[str, object]) -> BaseException | None:
+    def error(self, status: Mapping[str, Any]) -> BaseException | None:
         """The exception of a run's ``status`` (``None`` when it completed): flexmbd's
         errors with the time and the coordinates and deformations involved, or the
         exception a Python callback raised."""
@@ -765,7 +769,7 @@ class Engine:
                                time_or_none)
 
     @staticmethod
-    def stopped_for_partition(status: Mapping[str, object]) -> bool:
+    def stopped_for_partition(status: Mapping[str, Any]) -> bool:
         """Whether a generalized-alpha run stopped because a free rotation's calculable
         Euler parameter got small (:mod:`flexmbd.analysis.free_rotations`)."""
         return status["code"] == _core.PARTITION
@@ -780,7 +784,7 @@ class Engine:
                f"finite; {cause}"
 
     # --- runs over a time grid (after prepare and start) --------------------------------------
-    def kinematic_run(self, times: np.ndarray) -> dict[str, object]:
+    def kinematic_run(self, times: np.ndarray) -> dict[str, Any]:
         """Every output time of a prepared run whose ``q`` all follow laws (kinematic
         analysis, inverse dynamics, a state of the static analysis): the core's status
         (``reached``, ``code``, ...), for :meth:`error`."""
@@ -788,7 +792,7 @@ class Engine:
 
     def alpha_run(self, times: np.ndarray, q: np.ndarray, qd: np.ndarray,
                   end: np.ndarray, watch: np.ndarray | None, near: float,
-                  options: Mapping[str, float | int]) -> dict[str, object]:
+                  options: Mapping[str, float | int]) -> dict[str, Any]:
         """A prepared, integrated run by generalized-alpha in the core from the dynamic
         ``q``, ``qdot`` ``(nd,)``, stopping where a ``watch``-ed free rotation's partition
         is spent (its state then in ``end`` ``(2 nd,)``); the core's status and
@@ -818,7 +822,7 @@ class Engine:
     def constant_loads(self) -> np.ndarray:
         """The model's constant loads and moments (XF) ``(nx,)`` [N, N m] as the core
         applies them."""
-        return self.compiled["f_const"]
+        return np.asarray(self.compiled["f_const"])
 
     @property
     def rotation_coordinates(self) -> np.ndarray:
@@ -830,8 +834,11 @@ class Engine:
         """Call a single evaluation of the core; its failure as flexmbd's error."""
         try:
             return method(*args)
-        except _core.CoreError as error:
-            raise self.error(error.args[0]) from None
+        except _core.CoreError as failure:
+            error = self.error(failure.args[0])
+            if error is None:  # a failure always has a code; this would be the core's bug
+                raise
+            raise error from None
 
     # --- single evaluations -----------------------------------------------------------------
     def positions(self, q: np.ndarray, guess: np.ndarray | None = None,

@@ -6,6 +6,7 @@ import ast
 import logging
 import os
 import sys
+import types
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -68,7 +69,7 @@ def check_main_guard() -> None:
     path = getattr(main, "__file__", None)
     if main is None or path is None:
         return  # an interactive session, a notebook, python -c: nothing is imported again
-    frame = sys._getframe(1)
+    frame: types.FrameType | None = sys._getframe(1)
     while frame is not None and frame.f_globals is not vars(main):
         frame = frame.f_back
     if frame is None or frame.f_code.co_name != "<module>":

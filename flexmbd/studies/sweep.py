@@ -9,6 +9,7 @@ import uuid
 from collections.abc import Callable
 from importlib.util import find_spec
 from pathlib import Path
+from typing import Any
 
 from ..errors import ArgumentError, OptionalDependencyError
 from ..io.outputs import check_output
@@ -112,8 +113,8 @@ def sweep(build, grid, analysis, outputs, client=None, *,
     except BaseException as stop:
         if journal:
             journal.close(rows)
-        if isinstance(stop, KeyboardInterrupt):
-            stop.partial_result = _result(rows, list(outputs))
+        if isinstance(stop, KeyboardInterrupt):  # Ctrl-C carries the table so far
+            stop.partial_result = _result(rows, list(outputs))  # type: ignore[attr-defined]
         raise
     if journal:
         journal.close(rows)
@@ -183,7 +184,7 @@ def _result(rows: list[dict], outputs: list[str]):
     import xarray as xr
 
     steps = max(len(v) for name in histories for v in frame[name])
-    variables = {}
+    variables: dict[str, Any] = {}
     for name in histories:
         padded = np.full((len(frame), steps), np.nan)
         for k, values in enumerate(frame[name]):

@@ -84,7 +84,7 @@ class DatTemplate:
                 for s in block if s.keyword == keyword]
         matched = [(s, table) for s, table in same if s.values[:len(numbers)] == numbers]
         lines = [(s, table) for s, table in matched if index < len(s.values)]
-        first = (same or [(None, DYNAMICS if keyword in DYNAMICS else KINEMATICS)])[0][1]
+        first = same[0][1] if same else DYNAMICS if keyword in DYNAMICS else KINEMATICS
         arguments = [a.name for a in (*first[keyword].required, *first[keyword].optional)]
         if not numbers and arguments and arguments[0] in _IDENTITIES:
             example = f"{keyword}:{same[0][0].values[0]}:1" if same else f"{keyword}:1:1"
@@ -109,7 +109,8 @@ class DatTemplate:
         statement, table = lines[0]
         syntax = table[keyword]
         arguments = [a.name for a in (*syntax.required, *syntax.optional)]
-        argument = arguments[index] if index < len(arguments) else syntax.rest.name
+        argument = arguments[index] if index < len(arguments) or syntax.rest is None else \
+            syntax.rest.name
         if argument in _IDENTITIES:
             raise ArgumentError(name, f"position {position} is the {argument} number of line "
                                       f"{statement.line}, which says what the line is about; "

@@ -45,7 +45,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 from types import MappingProxyType
-from typing import NamedTuple
+from typing import Any, Literal, NamedTuple
 
 from ... import checks
 from ...builder import ModelBuilder
@@ -133,9 +133,9 @@ class _Reader:
         self.kinds: dict[int, str] = {}
         self.positions: dict[int, int] = {}  # node -> line of X
         self.inputs: set[tuple[str, int, int]] = set()  # ("x"|"e", number, k) of block 1
-        self.settings: dict[str, object] = {}
+        self.settings: dict[str, Any] = {}
         #: static increments, force inputs and outputs of the linear analyses
-        self.linear: dict[str, dict[str, float] | list[str]] = {}
+        self.linear: dict[str, Any] = {}
         self.initial: dict[str, tuple[tuple[float, float], Statement]] = {}
         self.classified: dict[str, list[int]] = {}  # label -> lines that classified it
         self.setting_statements: dict[str, Statement] = {}
@@ -209,8 +209,9 @@ class _Reader:
                                      f"with DYNX or DYNE in the kinematics block")
         self.check_settings(model)
         initial = {label: pair for label, (pair, _) in self.initial.items()}
-        linear = {name: MappingProxyType(values) if isinstance(values, dict) else tuple(values)
-                  for name, values in self.linear.items()}
+        linear: dict[str, Any] = {
+            name: MappingProxyType(values) if isinstance(values, dict) else tuple(values)
+            for name, values in self.linear.items()}
         notes = tuple(f"{what} on line{'s' if len(lines) > 1 else ''} "
                       f"{', '.join(map(str, lines))}: read and ignored"
                       for what, lines in self.ignored.items())
@@ -408,7 +409,8 @@ class _Reader:
         self.positive(s, s.values)
         self.settings.update(t_end=s.values[0], steps=s.values[1])
 
-    def _em(self, s: Statement, formulation: str = "consistent") -> None:
+    def _em(self, s: Statement,
+            formulation: Literal["consistent", "lumped"] = "consistent") -> None:
         element, rho_a = s.values[0], s.values[1]
         etype = self.etype(s, element)
         if not etype.has_mass:

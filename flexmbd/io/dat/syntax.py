@@ -18,6 +18,7 @@ import math
 import re
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from ...elements import ELEMENT_TYPES
 from ...errors import InputFileError
@@ -182,10 +183,11 @@ UNSUPPORTED = {"PINBAR", "CYLINDER", "PLATE", "RBEAM", "SBEAM", "CONTACT", "WHEE
 
 @dataclass(frozen=True)
 class Statement:
-    """One keyword line: the keyword (upper case), its converted arguments, its line."""
+    """One keyword line: the keyword (upper case), its converted arguments (ints and floats
+    as the keyword's syntax has them, :data:`KINEMATICS` and :data:`DYNAMICS`), its line."""
 
     keyword: str
-    values: tuple[float | int, ...]
+    values: tuple[Any, ...]
     line: int
 
 
@@ -226,10 +228,11 @@ def _statement(keyword: str, words: list[str], syntax: Syntax, path, line) -> St
     if len(words) < need + syntax.min_rest or (top is not None and len(words) > top):
         raise InputFileError(f"{keyword} takes {syntax.usage(keyword)}; got {len(words)} "
                              f"value(s)", path, line)
-    arguments = list(syntax.required + syntax.optional)
+    # beyond the required and optional arguments the words are rest's (the count is checked)
+    arguments = [*syntax.required, *syntax.optional, *([syntax.rest] if syntax.rest else [])]
     values = []
     for i, word in enumerate(words):
-        argument = arguments[i] if i < len(arguments) else syntax.rest
+        argument = arguments[min(i, len(arguments) - 1)]
         values.append(_number(word, argument.type, argument.name, keyword, path, line))
     return Statement(keyword, tuple(values), line)
 

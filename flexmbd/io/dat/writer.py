@@ -41,7 +41,7 @@ def dat_text(model: Model, settings: RunSettings | None = None) -> str:
                                *_line_data(number, element)))
     lines += ["", "# initial positions of the translational nodes"]
     for number, node in sorted(model.nodes.items()):
-        if is_translational(node.kind):
+        if is_translational(node.kind) and node.position is not None:
             lines.append(_line("X", number, *node.position))
     lines += ["", "# classification"]
     lines += _classification(model)
@@ -161,7 +161,8 @@ def _settings(settings: RunSettings) -> list[str]:
         lines.append(_line("ERROR", settings.atol or ATOL, settings.rtol or RTOL))
     if (settings.max_iterations is not None or settings.load_steps is not None
             or settings.tolerance is not None):
-        values = [settings.max_iterations or MAX_ITERATIONS, settings.load_steps or 1]
+        values: list[float] = [settings.max_iterations or MAX_ITERATIONS,
+                               settings.load_steps or 1]
         if settings.tolerance is not None:
             values.append(settings.tolerance)
         lines.append(_line("ITERSTEP", *values))
