@@ -29,15 +29,15 @@ from .elementwise import deformations_and_jacobian
 def elastic_law(model: fm.Model) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``S``, ``C`` ``(ne, ne)`` and ``sigma0`` ``(ne,)`` of the dynamic and released
     deformations, from the element types' laws."""
-    spec, ne = compile_model(model), model.n_deformations
+    elements, ne = compile_model(model).elements, model.n_deformations
     S, C = np.zeros((ne, ne)), np.zeros((ne, ne))
     for k, number in enumerate(sorted(model.elements)):
         element = model.elements[number]
-        nd, start = len(element.deformations), spec["law_off"][k]
+        nd, start = len(element.deformations), elements.law_off[k]
         block = np.ix_(element.deformations, element.deformations)
-        S[block] = spec["S"][start:start + nd * nd].reshape(nd, nd)
-        C[block] = spec["C"][start:start + nd * nd].reshape(nd, nd)
-    return S, C, spec["sigma0"]
+        S[block] = elements.S[start:start + nd * nd].reshape(nd, nd)
+        C[block] = elements.C[start:start + nd * nd].reshape(nd, nd)
+    return S, C, elements.sigma0
 
 
 @dataclass(frozen=True)

@@ -5,11 +5,13 @@ on, and what the core is made of.
   with its run state; the only code that calls the core. The generalized coordinates
   ``q`` by label, the laws and loads in the core's terms, and the core's errors in
   flexmbd's.
+* :mod:`~flexmbd.engine.spec`: what a model hands the core, declared and checked.
 * :mod:`~flexmbd.engine.assembly`: model-wide arrays from the element kernels.
 * :mod:`~flexmbd.engine.diagnosis`: what a singular ``D_c`` or mass matrix leaves free, in
   words.
 * :mod:`~flexmbd.engine.codegen`: the C kernels generated from the element types'
-  definitions (``python -m flexmbd.engine.codegen``); ``csrc/`` holds the core's C.
+  definitions (``python -m flexmbd.engine.codegen``); ``csrc/`` holds the core's C and
+  ``_core.pyx`` its binding (Cython).
 """
 
 from .workspace import (

@@ -22,6 +22,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .spec import Elements
+
 
 @dataclass(frozen=True)
 class _Group:
@@ -60,29 +62,30 @@ class _Group:
 
 
 class Assembly:
-    """Index maps of one compiled model (``Engine.compiled``) and its core."""
+    """Index maps of one compiled model's elements (``Engine.compiled.elements``) and its
+    core."""
 
-    def __init__(self, core, compiled: dict, n_coordinates: int, n_deformations: int):
+    def __init__(self, core, elements: Elements, n_coordinates: int, n_deformations: int):
         self.core, self.nx, self.ne = core, n_coordinates, n_deformations
-        c_off, c_idx = compiled["c_off"], compiled["c_idx"]
-        d_off, d_idx = compiled["d_off"], compiled["d_idx"]
+        c_off, c_idx = elements.c_off, elements.c_idx
+        d_off, d_idx = elements.d_off, elements.d_idx
         nc, nd = np.diff(c_off), np.diff(d_off)
         # where each element's values start in the kernels' outputs (element after element)
         jac_at = np.concatenate([[0], np.cumsum(nd * (1 + nc))])
         hess_at = np.concatenate([[0], np.cumsum(nd * nc * nc)])
         self.jac_out, self.hess_out = np.empty(jac_at[-1]), np.empty(hess_at[-1])
-        etype = np.asarray(compiled["etype"])
+        etype = elements.etype
         self.groups = []
         for kind in np.unique(etype):
             ks = np.flatnonzero(etype == kind)
             n_c, n_d = int(nc[ks[0]]), int(nd[ks[0]])
-            at = compiled["law_off"][ks][:, None] + np.arange(n_d * n_d)
+            at = elements.law_off[ks][:, None] + np.arange(n_d * n_d)
             coords = c_idx[c_off[ks][:, None] + np.arange(n_c)]
             self.groups.append(_Group(
                 coords=coords, defs=d_idx[d_off[ks][:, None] + np.arange(n_d)],
                 jac_at=jac_at[ks], hess_at=hess_at[ks],
-                law={name: compiled[name][at].reshape(len(ks), n_d, n_d)
-                     for name in ("S", "C")},
+                law={"S": elements.S[at].reshape(len(ks), n_d, n_d),
+                     "C": elements.C[at].reshape(len(ks), n_d, n_d)},
                 layers=_layers(coords.ravel())))
 
     def _evaluate(self, name: str, x: np.ndarray) -> np.ndarray:

@@ -144,6 +144,9 @@ def massless_message(engine, x: np.ndarray, time: float | None) -> tuple[str, bo
                 f"(mass per length on their elements, point masses or rotary inertia on "
                 f"their nodes)"), True
     eigenvalues = np.linalg.eigvalsh(reduced)
+    if not len(eigenvalues):  # nothing to accelerate: the failure is not the masses'
+        return (f"the accelerations could not be solved {where}: the velocities or the "
+                f"applied loads are out of range"), False
     smallest = float(eigenvalues[0])
     if smallest <= 0:
         return (f"the reduced mass matrix is not positive definite {where} (smallest "

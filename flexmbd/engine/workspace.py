@@ -6,16 +6,19 @@ dynamics, forward simulation and the single evaluations of the per-state
 functions. This module is its Python side:
 
 * :func:`compile_model` turns an immutable :class:`~flexmbd.model.Model` into the
-  flat arrays of the core: element data and index maps, the classification, and
-  the orderings of the two square systems (``D_c`` and the saddle-point matrix of
-  the accelerations and the Newton matrix), chosen once by reverse Cuthill-McKee
-  so that their banded LU costs grow linearly along a chain of beams;
-* :class:`Engine` is a run's workspace: the core built from those arrays, the
-  laws and loads of a run, and the translation of the core's failures into
-  flexmbd's errors, named after the model's coordinates and deformations.
+  flat arrays of the core (a :class:`~flexmbd.engine.spec.CoreSpec`): element data
+  and index maps, the classification, and the orderings of the two square systems
+  (``D_c`` and the saddle-point matrix of the accelerations and the Newton matrix),
+  chosen once by reverse Cuthill-McKee so that their banded LU costs grow linearly
+  along a chain of beams;
+* :class:`Engine` is a workspace on the core built from those arrays: the laws and
+  loads of a run, and the translation of the core's failures into flexmbd's errors,
+  named after the model's coordinates and deformations. It is the only code that
+  calls the core.
 
-Nothing is cached on the model: each run (and each per-state call) builds its own
-engine.
+A model is compiled once: its spec and a workspace per thread for evaluations at one
+state (:func:`workspace_of`) are kept with it; each run over a time grid takes an
+engine of its own.
 """
 
 from __future__ import annotations
@@ -43,6 +46,7 @@ from ..model import CoordinateClass, DeformationClass, Model
 from ..motion import Law, Polynomial, as_law
 from .assembly import Assembly
 from .diagnosis import at_time, massless_message, singular_message
+from .spec import Classification, CoreSpec, Elements, Loads, Reference, Sizes, SquareSystems
 
 _core: Any
 try:
@@ -159,12 +163,14 @@ def _band_of(n_nodes: int, edges: list[tuple[int, int]]) -> np.ndarray:
     return band
 
 
-def compile_model(model: Model) -> dict[str, Any]:
-    """The arrays of ``flexmbd.engine._core.Core`` for ``model`` (see ``csrc/core.h``).
+def compile_model(model: Model) -> CoreSpec:
+    """The sizes and arrays of ``flexmbd.engine._core.Core`` for ``model``, checked
+    (:mod:`flexmbd.engine.spec`).
 
     Elements are taken in the order of their numbers and evaluated type by type with
     the types' vectorised laws; the entries of ``D_c`` and of the saddle-point matrix
     are located once, and the two systems ordered for narrow bands."""
+    check_core()
     i32 = np.int32
     nx, ne = model.n_coordinates, model.n_deformations
     elements = [model.elements[n] for n in sorted(model.elements)]
@@ -283,42 +289,39 @@ def compile_model(model: Model) -> dict[str, Any]:
     sd_band = _band_of(ns, list(zip(sa_u.tolist(), sa_v.tolist(), strict=True))
                        + list(zip(sc_u.tolist(), sc_v.tolist(), strict=True)))
 
-    def ints(values):
-        return np.asarray(values, dtype=i32)
-
-    return {
-        "nx": nx, "ne": ne, "nel": len(elements), "nq": model.n_dof, "nxm": nxm,
-        "nr": nr, "nrigid": len(model.rigid), "nfree": nfree, "nmult": len(multipliers),
-        "nd_dyn": len(q_dynamic), "ndc": len(dyn_coord), "total_j": int(j_off[-1]),
-        "total_b": int(b_off[-1]),
-        "etype": ints([_TYPE_NUMBER[e.type] for e in elements]), "c_off": c_off,
-        "c_idx": c_idx, "d_off": d_off, "d_idx": d_idx, "p_off": p_off, "j_off": j_off,
-        "b_off": b_off, "law_off": law_off,
-        "param": np.array([v for e in elements for v in e.reference], dtype=float),
-        "emass": emass, "consistent": consistent, "lumped_diag": lumped_diag, "S": S, "C": C,
-        "elastic": elastic, "sigma0": sigma0,
-        "fixed": ints(model.fixed), "x_fixed": np.asarray(model.x0, float)[model.fixed],
-        "q_coord": ints(model.independent_coordinates),
-        "q_def": ints(model.independent_deformations),
-        "q_input": ints(model.q_is_input), "q_dyn": ints(q_dynamic), "rows": ints(rows),
-        "row_of_def": row_of_def, "dep": ints(dep), "free_of": free_of,
-        "dyn_coord": ints(dyn_coord), "dyn_def": ints(dyn_def),
-        "supported": ints(np.sort(np.concatenate([model.fixed, model.input_coordinates]))),
-        "elastic_def": ints(elastic_def), "periodic": ints(_periodic(model)),
-        "rotations": ints([i for node in model.nodes.values()
-                           if node.kind == SPATIAL_ROTATIONAL for i in node.coordinates]),
-        "nodal_mass": nodal_mass, "f_const": f_const,
-        "gravity": gravity, "x0": np.asarray(model.x0, dtype=float),
-        "coord_scale": np.asarray(model.coordinate_scale, dtype=float),
-        "coord_size": _coordinate_size(model),
-        "dc_src": ints(dc_src), "dc_row": ints(dc_row), "dc_col": ints(dc_col),
-        "dc_rowband": dc_rowband, "dc_colband": dc_colband,
-        "dc_colscale": np.asarray(model.coordinate_scale, dtype=float)[dep],
-        "sd_band": sd_band, "sd_a_src": ints(sa_src), "sd_a_u": ints(sa_u),
-        "sd_a_v": ints(sa_v), "sd_m_coord": ints(sm_coord), "sd_m_u": free_of[sm_coord],
-        "sd_c_src": ints(sc_src), "sd_c_u": ints(sc_u), "sd_c_v": ints(sc_v),
-        "mult_of_def": mult_of_def,
-    }
+    supported = np.sort(np.concatenate([model.fixed, model.input_coordinates]))
+    rotational = np.array([i for node in model.nodes.values()
+                           if node.kind == SPATIAL_ROTATIONAL for i in node.coordinates], int)
+    sizes = Sizes(
+        nx=nx, ne=ne, nel=len(elements), nq=model.n_dof, nxm=nxm, nr=nr,
+        nrigid=len(model.rigid), nfree=nfree, nmult=len(multipliers), nd_dyn=len(q_dynamic),
+        ndc=len(dyn_coord), total_j=int(j_off[-1]), total_b=int(b_off[-1]),
+        nfixed=len(model.fixed), nsupported=len(supported), nrot=len(rotational) // 4,
+        ndc_map=len(dc_src), nsd_a=len(sa_src), nsd_m=len(sm_coord), nsd_c=len(sc_src))
+    return CoreSpec(
+        sizes=sizes,
+        elements=Elements(
+            etype=np.array([_TYPE_NUMBER[e.type] for e in elements]), c_off=c_off, c_idx=c_idx,
+            d_off=d_off, d_idx=d_idx, p_off=p_off, j_off=j_off, b_off=b_off, law_off=law_off,
+            param=np.array([v for e in elements for v in e.reference]), emass=emass,
+            consistent=consistent, lumped_diag=lumped_diag, S=S, C=C, elastic=elastic,
+            sigma0=sigma0),
+        classification=Classification(
+            fixed=model.fixed, x_fixed=np.asarray(model.x0, float)[model.fixed],
+            q_coord=model.independent_coordinates, q_def=model.independent_deformations,
+            q_input=model.q_is_input, q_dyn=q_dynamic, rows=rows, row_of_def=row_of_def,
+            dep=dep, free_of=free_of, dyn_coord=dyn_coord, dyn_def=dyn_def,
+            supported=supported, elastic_def=elastic_def, periodic=_periodic(model),
+            rotations=rotational, mult_of_def=mult_of_def),
+        loads=Loads(nodal_mass=nodal_mass, f_const=f_const, gravity=gravity),
+        reference=Reference(x0=model.x0, coord_scale=model.coordinate_scale,
+                            coord_size=_coordinate_size(model)),
+        systems=SquareSystems(
+            dc_src=dc_src, dc_row=dc_row, dc_col=dc_col, dc_rowband=dc_rowband,
+            dc_colband=dc_colband, dc_colscale=np.asarray(model.coordinate_scale, float)[dep],
+            sd_band=sd_band, sd_a_src=sa_src, sd_a_u=sa_u, sd_a_v=sa_v, sd_m_coord=sm_coord,
+            sd_m_u=free_of[sm_coord], sd_c_src=sc_src, sd_c_u=sc_u, sd_c_v=sc_v),
+        kernels=_core.KERNEL_SIZES)
 
 
 def _collect(lists: tuple[list, list, list], src: np.ndarray, rows: np.ndarray,
@@ -524,7 +527,7 @@ def _cache(model: Model) -> dict:
     return model.__dict__.setdefault("_engine_cache", {})
 
 
-def _compiled(model: Model) -> tuple[dict[str, Any], float | None]:
+def _compiled(model: Model) -> tuple[CoreSpec, float | None]:
     """The model's compiled arrays (computed on first use; the core copies them) and the
     conditioning of ``D_c`` at its reference configuration when known."""
     entry = _cache(model)
@@ -611,7 +614,7 @@ class Engine:
     def assembly(self) -> Assembly:
         """Model-wide arrays from the element kernels in one call each (``D_x``, the
         stress Hessian, the elastic law): :class:`~flexmbd.engine.assembly.Assembly`."""
-        return Assembly(self.core, self.compiled, self.model.n_coordinates,
+        return Assembly(self.core, self.compiled.elements, self.model.n_coordinates,
                         self.model.n_deformations)
 
     # --- preparing a run ------------------------------------------------------------------
@@ -717,14 +720,14 @@ class Engine:
         """The exception of a run's ``status`` (``None`` when it completed): flexmbd's
         errors with the time and the coordinates and deformations involved, or the
         exception a Python callback raised."""
-        code = status["code"]
-        if code == _core.OK:
+        code, Status = status["code"], _core.FmStatus
+        if code == Status.FM_OK:
             return None
-        if code == _core.PYTHON:
+        if code == Status.FM_PYTHON:
             return status["exception"] or KeyboardInterrupt()
         model, time = self.model, float(status["time"])
         time_or_none = None if np.isnan(time) else time
-        if code == _core.NOT_CONVERGED:
+        if code == Status.FM_NOT_CONVERGED:
             worst = status["worst"]
             where = (model.describe_deformation(worst) if worst >= 0
                      else "a non-finite configuration")
@@ -736,13 +739,13 @@ class Engine:
                 f"length) or the step from the previous solution is too large",
                 time_or_none, iterations=int(status["iterations"]),
                 residual=float(status["residual"]))
-        if code in (_core.SINGULAR, _core.SINGULAR_TOLERANCE, _core.MASSLESS):
+        if code in (Status.FM_SINGULAR, Status.FM_SINGULAR_TOLERANCE, Status.FM_MASSLESS):
             x = self.configuration()
             if not np.all(np.isfinite(x)):  # not a property of the mechanism: a blow-up
                 return SimulationError(self._diverged(time_or_none), time_or_none)
-        if code in (_core.SINGULAR, _core.SINGULAR_TOLERANCE):
+        if code in (Status.FM_SINGULAR, Status.FM_SINGULAR_TOLERANCE):
             what = "D_c is singular"
-            if code == _core.SINGULAR_TOLERANCE:
+            if code == Status.FM_SINGULAR_TOLERANCE:
                 what = (f"D_c is singular within the position tolerance (scaled smallest "
                         f"singular value {status['conditioning']:.2g} < "
                         f"{status['limit']:.2g})")
@@ -750,29 +753,31 @@ class Engine:
             D_c = D_x[np.ix_(model.constrained, model.dependent)]
             return SingularConfigurationError(
                 singular_message(model, D_c, time_or_none, what, self.integrated), time_or_none)
-        if code == _core.MASSLESS:
+        if code == Status.FM_MASSLESS:
             text, singular = massless_message(self, x, time_or_none)
             return (SingularConfigurationError if singular else SimulationError)(
                 text, time_or_none)
-        if code == _core.NOT_FINITE:
+        if code == Status.FM_NOT_FINITE:
             worst = int(status["worst"])
             what = (f"the law of {model.describe_q(worst)}" if worst >= 0 else
                     f"the applied load on {model.describe_coordinate(-2 - worst)}")
             return SimulationError(f"{what} is not finite {at_time(time_or_none)}",
                                    time_or_none)
-        if code == _core.STEP_FAILED:
+        if code == Status.FM_STEP_FAILED:
             return SimulationError(
                 f"the GeneralizedAlpha integrator failed {at_time(time_or_none)}: its Newton "
                 f"iteration did not converge even with step {status['step']:.3g} s",
                 time_or_none)
-        return SimulationError(f"the core stopped with code {code} {at_time(time_or_none)}",
-                               time_or_none)
+        if code == Status.FM_NO_MEMORY:
+            return MemoryError(f"the core ran out of memory {at_time(time_or_none)}")
+        return SimulationError(f"the core stopped with {Status(code).name} "
+                               f"{at_time(time_or_none)}", time_or_none)
 
     @staticmethod
     def stopped_for_partition(status: Mapping[str, Any]) -> bool:
         """Whether a generalized-alpha run stopped because a free rotation's calculable
         Euler parameter got small (:mod:`flexmbd.analysis.free_rotations`)."""
-        return status["code"] == _core.PARTITION
+        return status["code"] == _core.FmStatus.FM_PARTITION
 
     def _diverged(self, time: float | None) -> str:
         """The message of a run whose configuration stopped being finite."""
@@ -822,13 +827,13 @@ class Engine:
     def constant_loads(self) -> np.ndarray:
         """The model's constant loads and moments (XF) ``(nx,)`` [N, N m] as the core
         applies them."""
-        return np.asarray(self.compiled["f_const"])
+        return self.compiled.loads.f_const
 
     @property
     def rotation_coordinates(self) -> np.ndarray:
         """The Euler parameters ``(k, 4)`` (coordinate indices) of the spatial rotational
         nodes."""
-        return np.asarray(self.compiled["rotations"]).reshape(-1, 4)
+        return self.compiled.classification.rotations.reshape(-1, 4)
 
     def call(self, method: Callable, *args):
         """Call a single evaluation of the core; its failure as flexmbd's error."""
@@ -954,13 +959,11 @@ class Engine:
 
     def masses(self, x: np.ndarray) -> np.ndarray:
         """The mass matrices ``(nt, nx, nx)`` at the configurations ``x`` ``(nt, nx)``,
-        finite and checked by the caller."""
+        finite and checked by the caller, in one call of the core."""
         nx = self.model.n_coordinates
-        x = np.ascontiguousarray(x, dtype=float)
+        x = np.ascontiguousarray(x, dtype=float).reshape(-1, nx)
         batch = np.empty((len(x), nx, nx))
-        h, f, at_rest = np.empty(nx), np.empty(nx), np.zeros(nx)
-        for row, M in zip(x, batch, strict=True):
-            self.core.mass_matrix(row, at_rest, M, h, f)
+        self.core.masses(x, batch)
         return batch
 
 

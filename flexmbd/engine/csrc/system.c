@@ -17,7 +17,6 @@
 #define ROUND_OFF 1e-6         /* residuals below this share of the tolerance are round-off */
 #define SLOW_CHORD 0.1         /* a chord step that reduces less than this gets a new D_c */
 #define LARGEST_STEP 0.1       /* an integrator's Newton step, relative to coordinate sizes */
-#define MAX_NC 16              /* largest element: coordinates */
 
 static double *alloc(int n) { return calloc(n > 0 ? n : 1, sizeof(double)); }
 
@@ -84,7 +83,7 @@ static void gather(const FmModel *m, int k, const double *x, double *c)
 
 size_t fm_element_values(const FmModel *m, int hessian, const double *x, double *out)
 {
-    double c[MAX_NC];
+    double c[FM_MAX_NC];
     size_t at = 0;
     for (int k = 0; k < m->nel; k++) {
         const FmKernels *kern = &FM_KERNELS[m->etype[k]];
@@ -114,7 +113,7 @@ static double unwrapped(const FmModel *m, const FmState *s, int d, double value)
 /* e at s->x, and D_x with it when `jacobian`. */
 static void element_pass(const FmModel *m, FmState *s, int jacobian)
 {
-    double c[MAX_NC], out[MAX_NC * (MAX_NC + 1)];
+    double c[FM_MAX_NC], out[FM_MAX_ND * (FM_MAX_NC + 1)];
     for (int k = 0; k < m->nel; k++) {
         const FmKernels *kern = &FM_KERNELS[m->etype[k]];
         const int nd = kern->nd, d0 = m->d_off[k];
@@ -463,7 +462,7 @@ void fm_dependent_rates(const FmModel *m, FmState *s, double *rates, const doubl
 
 static void quadratic_pass(const FmModel *m, FmState *s)
 {
-    double c[MAX_NC], v[MAX_NC], out[MAX_NC];
+    double c[FM_MAX_NC], v[FM_MAX_NC], out[FM_MAX_ND];
     for (int k = 0; k < m->nel; k++) {
         const FmKernels *kern = &FM_KERNELS[m->etype[k]];
         gather(m, k, s->x, c);
@@ -540,7 +539,7 @@ void fm_stresses(const FmModel *m, FmState *s)
 
 void fm_inertia(const FmModel *m, FmState *s)
 {
-    double c[MAX_NC], v[MAX_NC];
+    double c[FM_MAX_NC], v[FM_MAX_NC];
     for (int k = 0; k < m->nel; k++) {
         const int nc = m->c_off[k + 1] - m->c_off[k];
         double *M = s->blocks + m->b_off[k], *h = s->hvec + m->c_off[k],
@@ -552,7 +551,7 @@ void fm_inertia(const FmModel *m, FmState *s)
             continue;
         const FmKernels *kern = &FM_KERNELS[m->etype[k]];
         const double *p = m->param + m->p_off[k], mass = m->emass[k];
-        double out[MAX_NC * MAX_NC];
+        double out[FM_MAX_NC * FM_MAX_NC];
         gather(m, k, s->x, c);
         gather(m, k, s->xd, v);
         kern->mass(c, p, out);
@@ -656,7 +655,7 @@ void fm_nodal_force(const FmModel *m, FmState *s, const double *user)
  * for the velocity terms of the inertia, which are of order h relative to the rest. */
 int fm_saddle(const FmModel *m, FmState *s, Band *sd, double c_q, double c_v, FmError *err)
 {
-    double H[MAX_NC * MAX_NC * MAX_NC], c[MAX_NC];
+    double H[FM_MAX_ND * FM_MAX_NC * FM_MAX_NC], c[FM_MAX_NC];
     const int stiff = c_q != 0.0 || c_v != 0.0;
     const double *blocks = s->blocks;
     if (stiff) {
@@ -669,7 +668,7 @@ int fm_saddle(const FmModel *m, FmState *s, Band *sd, double c_q, double c_v, Fm
             const double *J = s->J + m->j_off[k];
             if (m->elastic[k]) {
                 const double *S = m->S + m->law_off[k], *C = m->C + m->law_off[k];
-                double LJ[MAX_NC * MAX_NC];
+                double LJ[FM_MAX_ND * FM_MAX_NC];
                 for (int i = 0; i < nd; i++)          /* (c_q S + c_v C) D */
                     for (int b = 0; b < nc; b++) {
                         double sum = 0.0;

@@ -11,12 +11,14 @@
  * layout: fixed notation for decimal exponents from -4 to 16, scientific otherwise,
  * trailing zeros removed.
  */
+#include <errno.h>
 #include <float.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "text.h"
 
@@ -122,4 +124,50 @@ int format_17g(double x, char *out)
 #else
     return printf_17g(x, out);
 #endif
+}
+
+/* Write all of `size` bytes to the file descriptor `fd`; 0, or -1 with errno set. */
+static int write_all(int fd, const char *text, size_t size)
+{
+    while (size > 0) {
+        const ssize_t done = write(fd, text, size);
+        if (done < 0) {
+            if (errno == EINTR)
+                continue;
+            return -1;
+        }
+        text += done;
+        size -= (size_t)done;
+    }
+    return 0;
+}
+
+/* Rows are formatted into a buffer of CSV_BUFFER bytes and written as it fills: the memory
+ * stays the same whatever the rows, and no large allocation costs the kernel page faults
+ * (a thread formatting half of the rows gained nothing in a fresh process: the second
+ * processor's wake-up took as long). */
+#define CSV_BUFFER 65536
+int fm_csv_write(int fd, const char *const *columns, const ptrdiff_t *strides, int n_columns,
+                 ptrdiff_t rows)
+{
+    char *text = malloc(CSV_BUFFER);
+    size_t used = 0;
+    if (!text)
+        return ENOMEM;
+    for (ptrdiff_t r = 0; r < rows && n_columns > 0; r++)
+        for (int k = 0; k < n_columns; k++) {
+            if (used > CSV_BUFFER - 32) {        /* a number takes 25 bytes at most */
+                if (write_all(fd, text, used)) {
+                    free(text);
+                    return errno;
+                }
+                used = 0;
+            }
+            used += (size_t)format_17g(*(const double *)(columns[k] + r * strides[k]),
+                                       text + used);
+            text[used++] = k + 1 < n_columns ? ',' : '\n';
+        }
+    const int error = write_all(fd, text, used) ? errno : 0;
+    free(text);
+    return error;
 }
