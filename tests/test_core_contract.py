@@ -145,3 +145,25 @@ def test_a_callback_exception_is_raised_again_with_its_type():
     with pytest.raises(fm.SimulationError, match="ZeroDivisionError") as raised:
         fm.kinematic_analysis(model, np.linspace(0.0, 1.0, 11))
     assert isinstance(raised.value.__cause__, ZeroDivisionError)
+
+
+def test_one_state_inverse_dynamics_is_a_runs_output():
+    """The static Newton iterations' single call (``Engine.equilibrium``) gives what an
+    inverse-dynamics run over a time grid gives at the same state: another path through
+    the core (laws, predictor, the run's loads callback)."""
+    import flexmbd as fm
+    from flexmbd.examples import slider_crank_flex
+
+    model = slider_crank_flex.build_model(2, eps1flex=True)
+    load = np.linspace(-1.0, 1.0, model.n_coordinates)  # forces and moments everywhere
+
+    def forces(t, x, xd):
+        return load
+
+    run = fm.inverse_dynamics(model, np.linspace(0.0, 0.6, 4), forces=forces)
+    engine = workspace_of(model)
+    for k in range(len(run.t)):
+        state = engine.equilibrium(run.q[k], run.qd[k], run.qdd[k], run.x[k], load)
+        for name in ("x", "xdd", "sigma", "reactions", "driving"):
+            np.testing.assert_allclose(state[name][0], getattr(run, name)[k], rtol=1e-9,
+                                       atol=1e-9, err_msg=name)

@@ -44,7 +44,6 @@ from ..elements.base import SPATIAL_ROTATIONAL
 from ..engine import Engine, load_vector, q_scale, unwrap_near, workspace_of
 from ..errors import ArgumentError
 from ..model import Model
-from ..motion import Law, Polynomial
 from ..orientation import angular_velocity, euler_forces
 from .kinematics import coordinates, generalized
 
@@ -242,14 +241,7 @@ def equilibrium_state(engine: Engine, x: np.ndarray, qd: np.ndarray, qdd: np.nda
     q = unwrap_near(model, np.concatenate([
         x[model.independent_coordinates],
         engine.assembly.deformations(x)[model.independent_deformations]]), near)
-    laws: list[Law] = [Polynomial(*values) for values in zip(q, qd, qdd, strict=True)]
-    forces = None if not np.any(loads) else (lambda t, x_, xd_: loads)
-    arrays = engine.prepare(laws, 1, dynamics=True, forces=forces)
-    engine.reset(x)
-    error = engine.error(engine.kinematic_run(np.zeros(1)))
-    if error is not None:
-        raise error
-    return {name: values[0].copy() for name, values in arrays.items()}
+    return {name: values[0] for name, values in engine.equilibrium(q, qd, qdd, x, loads).items()}
 
 
 def inertia_derivatives(engine: Engine, state: dict[str, np.ndarray], F_q: np.ndarray,

@@ -2,13 +2,12 @@
 """flexmbd's compiled core as Python sees it: a binding, with no mechanics of its own.
 
 The C is in ``csrc/``: ``runs.c`` holds a compiled model and drives its runs, ``system.c``
-evaluates one state, ``alpha.c`` integrates, ``band.c`` factorises and ``kernels.c`` holds
+evaluates one state, ``alpha.c`` integrates, ``band.c`` factorises, ``kernels.c`` holds
 the generated element kernels. ``Core(spec)`` takes a :class:`~flexmbd.engine.spec.CoreSpec`
-(its arrays' lengths and index ranges were checked when it was made) and keeps its own
-copies. Arrays of the calls are typed memoryviews: C-contiguous float64 (or int32) of the
-lengths each call names, refused with ``ValueError`` otherwise. A run's failure comes back
-as its status dict, a single evaluation's as :class:`CoreError`; the exception a Python
-callback (a law, the loads, progress) raised, or Ctrl-C, is raised again.
+(checked when it was made) and keeps its own copies. Arrays are typed memoryviews:
+C-contiguous float64 (or int32) of the lengths each call names, else ``ValueError``. A
+run's failure comes back as its status dict, a single evaluation's as :class:`CoreError`;
+what a Python callback (a law, the loads, progress) raised, or Ctrl-C, is raised again.
 """
 
 import os
@@ -21,16 +20,8 @@ from libc.stddef cimport ptrdiff_t
 
 cdef extern from "core.h":
     cpdef enum FmStatus:
-        FM_OK
-        FM_NOT_CONVERGED
-        FM_SINGULAR
-        FM_SINGULAR_TOLERANCE
-        FM_MASSLESS
-        FM_NOT_FINITE
-        FM_STEP_FAILED
-        FM_PYTHON
-        FM_NO_MEMORY
-        FM_PARTITION
+        FM_OK, FM_NOT_CONVERGED, FM_SINGULAR, FM_SINGULAR_TOLERANCE, FM_MASSLESS
+        FM_NOT_FINITE, FM_STEP_FAILED, FM_PYTHON, FM_NO_MEMORY, FM_PARTITION
 
     ctypedef void (*FmDeform)(const double *c, const double *p, double *out)
     ctypedef void (*FmRates)(const double *c, const double *v, const double *p, double *out)
@@ -99,6 +90,9 @@ cdef extern from "runs.h":
     int fm_core_output(FmCore *c, int k, double t, const double *y)
     int fm_core_state(FmCore *c, double t, const double *q, const double *qd,
                       const double *qdd, const double *guess, double **kinematics)
+    int fm_core_equilibrium(FmCore *c, double t, const double *q, const double *qd,
+                            const double *qdd, const double *guess, const double *loads,
+                            double **outs)
     void fm_core_mass_matrix(FmCore *c, const double *x, const double *xd, double *M,
                              double *h, double *f)
     int fm_core_inertia_slopes(FmCore *c, const double *x, const double *q, const double *qd,
@@ -238,21 +232,9 @@ cdef class Core:
         each), ``progress(t)`` and the ``outputs`` ``{name: (n_outputs, size)}`` it fills."""
         cdef FmModel *m = &self.c.m
         cdef double *outs[FM_N_OUT]
-        cdef double[:, ::1] column
         need(law_kind.shape[0], m.nq, "law_kind")
         need(law_coef.shape[0] * law_coef.shape[1], 3 * m.nq, "law_coef")
-        unknown = set(outputs) - set(OUTPUTS)
-        if unknown:
-            raise ValueError(f"outputs: no column {sorted(unknown)} (the core's: {OUTPUTS})")
-        self.held = []
-        for o, name in enumerate(OUTPUTS):
-            outs[o] = NULL
-            if outputs.get(name) is not None:
-                column = outputs[name]
-                need(column.shape[0] * column.shape[1], n_outputs * fm_output_size(&self.c, o),
-                     name)
-                outs[o] = &column[0, 0]
-                self.held.append(column)
+        self.held = self.columns(outputs, n_outputs, outs)
         self.c.laws = self.c.loads = NULL
         if law_callback is not None:
             need(law_values.shape[0] * law_values.shape[1], 3 * m.nq, "law_values")
@@ -270,6 +252,23 @@ cdef class Core:
         self.law_function, self.load_function = law_callback, forces
         self.progress_function = progress
         fm_core_prepare(&self.c, &law_kind[0], &law_coef[0, 0], outs, n_outputs, dynamics)
+
+    cdef list columns(self, dict outputs, Py_ssize_t rows, double **outs):
+        """The pointers of the output arrays ``{name: (rows, size)}`` (NULL where absent);
+        their memoryviews, which hold them."""
+        cdef double[:, ::1] column
+        if not set(outputs) <= set(OUTPUTS):
+            raise ValueError(f"outputs: no column {sorted(set(outputs) - set(OUTPUTS))} (the "
+                             f"core's: {OUTPUTS})")
+        held = []
+        for o, name in enumerate(OUTPUTS):
+            outs[o] = NULL
+            if outputs.get(name) is not None:
+                column = outputs[name]
+                need(column.shape[0] * column.shape[1], rows * fm_output_size(&self.c, o), name)
+                outs[o] = &column[0, 0]
+                held.append(column)
+        return held
 
     def reset(self, const double[::1] start=None):
         """Forget the last evaluation; the next run starts from ``start`` ``(nx,)``, or from
@@ -325,8 +324,7 @@ cdef class Core:
 
     def residual(self, double t, const double[::1] y not None, const double[::1] a not None,
                  double[::1] r not None):
-        """The reduced residual ``r`` ``(nd,)`` at ``y = [q_d, qd_d]`` and accelerations
-        ``a``: the state generalized-alpha evaluates (for the tests)."""
+        """The reduced residual ``r`` at ``y = [q_d, qd_d]``, accelerations ``a`` (tests)."""
         need(y.shape[0], 2 * self.c.m.nd_dyn, "y")
         need(a.shape[0], self.c.m.nd_dyn, "a")
         need(r.shape[0], self.c.m.nd_dyn, "r")
@@ -334,8 +332,7 @@ cdef class Core:
 
     def correction(self, double c_q, double c_v, const double[::1] r not None,
                    double[::1] da not None):
-        """Newton's ``da = -S^-1 r`` with ``S = Mbar + c_q K + c_v C`` at the state of the
-        last residual (for the tests)."""
+        """Newton's ``-(Mbar + c_q K + c_v C)^-1 r`` at the last residual's state (tests)."""
         need(r.shape[0], self.c.m.nd_dyn, "r")
         need(da.shape[0], self.c.m.nd_dyn, "da")
         self.check(fm_core_correction(&self.c, c_q, c_v, &r[0], &da[0]))
@@ -367,6 +364,20 @@ cdef class Core:
         need(edd.shape[0], m.ne, "edd")
         kinematics[:] = [&x[0], &xd[0], &xdd[0], &e[0], &ed[0], &edd[0]]
         self.check(fm_core_state(&self.c, t, &q[0], &qd[0], &qdd[0], &guess[0], kinematics))
+
+    def equilibrium(self, double t, const double[::1] q not None, const double[::1] qd not None,
+                    const double[::1] qdd not None, const double[::1] guess not None,
+                    const double[::1] loads not None, dict outputs not None):
+        """Inverse dynamics at one state with the applied ``loads`` ``(nx,)``, exact position
+        solve from ``guess``, into ``outputs`` ``{name: (1, size)}`` as a run's output."""
+        cdef FmModel *m = &self.c.m
+        cdef double *outs[FM_N_OUT]
+        for given, n, name in ((q, m.nq, "q"), (qd, m.nq, "qd"), (qdd, m.nq, "qdd"),
+                               (guess, m.nx, "guess"), (loads, m.nx, "loads")):
+            need(len(given), n, name)
+        held = self.columns(outputs, 1, outs)
+        self.check(fm_core_equilibrium(&self.c, t, &q[0], &qd[0], &qdd[0], &guess[0],
+                                       &loads[0], outs))
 
     def mass_matrix(self, const double[::1] x not None, const double[::1] xd not None,
                     double[:, ::1] M not None, double[::1] h not None, double[::1] f not None):
@@ -442,12 +453,9 @@ def csv_write(int fd, columns):
     """Equally long 1-d float64 ``columns`` (any strides) as CSV rows on the file descriptor
     ``fd``, each number as ``"%.17g"`` writes it; other threads of Python run meanwhile
     (the columns must not change). Raises ``OSError`` when the file cannot take them."""
-    views = [memoryview(c) for c in columns]
-    if any(v.ndim != 1 or v.format != "d" or len(v) != len(views[0]) for v in views):
-        raise ValueError("csv_write: equally long 1-d float64 columns are needed")
     cdef const double[:] view
     cdef list held = []
-    cdef Py_ssize_t n = len(views), rows = len(views[0]) if views else 0
+    cdef Py_ssize_t n = len(columns), rows = len(columns[0]) if n else 0
     cdef const char **at = <const char **>PyMem_Malloc(sizeof(char *) * (n + 1))
     cdef ptrdiff_t *strides = <ptrdiff_t *>PyMem_Malloc(sizeof(ptrdiff_t) * (n + 1))
     try:
@@ -455,6 +463,7 @@ def csv_write(int fd, columns):
             raise MemoryError("csv_write")
         for k in range(n):
             view = columns[k]
+            need(view.shape[0], rows, "csv_write: a column")
             held.append(view)
             at[k], strides[k] = <const char *>&view[0], view.strides[0]
         with nogil:

@@ -888,6 +888,23 @@ class Engine:
                   np.ascontiguousarray(guess), *out.values())
         return out
 
+    def equilibrium(self, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, guess: np.ndarray,
+                    loads: np.ndarray | None = None) -> dict[str, np.ndarray]:
+        """Inverse dynamics at one state (THEORY 8), as a run's output at ``t = 0``: every
+        column of :data:`OUTPUTS` (one row each) for ``q, qdot, qddot`` ``(nq,)`` with the
+        applied ``loads`` ``(nx,)`` [N, N m] besides the model's, the positions solved
+        from ``guess``. One core call on this workspace (the static Newton iterations)."""
+        model = self.model
+        if self.integrated:  # a simulation's settings (no dead-point test) do not apply
+            self.configure(self.tolerance, self.max_iterations)
+        applied = np.zeros(model.n_coordinates) if loads is None else \
+            load_vector(model, loads)
+        sizes = output_sizes(model)
+        out = {name: np.empty((1, size)) for name, size in sizes.items()}
+        vectors = [np.ascontiguousarray(v, dtype=float) for v in (q, qd, qdd, guess)]
+        self.call(self.core.equilibrium, 0.0, *vectors, applied, out)
+        return out
+
     def inertia_slopes(self, x: np.ndarray, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
                        step: np.ndarray, rates: bool = False) -> np.ndarray:
         """Central differences ``(nx + ne, nq)`` of the inertia forces ``M xddot + h`` [N,

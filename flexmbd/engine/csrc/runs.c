@@ -336,29 +336,28 @@ static int report(void *context, double t)
 }
 
 /* --- outputs ---------------------------------------------------------------------------------- */
-/* Row k of the output arrays from a state (reactions and driving loads are written in
- * place by dynamics_of). */
-static void store(FmCore *c, int k, FmState *s)
+/* Row k of the output arrays `outs` (NULL: not kept) from a state (reactions and driving
+ * loads are written in place by forces_of). */
+static void store(const FmCore *c, double *const outs[FM_N_OUT], int k, FmState *s)
 {
     const double *rows[FM_N_OUT] = {s->x, s->xd, s->xdd, s->e, s->ed, s->edd, s->q, s->qd,
                                     s->qdd, s->sigma, NULL, NULL};
     for (int o = 0; o < FM_N_OUT; o++)
-        if (c->outs[o] && rows[o]) {
+        if (outs[o] && rows[o]) {
             const size_t size = (size_t)fm_output_size(c, o);
-            memcpy(c->outs[o] + (size_t)k * size, rows[o], sizeof(double) * size);
+            memcpy(outs[o] + (size_t)k * size, rows[o], sizeof(double) * size);
         }
 }
 
-/* Stresses of every deformation, reactions and driving loads of a state (THEORY 8), its
- * dynamic accelerations solved first (`solve`); with `free_dynamic` (a simulation) the
- * dynamic entries move freely, so their driving load is zero. Stores output k. */
-static int dynamics_of(FmCore *c, FmState *s, int k, int free_dynamic, int solve)
+/* Stresses of every deformation, reactions and driving loads of a state (THEORY 8) with
+ * the applied `loads` (nx, or NULL) besides the constant ones, its dynamic accelerations
+ * solved first (`solve`); with `free_dynamic` (a simulation) the dynamic entries move
+ * freely, so their driving load is zero. Stores row k of `outs`. */
+static int forces_of(FmCore *c, FmState *s, const double *loads, double *const outs[FM_N_OUT],
+                     int k, int free_dynamic, int solve)
 {
     const FmModel *m = &c->m;
-    const double *loads;
-    int code = user_loads(c, s, &loads);
-    if (code)
-        return code;
+    int code;
     if (solve) {
         if ((code = fm_accelerations(m, s, &c->sd_acc, loads, &c->error)))
             return code;
@@ -367,7 +366,7 @@ static int dynamics_of(FmCore *c, FmState *s, int k, int free_dynamic, int solve
         fm_inertia(m, s);
         fm_nodal_force(m, s, loads);
     }
-    double *r = c->outs[FM_OUT_REACTIONS], *drive = c->outs[FM_OUT_DRIVING];
+    double *r = outs[FM_OUT_REACTIONS], *drive = outs[FM_OUT_DRIVING];
     r = r ? r + (size_t)k * m->nx : NULL;
     drive = drive ? drive + (size_t)k * m->nq : NULL;
     fm_equilibrium(m, s, free_dynamic, r, drive);
@@ -386,8 +385,16 @@ static int dynamics_of(FmCore *c, FmState *s, int k, int free_dynamic, int solve
     if (drive && free_dynamic)
         for (int j = 0; j < m->nd_dyn; j++)
             drive[m->q_dyn[j]] = 0.0;
-    store(c, k, s);
+    store(c, outs, k, s);
     return FM_OK;
+}
+
+/* forces_of with the loads of the run's callback, into the run's output k. */
+static int dynamics_of(FmCore *c, FmState *s, int k, int free_dynamic, int solve)
+{
+    const double *loads;
+    const int code = user_loads(c, s, &loads);
+    return code ? code : forces_of(c, s, loads, c->outs, k, free_dynamic, solve);
 }
 
 
@@ -659,7 +666,7 @@ static int mech_output(void *context, int k, double t, const double *q, const do
         code = keep_branch(c, s, t, q, v, NULL);
     if (code || c->level < 2) {
         if (!code)
-            store(c, k, s);
+            store(c, c->outs, k, s);
         return code;
     }
     return dynamics_of(c, s, k, 1, 1);
@@ -733,7 +740,7 @@ int fm_core_kinematic_run(FmCore *c, const double *times, int n, int *reached)
         if (c->dynamics)
             code = dynamics_of(c, s, k, 0, 0);
         else
-            store(c, k, s);
+            store(c, c->outs, k, s);
         if (!code && (k + 1) % 256 == 0)
             code = report(c, t);
         if (code)
@@ -803,6 +810,31 @@ int fm_core_state(FmCore *c, double t, const double *q, const double *qd, const 
     for (int k = 0; !code && k < 6; k++)
         memcpy(kinematics[k], from[k], sizeof(double) * sizes[k]);
     return code;
+}
+
+/* Inverse dynamics at one state, as a run's output at t (the static Newton iterations
+ * and the linearizations): the kinematics of (q, qd, qdd) by an exact position solve from
+ * `guess`, stresses, reactions and driving loads with the applied `loads` (nx) besides
+ * the constant ones, into row 0 of each of `outs` that is not NULL. */
+int fm_core_equilibrium(FmCore *c, double t, const double *q, const double *qd,
+                        const double *qdd, const double *guess, const double *loads,
+                        double *const outs[FM_N_OUT])
+{
+    const FmModel *m = &c->m;
+    FmState *s = &c->out;
+    fm_reset_error(c);
+    c->failed = s;
+    for (int i = 0; i < m->nx; i++)
+        if (!isfinite(loads[i])) {
+            c->error.time = t;
+            c->error.worst = -2 - i;         /* as user_loads: a load that is not finite */
+            return FM_NOT_FINITE;
+        }
+    memcpy(s->q, q, sizeof(double) * m->nq);
+    memcpy(s->qd, qd, sizeof(double) * m->nq);
+    memcpy(s->qdd, qdd, sizeof(double) * m->nq);
+    const int code = fm_kinematics(m, s, t, guess, m->tolerance, 0, 1, &c->error);
+    return code ? code : forces_of(c, s, loads, outs, 0, 0, 0);
 }
 
 /* The dense mass matrix M (nx x nx, row-major), the velocity-dependent inertia h and the

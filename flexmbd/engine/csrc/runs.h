@@ -96,6 +96,9 @@ int fm_core_correction(FmCore *c, double c_q, double c_v, const double *r, doubl
 int fm_core_output(FmCore *c, int k, double t, const double *y);
 int fm_core_state(FmCore *c, double t, const double *q, const double *qd, const double *qdd,
                   const double *guess, double *const kinematics[6]);
+int fm_core_equilibrium(FmCore *c, double t, const double *q, const double *qd,
+                        const double *qdd, const double *guess, const double *loads,
+                        double *const outs[FM_N_OUT]);
 void fm_core_mass_matrix(FmCore *c, const double *x, const double *xd, double *M, double *h,
                          double *f);
 int fm_core_inertia_slopes(FmCore *c, const double *x, const double *q, const double *qd,
