@@ -6,7 +6,9 @@ import dataclasses
 
 import numpy as np
 import pytest
+from flexmbd.examples import slider_crank_flex
 
+import flexmbd as fm
 from flexmbd.elements import ELEMENT_TYPES
 from flexmbd.engine import _core, codegen, compile_model
 from flexmbd.engine.spec import CoreSpec, SpecError
@@ -134,8 +136,6 @@ def test_the_generator_refuses_an_element_too_large_for_the_core(monkeypatch):
 def test_a_callback_exception_is_raised_again_with_its_type():
     """A law that raises inside a run comes back as flexmbd's error naming it, its cause
     the user's exception."""
-    import flexmbd as fm
-
     def law(t):
         if t > 0.5:
             raise ZeroDivisionError("the user's law")
@@ -151,9 +151,6 @@ def test_one_state_inverse_dynamics_is_a_runs_output():
     """The static Newton iterations' single call (``Engine.equilibrium``) gives what an
     inverse-dynamics run over a time grid gives at the same state: another path through
     the core (laws, predictor, the run's loads callback)."""
-    import flexmbd as fm
-    from flexmbd.examples import slider_crank_flex
-
     model = slider_crank_flex.build_model(2, eps1flex=True)
     load = np.linspace(-1.0, 1.0, model.n_coordinates)  # forces and moments everywhere
 

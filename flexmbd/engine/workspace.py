@@ -1,9 +1,9 @@
 """The engine: a model compiled for the core, and every run on it.
 
 Every analysis of flexmbd runs on one pipeline, the compiled core
-(``flexmbd/_core``, C, built by ``pip install``): kinematic analysis, inverse
-dynamics, forward simulation and the single evaluations of the per-state
-functions. This module is its Python side:
+(``flexmbd.engine._core``: C with a Cython binding, built by ``pip install``):
+kinematic analysis, inverse dynamics, forward simulation and the single evaluations
+of the per-state functions. This module is its Python side:
 
 * :func:`compile_model` turns an immutable :class:`~flexmbd.model.Model` into the
   flat arrays of the core (a :class:`~flexmbd.engine.spec.CoreSpec`): element data

@@ -1,7 +1,7 @@
 /* flexmbd's compiled core: shared declarations.
  *
- * The core evaluates one model, described by flat arrays that flexmbd/engine.py
- * prepares (index maps, element data, band orderings), for one state at a time:
+ * The core evaluates one model, described by flat arrays that flexmbd/engine/spec.py
+ * declares (index maps, element data, band orderings), for one state at a time:
  * the position solve, velocities and accelerations, inertia and elastic forces,
  * the equations of motion and their Newton matrix, reactions, and the
  * generalized-alpha integrator. Element kernels are generated (kernels.c); the

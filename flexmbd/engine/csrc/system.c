@@ -475,7 +475,7 @@ static void quadratic_pass(const FmModel *m, FmState *s)
 
 /* conditioning of D_c, relative to the reference configuration's, below which it is nearly
  * singular: positions are solved tighter than asked (fm_kinematics), and an integrator's
- * solutions are checked for the branch they lie on (module.c) */
+ * solutions are checked for the branch they lie on (runs.c) */
 #define TIGHTEN_BELOW 1e-2
 
 int fm_nearly_singular(const FmModel *m, FmState *s)
