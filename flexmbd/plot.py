@@ -9,7 +9,7 @@ it for an interactive window.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -18,8 +18,20 @@ from .engine import workspace_of
 from .errors import OptionalDependencyError, OutputError
 from .model import CoordinateClass, Model
 
-if TYPE_CHECKING:
-    from .results import KinematicResult
+
+class Motion(Protocol):
+    """What a figure takes of a result (a :class:`~flexmbd.results.Motion` or any
+    of its kind): the model, the times or load factors ``t`` ``(n,)``, coordinates ``x``
+    ``(n, nx)``, their rates ``xd`` and deformations ``e`` when computed, and columns by
+    name (``result["x5.1"]``). Plotting is given results; it imports none."""
+
+    model: Model
+    t: np.ndarray
+    x: np.ndarray
+    xd: np.ndarray | None
+    e: np.ndarray | None
+
+    def __getitem__(self, name: str) -> np.ndarray: ...
 
 #: arrows are scaled so that the longest one over the run is this share of the model size
 ARROW_SHARE = 0.3
@@ -66,7 +78,7 @@ def _translational_nodes(model: Model):
     return nodes, index, fixed
 
 
-def _limits(result: KinematicResult, index: np.ndarray):
+def _limits(result: Motion, index: np.ndarray):
     pts = result.x[:, index].reshape(-1, index.shape[1])
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     size = max(float(np.max(hi - lo)), result.model.characteristic_length)
@@ -102,7 +114,7 @@ def _set_line(line, points: np.ndarray) -> None:
         line.set_3d_properties(points[:, 2])
 
 
-def animate(result: KinematicResult, filename: str | Path | None = None, *,
+def animate(result: Motion, filename: str | Path | None = None, *,
             arrows: bool = True, max_frames: int = 200, fps: int = 25,
             exaggeration: float = 1.0, title: str | None = None, window: bool = False):
     """Animate the mechanism with velocity (blue) and acceleration (red) arrows at the nodes.
@@ -190,7 +202,7 @@ def animate(result: KinematicResult, filename: str | Path | None = None, *,
     return animation
 
 
-def _stick_arrows(ax, result: KinematicResult, index: np.ndarray, size: float):
+def _stick_arrows(ax, result: Motion, index: np.ndarray, size: float):
     """Velocity (blue) and acceleration (red) of every translational node of a spatial
     model as lines from the node, scaled as the planar arrows (matplotlib's 3D quivers
     cannot be moved): ``[(lines, scaled vectors (nt, k, 3))]``."""
@@ -236,7 +248,7 @@ def save_animation(animation, filename: str | Path, fps: int = 25) -> Path:
     return path
 
 
-def plot_motion(result: KinematicResult, columns: list[str], *, against: str = "t",
+def plot_motion(result: Motion, columns: list[str], *, against: str = "t",
                 labels: list[str] | None = None, title: str | None = None,
                 filename: str | Path | None = None, window: bool = False):
     """Position, velocity and acceleration of coordinates or deformations, stacked.
@@ -311,7 +323,7 @@ def column_unit(model: Model, name: str) -> str:
     return base + {"": "", "d": "/s", "dd": "/s^2"}[prefix[1:]]
 
 
-def plot_columns(result: KinematicResult, columns: list[str], against: str = "t", *,
+def plot_columns(result: Motion, columns: list[str], against: str = "t", *,
                  labels: list[str] | None = None, title: str | None = None,
                  filename: str | Path | None = None, ylabel: str | None = None,
                  window: bool = False):

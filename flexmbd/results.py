@@ -24,6 +24,7 @@ from .errors import (
     SimulationError,
 )
 from .model import Model
+from .plot import plot_columns
 
 _COLUMN = re.compile(r"^(xdd|xd|x|edd|ed|e)(\d+)(?:\.(\d+))?$")
 
@@ -174,8 +175,6 @@ class KinematicResult:
 
     def plot(self, columns: list[str], against: str = "t", **options):
         """Plot columns against time or another column (see :func:`flexmbd.plot.plot_columns`)."""
-        from .plot import plot_columns
-
         return plot_columns(self, columns, against, **options)
 
     def raise_for_status(self) -> None:
