@@ -31,6 +31,9 @@ class RunSettings:
         force_inputs: coordinates loaded by the inputs of a state-space model (INPUTF).
         outputs, rate_outputs: coordinates whose values (OUTX) or rates (OUTXP) are its
             outputs.
+        output_order: the outputs in the order a transfer-function file numbers them,
+            ``"x5.2"`` for a position and ``"xd5.2"`` for a rate; empty: ``outputs`` then
+            ``rate_outputs``.
         notes: what the file gives that flexmbd reads but does not use (SPACAR's
             ``OUTLEVEL``, a beam's warping values), one line each with the lines it was on.
     """
@@ -49,6 +52,7 @@ class RunSettings:
     force_inputs: tuple[str, ...] = ()
     outputs: tuple[str, ...] = ()
     rate_outputs: tuple[str, ...] = ()
+    output_order: tuple[str, ...] = ()
     notes: tuple[str, ...] = ()
 
     def output_times(self) -> np.ndarray | None:

@@ -48,7 +48,7 @@ ESTIFF 4 5 0 0
 ESTIFF 6 200
 EDAMP 2 0 0.01 0.02 0.03
 EDAMP 4 0.1
-ESIG 3 1 5.0
+ESIG 3 5.0
 XM 6 0.1
 XM 7 1e-3 0 1e-5 2e-3 0 3e-3
 XF 8 0 0 -1.5
@@ -199,7 +199,7 @@ MALFORMED = {
                                "node 4 is spatial rotational: give Mx My Mz"),
     "inertia tensor of three values": (ARM.format(dynamics="XM 4 1 2 3"), 10,
                                        "give its inertia tensor Ixx Ixy Ixz Iyy Iyz Izz"),
-    "section inertia of two values": (ARM.format(dynamics="EM 1 2.0 1e-3 1e-3"), 10,
+    "section inertia of six values": (ARM.format(dynamics="EM 1 2.0 1 2 3 4 5 6"), 10,
                                       "a BEAM takes rhoA and then Jxx Jyy Jzz Jyz [Jw]"),
     "eight stiffness values": (ARM.format(dynamics="ESTIFF 1 1 2 3 4 5 6 7 8"), 10,
                                "a BEAM takes 6 value(s)"),

@@ -1,6 +1,6 @@
 """Tables of the user guide made from the library's own definitions, so they cannot go stale.
 
-* ``flexmbd-keywords`` with ``:block: kinematics`` or ``dynamics``: every keyword the
+* ``flexmbd-keywords`` with ``:block: kinematics``, ``dynamics`` or ``transfer``: every keyword the
   ``.dat`` reader takes, its arguments and meaning (:mod:`flexmbd.io.dat.syntax`).
 * ``flexmbd-elements``: every element type, its nodes, deformations and values
   (:data:`flexmbd.elements.ELEMENT_TYPES`).
@@ -47,10 +47,12 @@ class KeywordTable(SphinxDirective):
     """The keywords of one block of a SPACAR file."""
 
     option_spec: ClassVar[dict] = {
-        "block": lambda value: directives.choice(value, ("kinematics", "dynamics"))}
+        "block": lambda value: directives.choice(value, ("kinematics", "dynamics",
+                                                          "transfer"))}
 
     def run(self):
-        table = syntax.KINEMATICS if self.options["block"] == "kinematics" else syntax.DYNAMICS
+        table = {"kinematics": syntax.KINEMATICS, "dynamics": syntax.DYNAMICS,
+                 "transfer": syntax.TRANSFER}[self.options["block"]]
         rows = []
         for keyword, spec in table.items():
             if not spec.meaning:

@@ -10,6 +10,7 @@ file's motion instead (``TIMESTEP``).
 from __future__ import annotations
 
 import argparse
+import dataclasses
 from pathlib import Path
 
 import numpy as np
@@ -174,10 +175,14 @@ def _statespace(args, model, settings, statics) -> int:
 
     if not settings.force_inputs or not (settings.outputs or settings.rate_outputs):
         raise ArgumentError("FILE.dat", "a state-space model needs INPUTF (force inputs) and "
-                                        "OUTX or OUTXP (outputs) lines in the file's second "
-                                        "block")
+                                        "OUTX or OUTXP (outputs) lines: SPACAR's third block "
+                                        "after END HALT, e.g. 'INPUTF 1 5 2' and 'OUTX 1 5 2'")
     system = state_space(statics.linearization(), settings.force_inputs, settings.outputs,
                          settings.rate_outputs, damping_ratio=args.damping)
+    if settings.output_order:  # the file's numbering of the outputs
+        rows = [system.outputs.index(name) for name in settings.output_order]
+        system = dataclasses.replace(system, C=system.C[rows], D=system.D[rows],
+                                     outputs=tuple(settings.output_order))
     poles = np.linalg.eigvals(system.A)
     print(f"state space: {system.A.shape[0]} states, inputs {', '.join(system.inputs)}, "
           f"outputs {', '.join(system.outputs)}")

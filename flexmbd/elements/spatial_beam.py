@@ -52,9 +52,10 @@ def beam_frame(chord: np.ndarray, orientation: np.ndarray) -> np.ndarray:
     """Reference frames ``(n, 3, 3)`` (columns ``ex0, ey0, ez0``) of ``n`` beams: ``ex0``
     along the chord ``(n, 3)``, ``ey0`` the orientation vector ``(n, 3)`` made
     perpendicular to it, ``ez0 = ex0 x ey0``."""
-    ex = chord / np.linalg.norm(chord, axis=1, keepdims=True)
-    ey = orientation - np.sum(orientation * ex, axis=1, keepdims=True) * ex
-    ey = ey / np.linalg.norm(ey, axis=1, keepdims=True)
+    with np.errstate(invalid="ignore", divide="ignore"):  # a zero chord: NaN, which the
+        ex = chord / np.linalg.norm(chord, axis=1, keepdims=True)  # builder refuses by name
+        ey = orientation - np.sum(orientation * ex, axis=1, keepdims=True) * ex
+        ey = ey / np.linalg.norm(ey, axis=1, keepdims=True)
     return np.stack([ex, ey, np.cross(ex, ey)], axis=2)
 
 
@@ -103,14 +104,16 @@ class SpatialBeam(ElementType):
 
     @classmethod
     def mass_line(cls, extra: tuple[float, ...]) -> tuple[dict[str, object], list[str]]:
-        """``EM e rhoA [Jxx Jyy Jzz Jyz [Jw]]``: the section inertias per length [kg m];
-        the warping inertia ``Jw`` is read and not used."""
-        if len(extra) not in (0, 4, 5):
+        """``EM e rhoA [Jxx [Jyy [Jzz [Jyz [Jw]]]]]``: the section inertias per length [kg m],
+        those left off 0 as SPACAR takes them; the warping inertia ``Jw`` is read and not
+        used."""
+        if len(extra) > 5:
             raise ValueError(f"a BEAM takes rhoA and then Jxx Jyy Jzz Jyz [Jw] per length, "
                              f"got {len(extra) + 1} values")
         notes = ["the warping inertia Jw (EM's 6th value)"] if len(extra) == 5 and \
             extra[4] else []
-        return ({"section_inertia": tuple(extra[:4])} if extra else {}), notes
+        inertia = (tuple(extra[:4]) + (0.0,) * 4)[:4]
+        return ({"section_inertia": inertia} if extra else {}), notes
 
     @classmethod
     def stiffness_line(cls, values: tuple[float, ...]) -> tuple[tuple[float, ...], list[str]]:
@@ -143,6 +146,8 @@ class SpatialBeam(ElementType):
         if o.shape != (3,) or not np.all(np.isfinite(o)) or not np.any(o):
             return [f"orientation vector {tuple(o.ravel().tolist())} is not three finite "
                     f"numbers, not all zero"]
+        if not np.linalg.norm(d) > 0.0:  # a beam of zero length: the builder names it
+            return []
         sine = np.linalg.norm(np.cross(d, o)) / (np.linalg.norm(d) * np.linalg.norm(o))
         if sine < PARALLEL_LIMIT:
             return [f"orientation vector {tuple(o.tolist())} lies along the beam "

@@ -4,7 +4,7 @@ Its one deformation is the elongation ``e1 = l - l0`` of the line between its
 translational nodes ``p`` and ``q`` (``l0`` their initial distance). The force
 along that line is ``sigma = k e1 + c e1dot + sigma0`` [N], positive in tension,
 with the stiffness ``k`` (``ESTIFF e k`` [N/m]), the damping ``c`` (``EDAMP e c``
-[N s/m]) and the pre-load ``sigma0`` (``ESIG e 1 sigma0`` [N]). Unlike the other
+[N s/m]) and the pre-load ``sigma0`` (``ESIG e sigma0`` [N]). Unlike the other
 elements its deformation is *released* unless classified otherwise: a spring
 exerts a force, it does not constrain.
 

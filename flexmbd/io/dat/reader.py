@@ -13,6 +13,8 @@ lists them with every keyword, its table made from :mod:`flexmbd.io.dat.syntax`)
   order (:attr:`~flexmbd.elements.base.ElementType.stiffness_values`): a truss or
   rigid beam ``EA`` (``c_A``); a beam ``EA EI [GA_s]`` (``c_A c_I``); a hinge its
   rotational stiffness (damping); a spring-damper ``k`` (``c``).
+* ``ESIG e s1 [s2 ...]`` gives the pre-stresses of element ``e``'s deformations in
+  order, as SPACAR writes them (the ones left off are 0).
 * ``XF n Fx Fy`` loads a translational node, ``XF n M`` a rotational one;
   ``XM`` is a mass on a translational node and a rotary inertia on a
   rotational one.
@@ -35,9 +37,12 @@ lists them with every keyword, its table made from :mod:`flexmbd.io.dat.syntax`)
   ``Jw``) and ``OUTLEVEL`` are read and reported once in ``settings.notes``.
 * Static load steps and the linear model: ``DELXF n F..`` (the total load increment
   over the load steps, as ``XF``), ``DELINPX n k delta`` and ``DELINPE e k delta``
-  (total increments of inputs), ``INPUTF n k..`` (force inputs), ``OUTX n k..`` and
-  ``OUTXP n k..`` (position and velocity outputs) of ``flexmbd static`` and
-  ``flexmbd statespace``.
+  (total increments of inputs) of ``flexmbd static``. The inputs and outputs of
+  ``flexmbd statespace`` come, as in SPACAR's transfer-function files (mode 9), from a
+  third block after ``END HALT``: ``INPUTF i n k`` (force input ``i``), ``OUTX i n k``
+  and ``OUTXP i n k`` (output ``i``: a position or its rate), in the order of their
+  numbers. flexmbd's own earlier form, ``INPUTF n k..``, ``OUTX n k..`` and ``OUTXP n
+  k..`` in block 2 (without numbers), is still read.
 """
 
 from __future__ import annotations
@@ -144,7 +149,14 @@ class _Reader:
         self.dimensions: dict[int, int] = {}  # node -> coordinates given by X
         #: what the file gives that flexmbd reads but does not model: reason -> lines
         self.ignored: dict[str, list[int]] = {}
-        self.by_line = {s.line: s for s in (*text.kinematics, *text.dynamics)}
+        #: how lines were read where SPACAR's meaning is not the plain one, a note each
+        self.remarks: list[str] = []
+        #: FIX, INPUTX and DYNX lines of nodes not known when they were read
+        self.pending: list[Statement] = []
+        self.by_line = {s.line: s for s in (*text.kinematics, *text.dynamics, *text.transfer)}
+        #: block 3 (transfer functions): number -> (label, statement) of inputs and outputs
+        self.numbered: dict[str, dict[int, tuple[str, Statement]]] = {"inputs": {},
+                                                                       "outputs": {}}
 
     def fail(self, statement: Statement, message: str):
         raise InputFileError(f"{statement.keyword}: {message}", self.path, statement.line)
@@ -155,6 +167,9 @@ class _Reader:
         self.check_positions()
         for statement in self.text.dynamics:
             self.dynamic(statement)
+        for statement in self.text.transfer:
+            self.transfer(statement)
+        self.order_transfer()
         try:
             model = self.builder.build()
         except ModelError as error:
@@ -214,7 +229,7 @@ class _Reader:
             for name, values in self.linear.items()}
         notes = tuple(f"{what} on line{'s' if len(lines) > 1 else ''} "
                       f"{', '.join(map(str, lines))}: read and ignored"
-                      for what, lines in self.ignored.items())
+                      for what, lines in self.ignored.items()) + tuple(self.remarks)
         return RunSettings(initial=MappingProxyType(initial), **self.settings, **linear,
                            notes=notes)
 
@@ -278,6 +293,9 @@ class _Reader:
             self.ignore("OUTLEVEL (SPACAR's output level)", s)
         elif s.keyword in ("FIX", "INPUTX", "DYNX"):
             node, directions = v[0], v[1:]
+            if node not in self.kinds and node not in self.positions:
+                self.pending.append(s)  # an element or X line may name it further down
+                return
             self.check_directions(s, node, directions)
             ks = directions or self.all_directions(s, node)
             self.classify(s, (f"x{node}.{k}" for k in ks))
@@ -365,6 +383,17 @@ class _Reader:
                          f"{spatial if want == 3 else planar}, got {count} value(s)")
 
     def check_positions(self) -> None:
+        """After block 1: the classification of nodes named before their elements, and
+        the positions of all translational nodes."""
+        for statement in self.pending:
+            node = statement.values[0]
+            if node in self.kinds or node in self.positions:
+                self.kinematic(statement)
+            elif statement.keyword == "FIX":  # SPACAR Light fixes every warping node
+                self.remarks.append(f"FIX on line {statement.line}: node {node} is used by no "
+                                    f"element; nothing to fix")
+            else:
+                self.kind(statement, node)  # refused: a node nothing defines
         for statement in self.text.kinematics:
             if statement.keyword == "X":
                 self.check_family_values(statement, len(statement.values) - 1, "x y", "x y z")
@@ -372,10 +401,13 @@ class _Reader:
             for node in nodes:
                 kind = self.kinds[node]
                 if is_translational(kind) and node not in self.positions:
-                    words = "x y z" if kind == SPATIAL_TRANSLATIONAL else "x y"
-                    raise InputFileError(f"{keyword} {number}: node {node} has no coordinates; "
-                                         f"add 'X {node} {words}' to the kinematics block",
-                                         self.path, line)
+                    # SPACAR starts a translational node without an X line at the origin
+                    origin = (0.0,) * (3 if kind == SPATIAL_TRANSLATIONAL else 2)
+                    self.builder.add_node(node, *origin)
+                    self.positions[node] = line
+                    self.dimensions[node] = len(origin)
+                    self.remarks.append(f"node {node} ({keyword} {number}, line {line}) has no "
+                                        f"X line: it starts at the origin, as in SPACAR")
 
     # --- block 2 -------------------------------------------------------------------------
     def dynamic(self, s: Statement) -> None:
@@ -450,9 +482,13 @@ class _Reader:
         self._estiff(s, "damping")
 
     def _esig(self, s: Statement) -> None:
-        element, k, sigma0 = s.values
-        self.check_deformations(s, element, [k])
-        self.builder.set_prestress(element, k, sigma0)
+        element, stresses = s.values[0], s.values[1:]
+        etype = self.etype(s, element)
+        if len(stresses) > etype.n_deformations():
+            self.fail(s, f"a {etype.keyword} has {etype.n_deformations()} deformation(s), one "
+                         f"pre-stress each in order; got {len(stresses)} values")
+        for k, sigma0 in enumerate(stresses, 1):
+            self.builder.set_prestress(element, k, sigma0)
 
     def _xm(self, s: Statement) -> None:
         node, values = s.values[0], s.values[1:]
@@ -473,10 +509,26 @@ class _Reader:
         node, loads = s.values[0], s.values[1:]
         kind = self.kind(s, node)
         words = LOAD_WORDS[kind]
+        if kind == SPATIAL_ROTATIONAL and len(loads) == 4:
+            loads = self.euler_parameter_forces(s, node, loads)
         if len(loads) != len(words):
             self.fail(s, f"node {node} is {kind}: give "
                          f"{' '.join(('d' if increment else '') + w for w in words)}")
         return node, loads
+
+    def euler_parameter_forces(self, s: Statement, node: int, forces) -> tuple:
+        """The global moment of SPACAR's loads of a rotational node before 2017: forces on
+        its four Euler parameters, ``0 2Mx 2My 2Mz`` at the reference orientation."""
+        if forces[0] != 0.0:
+            self.fail(s, f"node {node} is spatial rotational: its load is the global moment "
+                         f"Mx My Mz; four values are SPACAR's Euler-parameter forces of before "
+                         f"2017, 0 2Mx 2My 2Mz, whose first must be 0 (got {forces[0]:g})")
+        moment = tuple(f / 2.0 for f in forces[1:])
+        shown = ", ".join(f"{m:g}" for m in moment)
+        self.remarks.append(f"{s.keyword} on line {s.line}: the four values on rotational "
+                            f"node {node} are read as SPACAR's Euler-parameter forces of before "
+                            f"2017, 0 2Mx 2My 2Mz: the moment ({shown})")
+        return moment
 
     def check_input(self, s: Statement, kind: str, number: int, k: int) -> None:
         """Refuse a value for a coordinate (``kind`` ``"x"``) or deformation (``"e"``) that
@@ -532,6 +584,9 @@ class _Reader:
         self.check_directions(s, node, directions)
         ks = directions or self.all_directions(s, node)
         self.linear.setdefault(name, []).extend(f"x{node}.{k}" for k in ks)
+        if name != "force_inputs":  # the outputs in the order of the lines
+            prefix = "xd" if name == "rate_outputs" else "x"
+            self.linear.setdefault("output_order", []).extend(f"{prefix}{node}.{k}" for k in ks)
 
     def _outlevel(self, s: Statement) -> None:
         self.ignore("OUTLEVEL (SPACAR's output level)", s)
@@ -541,6 +596,34 @@ class _Reader:
 
     def _outxp(self, s: Statement) -> None:
         self._inputf(s, "rate_outputs")
+
+    # --- block 3 (transfer functions, SPACAR's mode 9) -----------------------------------
+    def transfer(self, s: Statement) -> None:
+        """``INPUTF i n dir``, ``OUTX i n dir``, ``OUTXP i n dir``: input or output number
+        ``i`` of the state-space model."""
+        number, node, k = s.values
+        self.check_directions(s, node, [k])
+        family = "inputs" if s.keyword == "INPUTF" else "outputs"
+        if number < 1:
+            self.fail(s, f"{family} are numbered from 1, got {number}")
+        if number in self.numbered[family]:
+            self.fail(s, f"{family[:-1]} {number} is already defined on line "
+                         f"{self.numbered[family][number][1].line}")
+        label = f"{'xd' if s.keyword == 'OUTXP' else 'x'}{node}.{k}"
+        self.numbered[family][number] = (label, s)
+
+    def order_transfer(self) -> None:
+        """The inputs and outputs of block 3 in the order of their numbers."""
+        inputs = [label for _, (label, _) in sorted(self.numbered["inputs"].items())]
+        outputs = [label for _, (label, _) in sorted(self.numbered["outputs"].items())]
+        if inputs:
+            self.linear.setdefault("force_inputs", []).extend(inputs)
+        if outputs:
+            self.linear.setdefault("outputs", []).extend(
+                label for label in outputs if not label.startswith("xd"))
+            self.linear.setdefault("rate_outputs", []).extend(
+                "x" + label[2:] for label in outputs if label.startswith("xd"))
+            self.linear.setdefault("output_order", []).extend(outputs)
 
     def _startdx(self, s: Statement) -> None:
         node, k, *start = s.values

@@ -6,7 +6,10 @@ with ``#``, ``%`` or ``*`` and run to the end of the line; keywords are
 case-insensitive. Block 1 (kinematics) ends with ``END`` then ``HALT``; block 2
 (dynamics) ends with ``END``; the file ends with a second ``END``. Anything
 after that (a ``VISUALIZATION`` trailer, say) is ignored. A kinematics-only file
-may end right after block 1 with ``END END``.
+may end right after block 1 with ``END END``. A file of SPACAR's transfer functions
+(mode 9) ends block 2 with ``END HALT`` instead, and a third block of numbered inputs
+and outputs (``INPUTF i n dir``, ``OUTX i n dir``, ``OUTXP i n dir``) follows before the
+closing ``END END``.
 
 Numbers may use a Fortran ``D`` exponent (``2.0D11``); integers may be written
 with a zero fraction (``3.``).
@@ -126,15 +129,17 @@ DYNAMICS = {
     "EMLUMP": _syntax("element:int rhoA:float", rest="inertia:float",
                       meaning="flexmbd's own: mass per length [kg/m], lumped at the nodes, "
                               "then as EM"),
-    "ESTIFF": _syntax("element:int", rest="stiffness:float", min_rest=1,
-                      meaning="stiffness values of an element in its type's order (a beam: "
+    "ESTIFF": _syntax("element:int", rest="stiffness:float",
+                      meaning="stiffness values of an element in its type's order; none "
+                              "given (as oopspa writes it) is as no line (a beam: "
                               "EA [N], EI [N m^2], optionally GA_s [N]; a spatial beam: EA "
                               "GIt EIy EIz [sy sz] with sy, sz [m^2] and ECw, warping, "
                               "ignored)"),
     "EDAMP": _syntax("element:int", rest="damping:float", min_rest=1,
                      meaning="damping values of an element in its type's order"),
-    "ESIG": _syntax("element:int deformation:int sigma0:float",
-                    meaning="pre-stress of a deformation [N or N m]"),
+    "ESIG": _syntax("element:int", rest="sigma0:float", min_rest=1,
+                    meaning="pre-stresses [N or N m] of an element's deformations, one per "
+                            "deformation in order from the first (the rest are 0)"),
     "XM": _syntax("node:int", rest="inertia:float", min_rest=1,
                   meaning="a point mass [kg] on a translational node, a rotary inertia "
                           "[kg m^2] on a rotational one; in space the inertia tensor Ixx "
@@ -176,9 +181,24 @@ DYNAMICS = {
                      meaning="velocity outputs of the state-space model"),
 }
 
+#: block 3 of a transfer-function file (SPACAR's mode 9): inputs and outputs, each line
+#: starting with its number among the inputs or the outputs
+TRANSFER = {
+    "INPUTF": _syntax("number:int node:int direction:int",
+                      meaning="input number i of the state-space model: a force on a "
+                              "coordinate of a node"),
+    "OUTX": _syntax("number:int node:int direction:int",
+                    meaning="output number i of the state-space model: a coordinate of a "
+                            "node"),
+    "OUTXP": _syntax("number:int node:int direction:int",
+                     meaning="output number i of the state-space model: the rate of a "
+                             "coordinate of a node"),
+}
+
 #: keywords of SPACAR that flexmbd does not read
 UNSUPPORTED = {"PINBAR", "CYLINDER", "PLATE", "RBEAM", "SBEAM", "CONTACT", "WHEEL", "BELT",
-               "SPRING", "RNODE", "XSTIFF", "XDAMP"} - set(KINEMATICS)
+               "SPRING", "RNODE", "XSTIFF", "XDAMP", "BEAMW", "PINBODY", "PLPINBODY", "TUBE",
+               "PLTUBE", "SCREW"} - set(KINEMATICS)
 
 
 @dataclass(frozen=True)
@@ -200,6 +220,8 @@ class DatText:
     path: str | None
     #: the line of the END that closes the kinematics block
     kinematics_end: int = 0
+    #: block 3 of a transfer-function file: its numbered inputs and outputs
+    transfer: tuple[Statement, ...] = ()
 
 
 def _number(word: str, kind: type, what: str, keyword: str, path, line):
@@ -245,7 +267,13 @@ def parse_text(text: str, path: str | Path | None = None) -> DatText:
             belongs, a wrong number of values, or a missing ``END``/``HALT``.
     """
     path = None if path is None else str(path)
-    blocks: dict[str, list[Statement]] = {"kinematics": [], "dynamics": []}
+    blocks: dict[str, list[Statement]] = {"kinematics": [], "dynamics": [], "transfer": []}
+    tables = {"kinematics": KINEMATICS, "dynamics": DYNAMICS, "transfer": TRANSFER}
+    # what END and HALT lead to from each state
+    after_end = {"kinematics": "after kinematics", "after kinematics": "done",
+                 "dynamics": "after dynamics", "after dynamics": "done",
+                 "transfer": "after transfer", "after transfer": "done"}
+    after_halt = {"after kinematics": "dynamics", "after dynamics": "transfer"}
     state, kinematics_end = "kinematics", 0
     lines = text.removeprefix("\ufeff").splitlines()  # a byte-order mark is not a keyword
     for number, raw in enumerate(lines, start=1):
@@ -258,37 +286,41 @@ def parse_text(text: str, path: str | Path | None = None) -> DatText:
         if keyword == "END" and state == "kinematics":
             kinematics_end = number
         if keyword == "END":
-            state = {"kinematics": "after kinematics", "after kinematics": "done",
-                     "dynamics": "after dynamics", "after dynamics": "done"}[state]
+            state = after_end[state]
             continue
         if keyword == "HALT":
-            if state != "after kinematics":
+            if state not in after_halt:
                 raise InputFileError("HALT belongs right after the END of the kinematics "
-                                     "block", path, number)
-            state = "dynamics"
+                                     "block (or of the dynamics block of a transfer-function "
+                                     "file)", path, number)
+            state = after_halt[state]
             continue
-        if state in ("after kinematics", "after dynamics"):
-            expected = "HALT (dynamics follow) or END" if state == "after kinematics" else "END"
+        if state.startswith("after "):
+            expected = "END" if state == "after transfer" else "HALT or END"
             raise InputFileError(f"expected {expected} after the END of the {state[6:]} block, "
                                  f"got {keyword}", path, number)
-        table = KINEMATICS if state == "kinematics" else DYNAMICS
-        if keyword not in table:
+        if keyword not in tables[state]:
             raise InputFileError(_unknown(keyword, state), path, number)
-        blocks[state].append(_statement(keyword, rest, table[keyword], path, number))
+        blocks[state].append(_statement(keyword, rest, tables[state][keyword], path, number))
     if state != "done":
         missing = {"kinematics": "END ending the kinematics block",
                    "after kinematics": "the final END (or HALT and a dynamics block)",
                    "dynamics": "END ending the dynamics block",
-                   "after dynamics": "the final END"}[state]
+                   "after dynamics": "the final END",
+                   "transfer": "END ending the block of inputs and outputs",
+                   "after transfer": "the final END"}[state]
         empty = not any(_COMMENT.split(line, maxsplit=1)[0].strip() for line in lines)
         what = "the file is empty," if empty else "the file ends"
         raise InputFileError(f"{what} without {missing}", path, max(len(lines), 1))
-    return DatText(tuple(blocks["kinematics"]), tuple(blocks["dynamics"]), path, kinematics_end)
+    return DatText(tuple(blocks["kinematics"]), tuple(blocks["dynamics"]), path, kinematics_end,
+                   tuple(blocks["transfer"]))
 
 
 def _unknown(keyword: str, block: str) -> str:
-    if keyword in UNSUPPORTED:
-        return f"SPACAR's element or keyword {keyword} is not supported by flexmbd"
+    if keyword in UNSUPPORTED or (block == "transfer" and keyword in {*KINEMATICS, *DYNAMICS}):
+        return f"SPACAR's element or keyword {keyword} is not supported by flexmbd" + (
+            " in the block of inputs and outputs (INPUTF, OUTX and OUTXP are)"
+            if block == "transfer" else "")
     other = DYNAMICS if block == "kinematics" else KINEMATICS
     if keyword in other:
         where = "dynamics block (after END and HALT)" if block == "kinematics" else \
@@ -296,5 +328,5 @@ def _unknown(keyword: str, block: str) -> str:
         return f"{keyword} belongs in the {where}"
     if not keyword.isprintable() or not keyword.isascii():
         keyword = ascii(keyword)  # show invisible and look-alike characters
-    return (f"unknown keyword {keyword} in the {block} block; known: "
-            f"{', '.join(sorted({*KINEMATICS, *DYNAMICS}))}")
+    known = TRANSFER if block == "transfer" else {*KINEMATICS, *DYNAMICS}
+    return f"unknown keyword {keyword} in the {block} block; known: {', '.join(sorted(known))}"

@@ -50,6 +50,9 @@ def dat_text(model: Model, settings: RunSettings | None = None) -> str:
     lines += _laws(model)
     settings = settings or RunSettings()
     lines += _settings(settings) + _linear_settings(model, settings)
+    transfer = _transfer(settings)
+    if transfer:  # SPACAR's transfer-function file: a third block
+        lines += ["END", "HALT", "", "# inputs and outputs of the state-space model", *transfer]
     lines += ["END", "END", ""]
     return "\n".join(lines)
 
@@ -116,9 +119,11 @@ def _properties(model: Model) -> list[str]:
             values = [0.0 if v is None else v for v in values]
             if values:
                 lines.append(_line(keyword, number, *values))
-        for k, sigma0 in enumerate(props.prestress or (), 1):
-            if sigma0:
-                lines.append(_line("ESIG", number, k, sigma0))
+        stresses = list(props.prestress or ())
+        while stresses and not stresses[-1]:  # SPACAR's ESIG: in order, the rest 0
+            stresses.pop()
+        if stresses:
+            lines.append(_line("ESIG", number, *stresses))
     for number, mass in sorted(model.nodal_masses.items()):
         lines.append(_line("XM", number, mass))
     for number, tensor in sorted(model.nodal_inertias.items()):
@@ -170,7 +175,7 @@ def _settings(settings: RunSettings) -> list[str]:
 
 
 def _linear_settings(model: Model, settings: RunSettings) -> list[str]:
-    """DELXF (every component of the node), DELINPX/DELINPE, INPUTF, OUTX and OUTXP lines."""
+    """DELXF (every component of the node), DELINPX and DELINPE lines."""
     lines = []
     by_node: dict[int, dict[int, float]] = {}
     for label, value in settings.load_increment.items():
@@ -183,9 +188,19 @@ def _linear_settings(model: Model, settings: RunSettings) -> list[str]:
     for label, delta in sorted(settings.input_increment.items()):
         number, k = _numbers(label)
         lines.append(_line("DELINPX" if label.startswith("x") else "DELINPE", number, k, delta))
-    for keyword, labels in (("INPUTF", settings.force_inputs), ("OUTX", settings.outputs),
-                            ("OUTXP", settings.rate_outputs)):
-        for label in labels:
-            number, k = _numbers(label)
-            lines.append(_line(keyword, number, k))
+    return lines
+
+
+def _transfer(settings: RunSettings) -> list[str]:
+    """The numbered INPUTF, OUTX and OUTXP lines of a transfer-function file's third block,
+    the outputs in the settings' order."""
+    lines = []
+    for i, label in enumerate(settings.force_inputs, 1):
+        lines.append(_line("INPUTF", i, *_numbers(label)))
+    outputs = settings.output_order or (
+        *settings.outputs, *("xd" + label[1:] for label in settings.rate_outputs))
+    for i, label in enumerate(outputs, 1):
+        rate = label.startswith("xd")
+        lines.append(_line("OUTXP" if rate else "OUTX", i,
+                           *_numbers(label[1:] if rate else label)))
     return lines
