@@ -51,6 +51,7 @@ _NAMES = {
     "analysis.statespace": ("StateSpace", "state_space"),
     "analysis.statics": ("StaticResult", "static_equilibrium"),
     "io.dat": ("read_dat", "write_dat"),
+    "io.sbd": ("SpacarFile", "read_sbd", "write_ltv", "write_sbd", "write_sbm"),
     "studies": ("sweep",),
 }
 _MODULE_OF = {name: module for module, names in _NAMES.items() for name in names}

@@ -170,7 +170,8 @@ class KinematicResult:
         suffix = Path(path).suffix.lower()
         if suffix not in writers:
             raise OutputError(f"cannot write results as {Path(path).name!r}: use .csv, .npz "
-                              f"or .h5")
+                              f"or .h5" + (" (SPACAR's .sbd: flexmbd.write_sbd(path, result))"
+                                           if suffix == ".sbd" else ""))
         return writers[suffix](path)
 
     def plot(self, columns: list[str], against: str = "t", **options):

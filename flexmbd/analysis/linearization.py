@@ -51,7 +51,7 @@ from .kinematics import coordinates, generalized
 #: the cube root of the rounding error balances truncation (1e-10 relative in all)
 DIFFERENCE_STEP = 5e-6
 
-__all__ = ["Linearization", "linearize"]
+__all__ = ["Linearization", "linearize", "linearize_free"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -186,6 +186,28 @@ def linearize(model: Model, x=None, qd=None, qdd=None, *, loads=None,
         reactions=state["reactions"], F_q=F_q, E_q=E_q,
         M0=F_q.T @ M @ F_q, C0=C0, D0=E_q.T @ law("C", E_q), K0=E_q.T @ law("S", E_q),
         N0=N0, G0=G0)
+
+
+def linearize_free(model: Model, x, qd=None, *, loads=None, engine: Engine | None = None,
+                   e=None) -> Linearization:
+    """:func:`linearize` at the accelerations of the free motion: the dynamic entries of
+    ``qddot`` are those the equations of motion give at ``(x, qd)`` (the prescribed ones
+    zero). This is the linearization of SPACAR's mode 3 along a stored path, whose
+    states need not be equilibria of the model analysed.
+
+    Args:
+        model: the mechanism.
+        x: coordinates ``(nx,)`` [m, rad].
+        qd: rates of ``q`` ``(nq,)`` (default zero).
+        loads, engine, e: as for :func:`linearize`.
+    """
+    engine = engine or workspace_of(model)
+    at_rest = linearize(model, x, qd, loads=loads, engine=engine, e=e)
+    dynamic = at_rest.dynamic
+    qdd = np.zeros(model.n_dof)
+    # Mbar qdd - g = driving, zero on the dynamic entries of the free motion
+    qdd[dynamic] = -np.linalg.solve(at_rest.block("M0"), at_rest.driving[dynamic])
+    return linearize(model, at_rest.x, at_rest.qd, qdd, loads=loads, engine=engine, e=e)
 
 
 def static_tangent(engine: Engine, x: np.ndarray, loads: np.ndarray,

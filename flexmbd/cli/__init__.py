@@ -69,6 +69,12 @@ def _add_course(commands) -> None:
     add_commands(commands)
 
 
+def _add_spacar(commands) -> None:
+    from .spacar import add_commands
+
+    add_commands(commands)
+
+
 def _add_sweep(commands) -> None:
     from .sweep import add_command
 
@@ -93,7 +99,7 @@ def _one_blas_thread(argv: list[str]) -> None:
 #: the commands besides ``example`` and what adds each one's parser (a group adds several)
 _GROUPS = {"example": None, "run": _add_run, "static": _add_linear, "modes": _add_linear,
            "buckling": _add_linear, "statespace": _add_linear, "exercise": _add_course,
-           "sweep": _add_sweep}
+           "sweep": _add_sweep, "spacar": _add_spacar, "compare": _add_spacar}
 
 
 class _Version(argparse.Action):
@@ -167,6 +173,10 @@ def main(argv: list[str] | None = None) -> int:
             from .course import run as run_course
 
             return run_course(args)
+        if args.command in ("spacar", "compare"):
+            from .spacar import run_compare, run_spacar
+
+            return run_spacar(args) if args.command == "spacar" else run_compare(args)
         if args.command in ("static", "modes", "buckling", "statespace"):
             from .linear import run as run_linear
 

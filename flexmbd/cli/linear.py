@@ -17,6 +17,7 @@ import numpy as np
 
 from ..errors import ArgumentError
 from ..io.outputs import check_output
+from ..io.sbd.records import SPACAR_MODES
 from ..model import Model
 from ..results import write_csv
 from ..settings import RunSettings
@@ -37,7 +38,9 @@ def add_commands(commands) -> None:
         parser = commands.add_parser(name, help=text, description=text[0].upper() + text[1:])
         parser.add_argument("file", metavar="FILE.dat", help="SPACAR input file")
         parser.add_argument("--out", metavar="FILE",
-                            help="write the table (.csv; statespace: .npz with A, B, C, D)")
+                            help="write the table (.csv; static: also SPACAR's .sbd; modes: "
+                                 "also .sbm, the linearized equations of every load step; "
+                                 "statespace: .npz with A, B, C, D)")
         if name != "statespace":
             parser.add_argument("--plot", metavar="FILE.png",
                                 help="plot the results (static: outputs against the load "
@@ -60,7 +63,9 @@ def add_commands(commands) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run one linearized command; 0 on success, 1 when the equilibrium failed."""
-    kinds = {"out": {"static": "results", "statespace": "matrices"}.get(args.command, "table"),
+    kinds = {"out": {"static": "results", "statespace": "matrices",
+                     "modes": "table" if getattr(args, "along", False) else "linear"
+                     }.get(args.command, "table"),
              "plot": "plot", "bode": "plot"}
     for option, kind in kinds.items():
         if getattr(args, option, None):
@@ -79,7 +84,9 @@ def run(args: argparse.Namespace) -> int:
     if not statics.success:
         print(statics.message)
         if args.command == "static" and args.out:
-            statics.save(args.out)
+            from .run import save_result
+
+            save_result(statics, args.out, SPACAR_MODES["static"])
         return 1
     return {"static": _static, "modes": _modes, "buckling": _buckling,
             "statespace": _statespace}[args.command](args, model, settings, statics)
@@ -96,7 +103,9 @@ def _static(args, model, settings, statics) -> int:
     print(statics.message)
     print(_table(["load", *columns], [statics["load"], *(statics[c] for c in columns)]))
     if args.out:
-        statics.save(args.out)
+        from .run import save_result
+
+        save_result(statics, args.out, SPACAR_MODES["static"])
         print(f"{len(statics.t)} rows written to {args.out}")
     if args.plot and len(statics.t) > 1:
         statics.plot(columns, "load", filename=args.plot, title=f"{model.name} (static)")
@@ -108,6 +117,12 @@ def _modes(args, model, settings, statics) -> int:
     from ..analysis.modes import vibration_modes
 
     modes = vibration_modes(statics.linearization(), args.count)
+    if args.out and Path(args.out).suffix.lower() == ".sbm":
+        from ..io.sbd import write_sbm
+
+        write_sbm(args.out, [statics.linearization(k) for k in range(len(statics.t))])
+        print(f"linearized equations of {len(statics.t)} load steps written to {args.out}")
+        args = argparse.Namespace(**{**vars(args), "out": None})
     _report_shapes(args, model, f"vibration modes at the equilibrium (load factor "
                                 f"{statics.t[-1]:g}):", ("frequency [Hz]", "frequency"),
                    modes.frequencies, modes.linearization.x, modes.motion,

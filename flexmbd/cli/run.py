@@ -17,6 +17,7 @@ from ..errors import ArgumentError, StiffnessError
 from ..io.dat import read_dat
 from ..io.dat.syntax import LARGEST_INTEGER
 from ..io.outputs import check_output
+from ..io.sbd.records import SPACAR_MODES
 from ..model import CoordinateClass, Model
 from ..results import KinematicResult, SimulationResult
 from ..settings import RunSettings
@@ -29,8 +30,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="analysis (default: dynamic when the model has dynamic degrees "
                              "of freedom, kinematic otherwise)")
     parser.add_argument("--out", metavar="FILE.csv",
-                        help="write the results (.csv, .npz, .h5); also what an interrupted "
-                             "or failed run computed")
+                        help="write the results (.csv, .npz, .h5, or SPACAR's .sbd); also "
+                             "what an interrupted or failed run computed")
     parser.add_argument("--plot", metavar="FILE.png", help="plot columns against time")
     parser.add_argument("--columns", nargs="+", metavar="NAME",
                         help="columns to plot (default: the degrees of freedom of the run)")
@@ -145,11 +146,22 @@ def run(args: argparse.Namespace) -> int:
     return 0 if result.success else 1
 
 
+def save_result(result: KinematicResult, path: str, mode: int) -> None:
+    """Write a result in the format of the file name: SPACAR's ``.sbd`` (of SPACAR
+    ``mode``), or the columns (``.csv``, ``.npz``, ``.h5``)."""
+    if Path(path).suffix.lower() == ".sbd":
+        from ..io.sbd import write_sbd
+
+        write_sbd(path, result, mode)
+    else:
+        result.save(path)
+
+
 def write_outputs(args: argparse.Namespace, result: KinematicResult, mode: str,
                   columns: list[str]) -> None:
     """Write the result file, the plot and the movie of what was computed."""
     if args.out:
-        result.save(args.out)
+        save_result(result, args.out, SPACAR_MODES[mode])
         print(f"{len(result.t)} rows written to {args.out}")
     if len(result.t) < 2:
         return

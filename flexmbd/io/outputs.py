@@ -11,14 +11,17 @@ from pathlib import Path
 from ..errors import ArgumentError, OptionalDependencyError
 
 #: file types by what they hold, with the module each needs and its pip extra
-RESULT_TYPES = (".csv", ".npz", ".h5", ".hdf5")
+RESULT_TYPES = (".csv", ".npz", ".h5", ".hdf5", ".sbd")
 PLOT_TYPES = (".png", ".pdf", ".svg", ".jpg")
 MOVIE_TYPES = (".gif", ".mp4")
 TABLE_TYPES = (".csv",)
+#: the linearized equations of every load step, as SPACAR stores them
+LINEAR_TYPES = (".csv", ".sbm")
 MATRIX_TYPES = (".npz",)
 STUDY_TYPES = (".parquet",)
 TYPES = {"results": RESULT_TYPES, "plot": PLOT_TYPES, "movie": MOVIE_TYPES,
-         "table": TABLE_TYPES, "matrices": MATRIX_TYPES, "study": STUDY_TYPES,
+         "table": TABLE_TYPES, "linear": LINEAR_TYPES, "matrices": MATRIX_TYPES,
+         "study": STUDY_TYPES,
          "table or study": TABLE_TYPES + STUDY_TYPES}
 _NEEDS = {".h5": ("h5py", "hdf5", "write .csv or .npz"),
           ".hdf5": ("h5py", "hdf5", "write .csv or .npz"),

@@ -1,0 +1,98 @@
+"""SPACAR's numbering of a model's coordinates, deformations and degrees of freedom.
+
+flexmbd indexes coordinates by node and deformations by element. SPACAR numbers them by
+class first, as its log shows (``NXO``, ``NXC``, ``NXMM``, ``NXM``):
+
+* position parameters: fixed ``x(o)``, calculable ``x(c)``, input ``x(m)``, dynamic
+  ``x(m)``; within a class by node number, then by direction;
+* deformation parameters: rigid ``e(o)``, input ``e(m)``, dynamic ``e(m)``, calculable
+  (released) ``e(c)``; within a class by element number, then by deformation;
+* degrees of freedom: the input coordinates, the dynamic coordinates, the input
+  deformations, the dynamic deformations.
+
+The orders were read off SPACAR 2018's output for a spatial model (its ``.log`` and
+``.sbd``), where flexmbd's positions in this numbering agree with SPACAR's to 1e-12 m.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from ...model import CoordinateClass, DeformationClass, Model
+
+#: rank of each class in SPACAR's numbering
+_X_RANK = {CoordinateClass.FIXED: 0, CoordinateClass.DEPENDENT: 1, CoordinateClass.INPUT: 2,
+           CoordinateClass.DYNAMIC: 3}
+_E_RANK = {DeformationClass.RIGID: 0, DeformationClass.INPUT: 1, DeformationClass.DYNAMIC: 2,
+           DeformationClass.RELEASED: 3}
+
+#: SPACAR's element type codes (record ``IT``), as SPACAR's own drawing routine reads
+#: them; HINGE's 3 follows from codes below 4 being the spatial elements. Types whose code
+#: is not established are written as 0.
+ELEMENT_CODES = {"BEAM": 1, "TRUSS": 2, "HINGE": 3, "EULER": 4, "PLBEAM": 5, "PLTRUSS": 7}
+#: widths of the tables LNP (coordinates per node), LE (deformations per element) and LN
+#: (nodes per element), as SPACAR writes them
+LNP_WIDTH, LE_WIDTH, LN_WIDTH = 4, 8, 6
+
+
+@dataclass(frozen=True, eq=False)
+class SpacarNumbering:
+    """The permutations between flexmbd's indices and SPACAR's numbers.
+
+    Attributes:
+        model: the model numbered.
+        x: flexmbd's coordinate index of SPACAR's position parameter ``k + 1``, ``(nx,)``.
+        e: flexmbd's deformation index of SPACAR's deformation parameter ``k + 1``, ``(ne,)``.
+        q: flexmbd's index in ``q`` of SPACAR's degree of freedom ``k + 1``, ``(nq,)``.
+    """
+
+    model: Model
+
+    @cached_property
+    def x(self) -> np.ndarray:
+        ranks = [_X_RANK[CoordinateClass(c)] for c in self.model.coordinate_class]
+        return np.argsort(np.asarray(ranks, dtype=int), kind="stable")
+
+    @cached_property
+    def e(self) -> np.ndarray:
+        ranks = [_E_RANK[DeformationClass(c)] for c in self.model.deformation_class]
+        return np.argsort(np.asarray(ranks, dtype=int), kind="stable")
+
+    @cached_property
+    def q(self) -> np.ndarray:
+        model = self.model
+        is_deformation = np.arange(model.n_dof) >= len(model.independent_coordinates)
+        ranks = 2 * is_deformation + ~np.asarray(model.q_is_input, dtype=bool)
+        return np.argsort(ranks.astype(int), kind="stable")
+
+    @cached_property
+    def dynamic_q(self) -> np.ndarray:
+        """Indices in ``q`` of the dynamic degrees of freedom, in SPACAR's order (which is
+        flexmbd's order of the dynamic entries: coordinates by node, then deformations)."""
+        return self.q[~np.asarray(self.model.q_is_input, dtype=bool)[self.q]]
+
+    def x_number(self) -> np.ndarray:
+        """SPACAR's number (1-based) of each flexmbd coordinate, ``(nx,)``."""
+        number = np.empty(len(self.x), dtype=np.int32)
+        number[self.x] = np.arange(1, len(self.x) + 1)
+        return number
+
+    def e_number(self) -> np.ndarray:
+        """SPACAR's number (1-based) of each flexmbd deformation, ``(ne,)``."""
+        number = np.empty(len(self.e), dtype=np.int32)
+        number[self.e] = np.arange(1, len(self.e) + 1)
+        return number
+
+    def class_counts(self) -> tuple[np.ndarray, np.ndarray]:
+        """``NXP`` and ``NEP``: the number of coordinates (deformations) per class, in the
+        order SPACAR stores them: fixed (rigid), calculable (released), input, dynamic, and
+        a fifth class flexmbd does not have (0)."""
+        x = np.bincount(self.model.coordinate_class, minlength=4)
+        e = np.bincount(self.model.deformation_class, minlength=4)
+        c, d = CoordinateClass, DeformationClass
+        nxp = [x[c.FIXED], x[c.DEPENDENT], x[c.INPUT], x[c.DYNAMIC], 0]
+        nep = [e[d.RIGID], e[d.RELEASED], e[d.INPUT], e[d.DYNAMIC], 0]
+        return np.array([nxp], dtype=np.int32), np.array([nep], dtype=np.int32)
