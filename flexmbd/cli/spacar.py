@@ -38,8 +38,8 @@ def add_commands(commands) -> None:
 
 
 def run_spacar(args: argparse.Namespace) -> int:
-    """``flexmbd spacar``: 0 when the run completed, 1 when it stopped early (its steps are
-    written)."""
+    """``flexmbd spacar``: 0 when the run completed, 1 when it stopped early, 130 when it
+    was interrupted (the steps computed are written in either case)."""
     from ..io.sbd.runs import MODES, spacar_run
 
     run = spacar_run(args.mode, args.file, progress=True)
@@ -48,6 +48,8 @@ def run_spacar(args: argparse.Namespace) -> int:
         file = run.files[path.suffix[1:].upper()]
         print(f"  {path}: {len(file.tables)} tables, {len(file.steps)} records x "
               f"{file.n_steps} steps")
+    if run.interrupted:
+        return 130
     return 0 if run.success else 1
 
 

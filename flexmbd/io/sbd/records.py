@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ... import checks
 from ...analysis.kinematics import first_order_transfer, jacobian, quadratic_velocity
 from ...analysis.linearization import Linearization
 from ...analysis.statics import StaticResult
@@ -24,10 +25,10 @@ from ...elements.base import SPATIAL_ROTATIONAL
 from ...engine.workspace import load_slots
 from ...errors import ArgumentError
 from ...model import CoordinateClass, Model
+from ...numbering import ELEMENT_CODES, LE_WIDTH, LN_WIDTH, SpacarNumbering
 from ...orientation import euler_forces, moment_of
 from ...results import KinematicResult, SimulationResult
 from .binary import write_records
-from .numbering import ELEMENT_CODES, LE_WIDTH, LN_WIDTH, LNP_WIDTH, SpacarNumbering
 
 #: SPACAR's modes by what they compute (``MODE`` record); flexmbd's run kinds map onto them
 SPACAR_MODES = {"kinematic": 1, "dynamic": 1, "inverse": 2, "linear": 3, "static": 10}
@@ -36,22 +37,15 @@ SPACAR_MODES = {"kinematic": 1, "dynamic": 1, "inverse": 2, "linear": 3, "static
 def model_tables(model: Model, mode: int) -> dict[str, np.ndarray]:
     """The ``.sbd`` tables of ``model`` for a run of SPACAR ``mode``."""
     number = SpacarNumbering(model)
-    x_number, e_number = number.x_number(), number.e_number()
     nxp, nep = number.class_counts()
     n_dynamic = len(model.dynamic_q_labels)
-    largest_node = max(model.nodes)
     largest_element = max(model.elements)
-    lnp = np.zeros((largest_node, LNP_WIDTH), dtype=np.int32)
-    for n, node in model.nodes.items():
-        lnp[n - 1, :len(node.coordinates)] = x_number[list(node.coordinates)]
-    le = np.zeros((largest_element, LE_WIDTH), dtype=np.int32)
     ln = np.zeros((largest_element, LN_WIDTH), dtype=np.int32)
     it = np.zeros((1, largest_element), dtype=np.int32)
     rl0 = np.zeros((largest_element, 1))
     rxyz = np.zeros((largest_element, 9))
     esig = np.zeros((largest_element, LE_WIDTH))
     for k, element in model.elements.items():
-        le[k - 1, :len(element.deformations)] = e_number[list(element.deformations)]
         ln[k - 1, :len(element.nodes)] = element.nodes
         it[0, k - 1] = ELEMENT_CODES.get(element.type.keyword, 0)
         if element.type.ends() is not None and element.reference:
@@ -65,8 +59,9 @@ def model_tables(model: Model, mode: int) -> dict[str, np.ndarray]:
              "NDDO": n_dynamic, "NKDO": model.n_dof, "NKDD": n_dynamic}
     tables: dict[str, np.ndarray] = {name: np.array([[value]], dtype=np.int32)
                                      for name, value in count.items()}
-    tables.update(NXP=nxp, NEP=nep, LNP=lnp, LE=le, LN=ln, IT=it,
-                  MODE=np.array([[mode]], dtype=np.int32), RL0=rl0, RXYZ=rxyz, ESIG=esig)
+    tables.update(NXP=nxp, NEP=nep, LNP=number.node_table(), LE=number.element_table(),
+                  LN=ln, IT=it, MODE=np.array([[mode]], dtype=np.int32), RL0=rl0, RXYZ=rxyz,
+                  ESIG=esig)
     return tables
 
 
@@ -159,6 +154,9 @@ def state_records(model: Model, states: Mapping[str, np.ndarray | None], slopes:
     number = SpacarNumbering(model)
     x = np.asarray(states["x"])
     n = len(x)
+    nx, ne, nq = model.n_coordinates, model.n_deformations, model.n_dof
+    per_step = 6 * nx + 4 * ne + nq * (nx + ne) + (nx * ne if slopes else 0)
+    checks.output_memory(n, 8 * per_step, "steps of the .sbd")
 
     def column(values: np.ndarray, order: np.ndarray) -> np.ndarray:
         return np.asarray(values)[:, order][:, :, None]

@@ -70,6 +70,8 @@ class SpacarRun:
         success: ``False`` when the analysis stopped early; the files then hold the steps
             computed before.
         message: what happened, one line.
+        interrupted: the analysis was interrupted (Ctrl-C); the files hold the steps
+            computed before.
     """
 
     mode: int
@@ -77,6 +79,7 @@ class SpacarRun:
     files: dict[str, SpacarFile] = field(default_factory=dict)
     success: bool = True
     message: str = "completed"
+    interrupted: bool = False
 
     def write(self) -> list[Path]:
         """Write every file next to the input file; returns their paths."""
@@ -115,7 +118,21 @@ def spacar_run(mode: int, name: str | os.PathLike, progress: bool | None = None
     base = path.with_suffix("")
     model, settings = read_dat(path)
     run = SpacarRun(mode, base)
-    kind = abs(mode)
+    try:
+        _analyse(run, model, settings, path, progress)
+    except KeyboardInterrupt as interrupt:
+        partial = getattr(interrupt, "partial_result", None)
+        if partial is None:
+            raise
+        run.files["SBD"] = _file("SBD", *sbd_records(partial, abs(mode)))
+        run.success, run.interrupted = False, True
+        run.message = f"interrupted after {len(partial.t)} steps"
+    return run
+
+
+def _analyse(run: SpacarRun, model: Model, settings: RunSettings, path: Path,
+             progress: bool | None) -> None:
+    kind, base = abs(run.mode), run.base
     if kind == 0:
         x = solve_position(model, initial_q(model), tolerance=settings.tolerance)
         result = KinematicResult(model, np.zeros(1), x[None, :],
@@ -134,7 +151,6 @@ def spacar_run(mode: int, name: str | os.PathLike, progress: bool | None = None
         _linearize_path(run, model, base.with_name(base.name + ".sbd"), kind, progress)
     else:
         _statics(run, model, settings, kind, progress)
-    return run
 
 
 def _file(kind: str, tables: dict, steps: dict) -> SpacarFile:

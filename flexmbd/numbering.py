@@ -21,7 +21,7 @@ from functools import cached_property
 
 import numpy as np
 
-from ...model import CoordinateClass, DeformationClass, Model
+from .model import CoordinateClass, DeformationClass, Model
 
 #: rank of each class in SPACAR's numbering
 _X_RANK = {CoordinateClass.FIXED: 0, CoordinateClass.DEPENDENT: 1, CoordinateClass.INPUT: 2,
@@ -85,6 +85,24 @@ class SpacarNumbering:
         number = np.empty(len(self.e), dtype=np.int32)
         number[self.e] = np.arange(1, len(self.e) + 1)
         return number
+
+    def node_table(self) -> np.ndarray:
+        """``LNP`` ``(largest node number, 4)`` int32: row ``n - 1`` holds the SPACAR numbers
+        of node ``n``'s coordinates, 0 after them and for unused node numbers."""
+        x_number = self.x_number()
+        lnp = np.zeros((max(self.model.nodes), LNP_WIDTH), dtype=np.int32)
+        for n, node in self.model.nodes.items():
+            lnp[n - 1, :len(node.coordinates)] = x_number[list(node.coordinates)]
+        return lnp
+
+    def element_table(self) -> np.ndarray:
+        """``LE`` ``(largest element number, 8)`` int32: row ``e - 1`` holds the SPACAR
+        numbers of element ``e``'s deformations."""
+        e_number = self.e_number()
+        le = np.zeros((max(self.model.elements), LE_WIDTH), dtype=np.int32)
+        for k, element in self.model.elements.items():
+            le[k - 1, :len(element.deformations)] = e_number[list(element.deformations)]
+        return le
 
     def class_counts(self) -> tuple[np.ndarray, np.ndarray]:
         """``NXP`` and ``NEP``: the number of coordinates (deformations) per class, in the
