@@ -31,7 +31,8 @@ __version__ = "0.2.0"
 _NAMES = {
     "builder": ("ModelBuilder",),
     "elements": ("Beam", "EulerNormalization", "Hinge", "RigidBeam", "SecondOrderBeam",
-                 "SpatialBeam", "SpatialHinge", "SpatialTruss", "SpringDamper", "Truss"),
+                 "SpatialBeam", "SpatialHinge", "SpatialRigidBeam", "SpatialTruss",
+                 "SpringDamper", "Truss"),
     "model": ("CoordinateClass", "DeformationClass", "Model"),
     "motion": ("Custom", "Expression", "Polynomial"),
     "orientation": ("angular_velocity", "axis_angle", "euler_parameters", "euler_rates",

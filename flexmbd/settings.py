@@ -36,6 +36,10 @@ class RunSettings:
             ``rate_outputs``.
         notes: what the file gives that flexmbd reads but does not use (SPACAR's
             ``OUTLEVEL``, a beam's warping values), one line each with the lines it was on.
+        user_loads: the routine of loads and stresses (USERSIG), a function of that name
+            in a module of that name in ``routine_dir``.
+        user_inputs: the routine of input motions (USERINP), found as ``user_loads``.
+        routine_dir: the directory of the user routines (the input file's).
     """
 
     t_end: float | None = None
@@ -54,6 +58,9 @@ class RunSettings:
     rate_outputs: tuple[str, ...] = ()
     output_order: tuple[str, ...] = ()
     notes: tuple[str, ...] = ()
+    user_loads: str | None = None
+    user_inputs: str | None = None
+    routine_dir: str | None = None
 
     def output_times(self) -> np.ndarray | None:
         """``steps + 1`` equally spaced times from 0 to ``t_end`` [s], or ``None`` when unset."""

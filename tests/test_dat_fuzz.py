@@ -10,18 +10,20 @@ from hypothesis import strategies as st
 
 import flexmbd as fm
 from flexmbd.io.dat import dat_from_text, dat_text
-from flexmbd.io.dat.syntax import DYNAMICS, KINEMATICS, TRANSFER, UNSUPPORTED
+from flexmbd.io.dat.syntax import DYNAMICS, INSTEAD, KINEMATICS, TRANSFER, UNSUPPORTED
 from tests.test_dat import DAT_FILES, EVERYTHING
 from tests.test_dat_spacar import CANTILEVER
 from tests.test_dat_spacar import TRANSFER as SPACAR_TRANSFER
 from tests.test_dat_spatial import SPATIAL_EVERYTHING
+from tests.test_spatial_rigid_beam import PENDULUM as RIGID_BODY
 
 #: the example files, the files of every keyword, and SPACAR-written lines (SPACAR Light's
 #: layout, a transfer-function file with its third block, pre-stresses in SPACAR's order)
 SOURCES = [EVERYTHING, SPATIAL_EVERYTHING, *(path.read_text() for path in DAT_FILES),
            CANTILEVER.format(block2=SPACAR_TRANSFER),
-           CANTILEVER.format(block2="ESIG 1 1.0 2.0\nXF 6 0 0.4 -1.0 3.0")]
-WORDS = sorted({*KINEMATICS, *DYNAMICS, *TRANSFER, *UNSUPPORTED, "END", "HALT"})
+           CANTILEVER.format(block2="ESIG 1 1.0 2.0\nXF 6 0 0.4 -1.0 3.0"),
+           RIGID_BODY.format(element="RBEAM 1 1 2 3 0 1 0")]
+WORDS = sorted({*KINEMATICS, *DYNAMICS, *TRANSFER, *UNSUPPORTED, *INSTEAD, "END", "HALT"})
 NUMBERS = ["0", "-1", "1", "2", "3", "7", "99", "2.5", "-0.0", "1e308", "1e400", "nan",
            "-inf", "1D3", "0x10", "1_000", "", "#", "%", "*"]
 

@@ -171,3 +171,24 @@ def test_an_empty_estiff_line_is_as_no_line():
     empty = read("ESTIFF 2", **{"ESTIFF\t\t  2\t210000.0\t10.0\t20.0\t30.0\n": ""})
     absent = read(**{"ESTIFF\t\t  2\t210000.0\t10.0\t20.0\t30.0\n": ""})
     assert dat_text(empty.model) == dat_text(absent.model)
+
+
+def test_inverse_dynamics_keywords_are_refused_with_what_to_use():
+    text = CANTILEVER.format(block2="NOMS 1 1 0.5")
+    with pytest.raises(InputFileError, match=r":\d+: SPACAR's keyword NOMS is not supported "
+                                             r"by flexmbd: prescribe the motion with INPUTX"):
+        dat_from_text(text, "nominal.dat")
+
+
+def test_the_guide_lists_every_keyword_the_reader_knows():
+    """The guide's support table names exactly the keywords flexmbd reads or refuses."""
+    import re
+    from pathlib import Path
+
+    from flexmbd.io.dat.syntax import DYNAMICS, INSTEAD, KINEMATICS, TRANSFER, UNSUPPORTED
+
+    page = (Path(__file__).parent.parent / "docs" / "guide" / "spacar-files.md").read_text()
+    table = page.split("## SPACAR's keywords and elements in flexmbd")[1].split("\n## ")[0]
+    listed = {word for row in table.splitlines() if row.startswith("| `")
+              for word in re.findall(r"`([A-Z0-9]+)`", row.split("|")[1])}
+    assert listed == {*KINEMATICS, *DYNAMICS, *TRANSFER, *UNSUPPORTED, *INSTEAD}

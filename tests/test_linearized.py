@@ -464,8 +464,9 @@ def test_the_assembled_arrays_equal_the_element_by_element_ones_in_space():
     b.add_spatial_beam(1, 1, 2, 3, 4, orientation=(0, 0, 1))
     b.add_spatial_beam(2, 3, 6, 5, 7, orientation=(0.2, 1, 0), bending_linked=False)
     b.add_spatial_truss(3, 1, 5).add_spatial_hinge(4, 4, 6, axis=(1, 1, 0))
-    b.release(1).release(2).release(3).release(4)
-    for node in (1, 2, 3, 4, 5, 6, 7):
+    b.add_node(9, 2.5, 0.1, -0.2).add_element(5, "RBEAM", (5, 7, 9), orientation=(0, 0, 1))
+    b.release(1).release(2).release(3).release(4).release(5)
+    for node in (1, 2, 3, 4, 5, 6, 7, 9):
         b.fix(node)  # rotational nodes: lam1..3; the Euler elements solve for lam0
     b.set_stiffness(1, axial=5.0, torsion=0.7, bending_y=2.0, bending_z=3.0)
     b.set_stiffness(3, axial=1.0).set_stiffness(4, hinge=0.5, tilt_y=1.0, tilt_z=2.0)

@@ -7,6 +7,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import flexmbd as fm
 from flexmbd.cli import main as cli
@@ -99,6 +101,35 @@ def test_a_damaged_file_is_refused_at_its_byte(tmp_path, damage, where):
     with pytest.raises(InputFileError, match=where) as caught:
         read_sbd(path)
     assert str(path) in str(caught.value)
+
+
+@settings(max_examples=300, deadline=None, derandomize=True)
+@given(st.data())
+def test_any_damage_is_read_or_refused_never_a_crash(tmp_path_factory, data):
+    """Bytes changed, cut or inserted anywhere in a file: read_sbd reads it or refuses it
+    with the file and the byte, whatever the damage claims (sizes, types, counts)."""
+    raw = bytearray(_sample_bytes())
+    for _ in range(data.draw(st.integers(1, 4))):
+        at = data.draw(st.integers(0, len(raw)))
+        edit = data.draw(st.sampled_from(["byte", "cut", "insert", "int"]))
+        if edit == "byte" and at < len(raw):
+            raw[at] = data.draw(st.integers(0, 255))
+        elif edit == "cut":
+            del raw[at:]
+        elif edit == "insert":
+            raw[at:at] = data.draw(st.binary(max_size=24))
+        elif edit == "int" and at + 4 <= len(raw):
+            raw[at:at + 4] = struct.pack("<i", data.draw(st.sampled_from(
+                [-1, 0, 1, 2, 3, 7, 2**31 - 1, -2**31, 10**6])))
+    path = tmp_path_factory.mktemp("fuzz") / "f.sbd"
+    path.write_bytes(bytes(raw))
+    try:
+        f = read_sbd(path)
+    except InputFileError as error:
+        assert str(path) in str(error) and "byte" in str(error)
+    else:
+        for name in f:
+            assert f[name].ndim in (2, 3)
 
 
 def test_a_missing_record_or_step_is_named():

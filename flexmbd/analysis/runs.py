@@ -1,6 +1,7 @@
 """The analyses a SPACAR file asks for, with its run settings: kinematic analysis,
 inverse dynamics or a forward simulation over a time grid (``flexmbd run``, studies of
-a file, the linearization along a file's motion)."""
+a file, the linearization along a file's motion), with the file's user routines
+(``USERSIG``, ``USERINP``)."""
 
 from __future__ import annotations
 
@@ -14,6 +15,7 @@ from ..settings import RunSettings
 from .dynamics import inverse_dynamics, simulate
 from .integrate import ATOL, RTOL
 from .kinematics import kinematic_analysis
+from .routines import routine_inputs, routine_loads
 
 #: the analyses of a run over time
 MODES = ("kinematic", "dynamic", "inverse")
@@ -41,13 +43,19 @@ def analyse(model: Model, settings: RunSettings, mode: str, times: np.ndarray,
             method: str = "RK45", progress: bool | None = None) -> KinematicResult:
     """Run ``mode`` on ``model`` with the file's settings; failures are returned."""
     s = settings
+    inputs = routine_inputs(model, s) or None   # USERINP
+    forces = routine_loads(model, s)            # USERSIG
     if mode == "kinematic":
-        return kinematic_analysis(model, times, tolerance=s.tolerance,
+        if forces is not None:
+            raise ArgumentError("--mode", f"a kinematic analysis applies no loads: USERSIG "
+                                          f"{s.user_loads} acts in --mode dynamic or inverse")
+        return kinematic_analysis(model, times, inputs, tolerance=s.tolerance,
                                   max_iterations=s.max_iterations or MAX_ITERATIONS,
                                   on_failure="return", progress=progress)
     if mode == "inverse":
-        return inverse_dynamics(model, times, tolerance=s.tolerance, on_failure="return",
-                                progress=progress)
-    return simulate(model, times, initial=s.initial, method=method, rtol=s.rtol or RTOL,
-                    atol=s.atol or ATOL, tolerance=s.tolerance, with_reactions=True,
-                    on_failure="return", progress=progress)
+        return inverse_dynamics(model, times, inputs, forces=forces, tolerance=s.tolerance,
+                                on_failure="return", progress=progress)
+    return simulate(model, times, inputs=inputs, forces=forces, initial=s.initial,
+                    method=method, rtol=s.rtol or RTOL, atol=s.atol or ATOL,
+                    tolerance=s.tolerance, with_reactions=True, on_failure="return",
+                    progress=progress)

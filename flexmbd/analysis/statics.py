@@ -178,6 +178,7 @@ def file_equilibrium(model: Model, settings: RunSettings, steps: int | None = No
     Raises:
         ArgumentError: ``steps`` below 0 (named ``--steps``, as the command line gives it).
     """
+    refuse_routines(settings)
     steps = settings.load_steps if steps is None else steps
     if steps is not None and steps < 0:
         raise ArgumentError("--steps", f"must be 0 or more, got {steps}")
@@ -187,6 +188,17 @@ def file_equilibrium(model: Model, settings: RunSettings, steps: int | None = No
                               steps=steps if given else 0, tolerance=settings.tolerance,
                               max_iterations=settings.max_iterations or MAX_ITERATIONS,
                               on_failure="return")
+
+
+def refuse_routines(settings: RunSettings) -> None:
+    """A static analysis takes the loads and inputs of ``XF``, ``DELXF`` and ``DELINPX``;
+    a file's user routines are functions of time, which a static analysis has not."""
+    for keyword, name in (("USERSIG", settings.user_loads), ("USERINP", settings.user_inputs)):
+        if name:
+            raise ArgumentError(keyword, f"{name} is a routine of time, which static analyses "
+                                         f"do not call: they take XF, DELXF and DELINPX; run "
+                                         f"the file over its TIMESTEP (flexmbd run, or "
+                                         f"flexmbd spacar 1 or 2)")
 
 
 class _Solver:

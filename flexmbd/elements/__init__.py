@@ -13,6 +13,7 @@ from .rigid_beam import RigidBeam
 from .second_order_beam import SecondOrderBeam
 from .spatial_beam import SpatialBeam
 from .spatial_hinge import SpatialHinge
+from .spatial_rigid_beam import SpatialRigidBeam
 from .spatial_truss import SpatialTruss
 from .spring_damper import SpringDamper
 from .truss import Truss
@@ -21,7 +22,7 @@ from .truss import Truss
 ELEMENT_TYPES: dict[str, type[ElementType]] = {
     cls.keyword: cls for cls in (Truss, Beam, RigidBeam, Hinge, SpringDamper,
                                 SecondOrderBeam, SpatialTruss, SpatialBeam, SpatialHinge,
-                                EulerNormalization)
+                                SpatialRigidBeam, EulerNormalization)
 }
 
 __all__ = [
@@ -38,6 +39,7 @@ __all__ = [
     "SecondOrderBeam",
     "SpatialBeam",
     "SpatialHinge",
+    "SpatialRigidBeam",
     "SpatialTruss",
     "SpringDamper",
     "Truss",

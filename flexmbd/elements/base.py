@@ -113,6 +113,8 @@ class ElementType:
             with their defaults (``None``: required): the ``"orientation"`` vector of a
             spatial beam, the ``"axis"`` of a spatial hinge. :meth:`reference_parameters`
             turns them into parameters.
+        optional_data: the :attr:`element_data` an input-file line may leave off (then its
+            default holds).
         periodic: deformations that are angles modulo ``2 pi`` (a spatial hinge's
             rotation); the engine keeps them continuous through any number of turns.
         automatic: added by the builder, never by a user (the Euler normalization).
@@ -134,6 +136,7 @@ class ElementType:
     has_mass: ClassVar[bool] = False
     released_by_default: ClassVar[bool] = False
     element_data: ClassVar[dict[str, tuple[float, ...] | None]] = {}
+    optional_data: ClassVar[tuple[str, ...]] = ()
     periodic: ClassVar[tuple[int, ...]] = ()
     automatic: ClassVar[bool] = False
 

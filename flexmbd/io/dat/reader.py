@@ -274,9 +274,13 @@ class _Reader:
                                  f"here")
             data, at = {}, 0
             for name in etype.element_data:
-                if name in LINE_DATA:
-                    data[name] = tuple(given[at:at + len(LINE_DATA[name])])
-                    at += len(LINE_DATA[name])
+                if name in LINE_DATA and (given[at:] or name not in etype.optional_data):
+                    words = LINE_DATA[name]
+                    if len(given[at:at + len(words)]) != len(words):
+                        self.fail(s, f"the {name} takes {len(words)} values ({' '.join(words)})"
+                                     f", got {len(given[at:at + len(words)])}")
+                    data[name] = tuple(given[at:at + len(words)])
+                    at += len(words)
             self.elements[number] = (s.keyword, nodes, s.line)
             b.add_element(number, etype, nodes, **data)
         elif s.keyword == "X":
@@ -307,6 +311,10 @@ class _Reader:
             element, ks = v[0], v[1:]
             self.check_deformations(s, element, ks)
             ks = ks or range(1, self.etype(s, element).n_deformations() + 1)
+            if self.etype(s, element).keyword == "RBEAM" and any(k > 1 for k in ks):
+                self.fail(s, f"element {element} is an RBEAM: SPACAR's manual does not say "
+                             f"which of its deformations 2 and 3 is which offset, so only its "
+                             f"elongation (1) may be classified; the offsets stay rigid")
             self.classify(s, (f"e{element}.{k}" for k in ks))
             if s.keyword == "INPUTE":
                 self.inputs |= {("e", element, k) for k in ks}
@@ -436,6 +444,25 @@ class _Reader:
             self.settings["load_steps"] = int(rest[0])
         if len(rest) > 1:
             self.settings["tolerance"] = rest[1]
+
+    def _usersig(self, s: Statement) -> None:
+        self.routine(s, "user_loads")
+
+    def _userinp(self, s: Statement) -> None:
+        self.routine(s, "user_inputs")
+
+    def routine(self, s: Statement, setting: str) -> None:
+        """A user routine, found as a Python module of its name beside the file (SPACAR
+        runs a MATLAB function of that name)."""
+        name = s.values[0]
+        directory = Path(self.path).resolve().parent if self.path else Path.cwd()
+        if not (directory / f"{name}.py").is_file():
+            ported = (f"; {name}.m is there: flexmbd runs routines in Python, so port it "
+                      f"to {name}.py (the arguments and tables are SPACAR's, 1-based)"
+                      if (directory / f"{name}.m").is_file() else "")
+            self.fail(s, f"no {name}.py in {directory} for the routine {name}{ported}")
+        self.settings[setting] = name
+        self.settings["routine_dir"] = str(directory)
 
     def _timestep(self, s: Statement) -> None:
         self.positive(s, s.values)

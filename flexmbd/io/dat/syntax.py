@@ -61,7 +61,7 @@ class Syntax:
 
 def _args(spec: str) -> tuple[Argument, ...]:
     """``"e:int p:int"`` -> arguments."""
-    types = {"int": int, "float": float}
+    types = {"int": int, "float": float, "name": str}
     return tuple(Argument(name, types[kind]) for name, kind in
                  (word.split(":") for word in spec.split()))
 
@@ -84,11 +84,13 @@ def _element_meaning(etype) -> str:
 LINE_DATA = {"orientation": ("ox", "oy", "oz"), "axis": ("ax", "ay", "az")}
 
 
-def element_words(etype) -> list[str]:
-    """The arguments of an element line: its number, its nodes, then its line data."""
-    return ["element:int", *(f"{r.name}:int" for r in etype.roles),
-            *(f"{word}:float" for name in etype.element_data if name in LINE_DATA
-              for word in LINE_DATA[name])]
+def element_words(etype, optional: bool = False) -> list[str]:
+    """The arguments of an element line: its number, its nodes, then its line data; with
+    ``optional``, the line data it may leave off."""
+    data = [f"{word}:float" for name in etype.element_data if name in LINE_DATA
+            and (name in etype.optional_data) == optional for word in LINE_DATA[name]]
+    return data if optional else ["element:int", *(f"{r.name}:int" for r in etype.roles),
+                                  *data]
 
 
 #: SPACAR's output level, which SPACAR users' files carry in either block
@@ -97,7 +99,9 @@ OUTLEVEL = _syntax("", rest="level:float", meaning="SPACAR's output level: read 
 #: block 1: elements (their nodes as the element types name them), positions and the
 #: classification of coordinates and deformations
 KINEMATICS = {
-    **{keyword: _syntax(" ".join(element_words(etype)), meaning=_element_meaning(etype))
+    **{keyword: _syntax(" ".join(element_words(etype)),
+                        " ".join(element_words(etype, optional=True)),
+                        meaning=_element_meaning(etype))
        for keyword, etype in ELEMENT_TYPES.items() if not etype.automatic},
     "X": _syntax("node:int x:float y:float", "z:float",
                  meaning="initial position [m] of a translational node (z in a spatial file)"),
@@ -161,6 +165,13 @@ DYNAMICS = {
     "TIMESTEP": _syntax("t_end:float steps:int",
                         meaning="end time [s] and number of output intervals (steps + 1 rows)"),
     # SPACAR's order: iteration limit, load steps, tolerance, then solver flags
+    "USERSIG": _syntax("routine:name",
+                       meaning="user routine of loads and stresses, routine(t, ne, le, e, ep, "
+                               "nx, lnp, x, xp) -> (time, sig, f), in routine.py beside the "
+                               "file"),
+    "USERINP": _syntax("routine:name",
+                       meaning="user routine of input motions, routine(t, is) -> (time, e, x), "
+                               "in routine.py beside the file"),
     "ITERSTEP": _syntax("max_iterations:int", "load_steps:int tolerance:float", rest="flag:float",
                         meaning="Newton iteration limit, static load steps and position "
                                 "tolerance [m, rad]; SPACAR's solver flags are not used"),
@@ -196,7 +207,16 @@ TRANSFER = {
 }
 
 #: keywords of SPACAR that flexmbd does not read
-UNSUPPORTED = {"PINBAR", "CYLINDER", "PLATE", "RBEAM", "SBEAM", "CONTACT", "WHEEL", "BELT",
+#: SPACAR keywords flexmbd refuses with what to use instead: the nominal-trajectory and
+#: reference-deformation keywords of SPACAR's inverse dynamics, whose meaning SPACAR's
+#: public documentation does not give
+INSTEAD = {
+    **{keyword: "prescribe the motion with INPUTX and INPUTE (or USERINP) and run flexmbd "
+                "run --mode inverse (flexmbd spacar 2)"
+       for keyword in ("NOMS", "NOMF", "REFE", "REFEP", "REFEDP")},
+}
+
+UNSUPPORTED = {"PINBAR", "CYLINDER", "PLATE", "SBEAM", "CONTACT", "WHEEL", "BELT",
                "SPRING", "RNODE", "XSTIFF", "XDAMP", "BEAMW", "PINBODY", "PLPINBODY", "TUBE",
                "PLTUBE", "SCREW"} - set(KINEMATICS)
 
@@ -224,7 +244,17 @@ class DatText:
     transfer: tuple[Statement, ...] = ()
 
 
+#: a routine's name: a Python identifier, so that it names a module beside the file
+_ROUTINE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+
+
 def _number(word: str, kind: type, what: str, keyword: str, path, line):
+    if kind is str:
+        if not _ROUTINE.fullmatch(word) or len(word) > 64:
+            raise InputFileError(f"{keyword}: {what} must be a routine name (letters, digits "
+                                 f"and _, not starting with a digit), got {word!r}",
+                                 path, line)
+        return word
     try:
         value = float(word.replace("d", "e").replace("D", "E"))
     except ValueError:
@@ -317,6 +347,8 @@ def parse_text(text: str, path: str | Path | None = None) -> DatText:
 
 
 def _unknown(keyword: str, block: str) -> str:
+    if keyword in INSTEAD:
+        return f"SPACAR's keyword {keyword} is not supported by flexmbd: {INSTEAD[keyword]}"
     if keyword in UNSUPPORTED or (block == "transfer" and keyword in {*KINEMATICS, *DYNAMICS}):
         return f"SPACAR's element or keyword {keyword} is not supported by flexmbd" + (
             " in the block of inputs and outputs (INPUTF, OUTX and OUTXP are)"

@@ -79,7 +79,10 @@ def _line_data(number: int, element) -> list[float]:
     if element.data.get("bending_linked", (1.0,))[0] == 0.0:
         raise OutputError(f"{element.type.name} {number} leaves out the bending-linked terms, "
                           f"which a SPACAR file cannot say (its BEAM always has them)")
-    return [v for name in element.type.element_data if name in LINE_DATA
+    etype = element.type
+    return [v for name in etype.element_data if name in LINE_DATA
+            and not (name in etype.optional_data and element.data[name] ==
+                     etype.element_data[name])
             for v in element.data[name]]
 
 
@@ -162,6 +165,10 @@ def _settings(settings: RunSettings) -> list[str]:
                            value, rate))
     if settings.t_end is not None:
         lines.append(_line("TIMESTEP", settings.t_end, settings.steps))
+    if settings.user_loads:
+        lines.append(_line("USERSIG", settings.user_loads))
+    if settings.user_inputs:
+        lines.append(_line("USERINP", settings.user_inputs))
     if settings.atol is not None or settings.rtol is not None:
         lines.append(_line("ERROR", settings.atol or ATOL, settings.rtol or RTOL))
     if (settings.max_iterations is not None or settings.load_steps is not None

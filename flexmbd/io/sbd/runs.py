@@ -36,7 +36,7 @@ from ...analysis.kinematics import deformations, initial_q, jacobian, solve_posi
 from ...analysis.linearization import Linearization, linearize_free
 from ...analysis.runs import analyse, default_mode
 from ...analysis.statespace import StateSpace, state_space
-from ...analysis.statics import StaticResult, static_equilibrium
+from ...analysis.statics import StaticResult, refuse_routines, static_equilibrium
 from ...engine import MAX_ITERATIONS
 from ...errors import ArgumentError, InputFileError
 from ...model import Model
@@ -166,6 +166,7 @@ def _statics(run: SpacarRun, model: Model, settings: RunSettings, kind: int,
              progress: bool | None) -> None:
     """Modes 7, 9 and 10: ITERSTEP's load steps, each stored (also without increments,
     as SPACAR stores them)."""
+    refuse_routines(settings)
     result: StaticResult = static_equilibrium(
         model, load_increment=dict(settings.load_increment) or None,
         input_increment=settings.input_increment, steps=settings.load_steps or 0,
