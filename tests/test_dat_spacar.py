@@ -192,3 +192,11 @@ def test_the_guide_lists_every_keyword_the_reader_knows():
     listed = {word for row in table.splitlines() if row.startswith("| `")
               for word in re.findall(r"`([A-Z0-9]+)`", row.split("|")[1])}
     assert listed == {*KINEMATICS, *DYNAMICS, *TRANSFER, *UNSUPPORTED, *INSTEAD}
+
+
+def test_a_beam_without_orientation_asks_for_it():
+    text = CANTILEVER.format(block2="").replace("\t\t0.000000\t1.000000\t0.000000\t\t#beam",
+                                                "", 1)
+    with pytest.raises(InputFileError, match=r"beam\.dat:5: BEAM: element 1 has no "
+                                             r"orientation vector .* add it"):
+        dat_from_text(text, "beam.dat")

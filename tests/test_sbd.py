@@ -181,6 +181,8 @@ def test_static_records_carry_the_weight_and_the_loads(tmp_path):
     # the .sbm holds M0, K0, ... over the 6 dynamic deformations of beam 1
     assert m["M0"].shape == (5, 6, 6) and m["nddof"].tolist() == [[6]]
     assert f["BIGD"].shape == (5, 15, 21)   # 2 beams and 3 Euler elements; 3 + 3 nodes
+    # beam 2 (rigid) and the Euler elements have no stiffness
+    assert f["STIF"].shape == (5, 12) and not np.any(f["STIF"][1:])
 
 
 def test_euler_parameter_loads_do_the_work_of_the_moment():
@@ -301,6 +303,8 @@ def test_spacar_own_output_is_reproduced(tmp_path):
             for record in ("NX", "NE", "NDOF", "NDDO", "LNP", "LE", "LN", "IT"):
                 if record in theirs:
                     assert found[record].largest == 0, record
+            if kind == "sbd":
+                assert found["STIF"].relative < 1e-15
         sbm, mine = read_sbd(SAMPLES / f"{name}.sbm"), read_sbd(tmp_path / f"{name}.sbm")
         for k in range(sbm.n_steps):
             np.testing.assert_allclose(_squared_frequencies(mine, k),

@@ -1,11 +1,11 @@
 """What a flexmbd run writes into SPACAR's binary data file ``.sbd``: the records, their
 names, shapes and meaning, in SPACAR's numbering (:mod:`.numbering`).
 
-Tables: ``NX NE NDOF NDDO NKDO NKDD NXP NEP LNP LE LN IT MODE RL0 RXYZ ESIG``. Per
+Tables: ``NX NE NDOF NDDO NKDO NKDD NXP NEP LNP LE LN IT MODE RL0 RXYZ STIF ESIG``. Per
 step: ``T X XD XDD E ED EDD FX FXT SIG DX DE`` and, for static runs and files of one
 step, ``BIGD`` (the rates and loads a run did not record are left out).
 ``docs/guide/spacar-files.md`` gives every record's meaning; the records SPACAR writes and
-flexmbd does not (``KDEF RQ DR0 EINI STIF DAMP EM FXG XCL``) are there too, with the
+flexmbd does not (``KDEF RQ DR0 EINI DAMP EM FXG XCL``) are there too, with the
 reason. The linearized equations (``.sbm``, ``.ltv``) are :mod:`.linear`'s.
 """
 
@@ -60,9 +60,34 @@ def model_tables(model: Model, mode: int) -> dict[str, np.ndarray]:
     tables: dict[str, np.ndarray] = {name: np.array([[value]], dtype=np.int32)
                                      for name, value in count.items()}
     tables.update(NXP=nxp, NEP=nep, LNP=number.node_table(), LE=number.element_table(),
-                  LN=ln, IT=it, MODE=np.array([[mode]], dtype=np.int32), RL0=rl0, RXYZ=rxyz,
-                  ESIG=esig)
+                  LN=ln, IT=it, MODE=np.array([[mode]], dtype=np.int32), RL0=rl0, RXYZ=rxyz)
+    stiffness = stiffness_table(model)
+    if stiffness is not None:
+        tables["STIF"] = stiffness
+    tables["ESIG"] = esig
     return tables
+
+
+def stiffness_table(model: Model) -> np.ndarray | None:
+    """``STIF`` ``(elements, 12)``: SPACAR's stiffness parameters of a spatial beam,
+    ``EA/l0, GIt/l0^3, EIy/l0^3, EIz/l0^3, 12 sy/l0^2, 12 sz/l0^2`` (read off SPACAR's
+    output), zero for elements without stiffness; ``None`` when another element type has
+    a stiffness, whose layout in SPACAR's table is not established."""
+    table = np.zeros((max(model.elements), 12))
+    for k, element in model.elements.items():
+        properties = model.element_properties.get(k)
+        values = dict(properties.stiffness) if properties is not None else {}
+        if not any(values.values()):
+            continue
+        if element.type.keyword != "BEAM":
+            return None
+        l0 = element.reference[0]
+        table[k - 1, :6] = [values.get("axial", 0.0) / l0, values.get("torsion", 0.0) / l0**3,
+                            values.get("bending_y", 0.0) / l0**3,
+                            values.get("bending_z", 0.0) / l0**3,
+                            12 * values.get("shear_y", 0.0) / l0**2,
+                            12 * values.get("shear_z", 0.0) / l0**2]
+    return table
 
 
 def own_loads(model: Model) -> np.ndarray:
