@@ -11,12 +11,17 @@ a missing quadratic velocity term. :func:`check` returns a :class:`Report` with 
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
+import select
+import shutil
+import signal
 import subprocess
 import sys
 import tempfile
+import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -50,6 +55,7 @@ class Report:
     file: str
     parts: list[PartReport] = field(default_factory=list)
     problem: str | None = None
+    seconds: float = 0.0
 
     @property
     def score(self) -> int:
@@ -134,59 +140,169 @@ def _calls(exercise: Exercise, seed: int) -> tuple[list[dict], dict]:
     return calls, plan
 
 
-def _run(path: Path, calls: list[dict], timeout: float) -> tuple[dict, str | None, bool]:
-    """Run the child; returns the records by call id, the load problem and whether the
-    time limit ended it."""
-    with tempfile.TemporaryDirectory(prefix="flexmbd-check-") as tmp:
-        request, results = Path(tmp) / "request.json", Path(tmp) / "results.jsonl"
-        request.write_text(json.dumps({"calls": calls}))
-        results.touch()
-        env = {**os.environ, "MPLBACKEND": "Agg", "PYTHONDONTWRITEBYTECODE": "1"}
-        timed_out = False
+#: bytes a runner may send before the check stops reading it (a forged flood)
+CHANNEL_CAP = 64 * 2**20
+#: the minimal environment of a student's process: what Python and NumPy need
+_ENVIRONMENT = {"LANG": "C.UTF-8", "MPLBACKEND": "Agg", "PYTHONDONTWRITEBYTECODE": "1",
+                "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
+
+
+@dataclass
+class _Outcome:
+    """What the runs of one file gave: the records by call id, the load problem, and per
+    call whether its part ran out of time or its process ended."""
+
+    records: dict = field(default_factory=dict)
+    problem: str | None = None
+    loaded: bool = False
+    timed_out: set = field(default_factory=set)
+    ended: set = field(default_factory=set)
+
+
+def _run(path: Path, calls: list[dict], plan: dict, timeout: float, graded: bool
+         ) -> _Outcome:
+    """Run the student's file on ``calls`` in a scratch folder, ``timeout`` seconds per
+    part: a part that runs out of time (or ends the process) is ended with the process,
+    and a new process runs the parts after it."""
+    outcome = _Outcome()
+    part_of = {i: letter for letter, (_, ids, symbolic) in plan.items()
+               for i in [*ids, *([symbolic] if symbolic is not None else [])]}
+    pending = list(calls)
+    while pending:
+        done = _run_once(path, pending, part_of, timeout, graded, outcome)
+        if done is None:
+            break
+        # the part that stopped the process costs itself only: go on after it
+        letter = part_of[done]
+        pending = [c for c in pending if c["id"] not in outcome.records
+                   and part_of[c["id"]] != letter]
+    return outcome
+
+
+def _run_once(path: Path, calls: list[dict], part_of: dict, timeout: float, graded: bool,
+              outcome: _Outcome) -> int | None:
+    """One runner process over ``calls``; returns the id of the call that stopped it
+    early (out of time or ended), or ``None`` when it ran them all (or never loaded)."""
+    with tempfile.TemporaryDirectory(prefix="flexmbd-check-") as scratch:
+        home = Path(scratch) / "home"
+        (home / "tmp").mkdir(parents=True)
+        copy = Path(scratch) / path.name
+        shutil.copyfile(path, copy)
+        read, write = os.pipe()
+        request = home / "request.json"
+        request.write_text(json.dumps({"calls": calls, "channel": write, "graded": graded,
+                                       "scratch": scratch}))
+        env = {**_ENVIRONMENT, "HOME": str(home), "TMPDIR": str(home / "tmp"),
+               "PATH": os.defpath}
         try:
-            subprocess.run([sys.executable, "-m", "flexmbd.course.runner", str(path),
-                            str(request), str(results)], cwd=path.parent, env=env,
-                           stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
-                           stderr=subprocess.DEVNULL, timeout=timeout, check=False)
-        except subprocess.TimeoutExpired:
-            timed_out = True
-        records: dict = {}
-        problem, loaded = None, False
-        for line in results.read_text(errors="replace").splitlines():
+            process = subprocess.Popen(
+                [sys.executable, "-I", "-m", "flexmbd.course.runner", str(copy),
+                 str(request)], cwd=scratch, env=env, stdin=subprocess.DEVNULL,
+                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, pass_fds=(write,),
+                start_new_session=True)
+        finally:
+            os.close(write)
+        try:
+            return _follow(process, read, calls, part_of, timeout, outcome)
+        finally:
+            _end(process)
+            os.close(read)
+
+
+def _follow(process, read: int, calls: list[dict], part_of: dict, timeout: float,
+            outcome: _Outcome) -> int | None:
+    """Read the runner's records as they come, ending it when the call running has used
+    its part's time; returns the id of the call that stopped the run early."""
+    expected = iter(calls)
+    current = None        # the call running, after its "started" record
+    used: dict = {}       # seconds each part has run
+    started_at = time.monotonic()
+    buffer, total = b"", 0
+    while True:
+        budget = timeout - used.get(part_of.get(current), 0.0) if current is not None \
+            else timeout
+        left = budget - (time.monotonic() - started_at)
+        ready, _, _ = select.select([read], [], [], max(left, 0.0))
+        if not ready:
+            if current is None:
+                if not outcome.loaded:
+                    outcome.problem = "the file did not finish loading within the time limit"
+                    return None
+                current = next(expected, {"id": None})["id"]
+                if current is None:
+                    return None
+            outcome.timed_out.add(current)
+            return current
+        chunk = os.read(read, 65536)
+        total += len(chunk)
+        if not chunk or total > CHANNEL_CAP:  # the process ended (or floods the channel)
+            if not outcome.loaded:
+                outcome.problem = "the file's process ended before it finished loading"
+                return None
+            if current is not None:
+                outcome.ended.add(current)
+                return current
+            following = next(expected, None)
+            return None if following is None else following["id"]
+        buffer += chunk
+        *lines, buffer = buffer.split(b"\n")
+        for line in lines:
             try:
                 record = json.loads(line)
-            except json.JSONDecodeError:
+            except (json.JSONDecodeError, UnicodeDecodeError):
                 continue
-            if "loaded" in record:
-                loaded, problem = True, record.get("problem")
-            elif record.get("started"):
-                records.setdefault(record["id"], {"started": True})
-            else:
-                records[record["id"]] = record
-    if not loaded:
-        problem = ("the file did not finish loading within the time limit" if timed_out
-                   else "the file's process ended before it finished loading")
-    return records, problem, timed_out
+            if not isinstance(record, dict):
+                continue
+            if "loaded" in record and not outcome.loaded:
+                outcome.loaded = True
+                problem = record.get("problem")
+                outcome.problem = str(problem) if problem else None
+                started_at = time.monotonic()
+            elif record.get("started") and current is None:
+                following = next(expected, None)
+                if following is None or record.get("id") != following["id"]:
+                    continue  # not the call that comes next: not the runner's
+                current, started_at = following["id"], time.monotonic()
+            elif current is not None and record.get("id") == current:
+                used[part_of[current]] = used.get(part_of[current], 0.0) + \
+                    time.monotonic() - started_at
+                outcome.records[current] = record
+                current, started_at = None, time.monotonic()
 
 
-def _array(record: dict) -> np.ndarray | tuple | None:
-    if "array" in record:
-        return np.array(record["array"], dtype=float).reshape(record["shape"])
-    if "tuple" in record:
-        items = [_array(item) for item in record["tuple"]]
-        return None if any(i is None for i in items) else tuple(items)
+def _end(process: subprocess.Popen) -> None:
+    """End the runner and everything it started (its whole process group)."""
+    with contextlib.suppress(ProcessLookupError, PermissionError):
+        os.killpg(process.pid, signal.SIGKILL)
+    process.wait()
+
+
+def _array(record) -> np.ndarray | tuple | None:
+    """The numbers of a record, ``None`` for anything that does not decode to them."""
+    try:
+        if "array" in record:
+            return np.array(record["array"], dtype=float).reshape(record["shape"])
+        if "tuple" in record:
+            items = [_array(item) for item in record["tuple"]]
+            return None if any(i is None for i in items) else tuple(items)
+    except (TypeError, ValueError, KeyError, OverflowError):
+        return None
     return None
 
 
 def _conform(got, expected):
-    """``got`` in the shape of ``expected`` when it holds the same vector, else ``got``."""
+    """``got`` in the shape of ``expected`` where that is unambiguous, else ``got``: a flat
+    vector ``(n,)`` for a column ``(n, 1)`` or row ``(1, n)``, and any vector for a flat
+    one. A row for a column (a transpose) stays, and fails with its hint."""
     if isinstance(expected, tuple) or isinstance(got, tuple):
         return got
     expected = np.asarray(expected, dtype=float)
-    if got.shape == expected.shape:
+    if got.shape == expected.shape or got.size != expected.size:
         return got
     vector = expected.ndim <= 1 or 1 in expected.shape
-    if got.size == expected.size and vector and (got.ndim <= 1 or 1 in got.shape):
+    flat_given = got.ndim <= 1
+    flat_wanted = expected.ndim <= 1 and (got.ndim <= 1 or 1 in got.shape)
+    if (vector and flat_given) or flat_wanted:
         return got.reshape(expected.shape)
     return got
 
@@ -226,8 +342,10 @@ def _first_difference(got, expected, rtol: float) -> str:
     got = _conform(got, expected)
     if got.shape != expected.shape:
         return f"shape {got.shape}, expected {expected.shape}"
-    bad = _off(got, expected, rtol)
-    index = tuple(int(i) for i in np.argwhere(bad)[0]) if expected.ndim else ()
+    bad = np.argwhere(_off(got, expected, rtol))
+    if expected.ndim and not len(bad):
+        return "differs"
+    index = tuple(int(i) for i in bad[0]) if expected.ndim else ()
     where = f"entry {list(index)}" if index else "value"
     return f"{where}: expected {expected[index]:.10g}, got {got[index]:.10g}"
 
@@ -271,30 +389,38 @@ def diagnose(part: Part, args: tuple, got, expected) -> str:
     if isinstance(expected, tuple) or isinstance(got, tuple):
         return ""
     expected = np.asarray(expected, dtype=float)
-    if expected.ndim == 2 and min(expected.shape) > 1:
-        if got.shape == expected.T.shape and _close(got.T, expected, part.rtol):
-            return (f"transposed: the answer has shape {expected.shape}, one row per "
-                    f"deformation (or coordinate) and one column per coordinate (or q)")
-        if got.shape == expected.shape:
-            order = []
-            for column in got.T:
-                found = [k for k, e in enumerate(expected.T) if _close(column, e, part.rtol)]
-                order.append(found[0] if found else None)
-            if None not in order and order != list(range(len(order))):
-                return (f"columns out of order: your columns are the answer's columns "
-                        f"{order}; order them as the coordinates ({part.arguments}) are")
+    if expected.ndim == 2 and got.shape == expected.T.shape and got.shape != expected.shape \
+            and _close(got.T, expected, part.rtol):
+        return (f"transposed: the answer has shape {expected.shape}, one row per "
+                f"deformation (or coordinate) and one column per coordinate (or q)")
+    if expected.ndim == 2 and min(expected.shape) > 1 and got.shape == expected.shape:
+        order = []
+        for column in got.T:
+            found = [k for k, e in enumerate(expected.T) if _close(column, e, part.rtol)]
+            order.append(found[0] if found else None)
+        if None not in order and order != list(range(len(order))):
+            return (f"columns out of order: your columns are the answer's columns "
+                    f"{order}; order them as the coordinates ({part.arguments}) are")
     if matches(-expected):
         return "the sign is reversed: check the direction of d = r_q - r_p and of the normals"
     return ""
 
 
-def check(exercise: Exercise, path: str | os.PathLike, timeout: float = 60.0,
-          seed: int = 2026) -> Report:
+def check(exercise: Exercise, path: str | os.PathLike, timeout: float = 10.0,
+          seed: int = 2026, graded: bool = False) -> Report:
     """Check the student's file ``path`` (``.py`` or ``.ipynb``) for ``exercise``.
 
+    The file runs in a process of its own, in a scratch folder holding only a copy of it,
+    with a minimal environment; its output is dropped. Every part, whatever the file
+    does or returns, gets a verdict.
+
     Args:
-        timeout: time limit [s] for the student's process (all parts together).
+        timeout: time limit [s] of each part (all its calls together), and of loading the
+            file: a part that runs longer fails alone, and the parts after it run in a
+            new process.
         seed: seed of the random configurations.
+        graded: confine the file (:mod:`flexmbd.course.sandbox`): no flexmbd beyond the
+            template's helper, no writes outside its scratch folder, no processes.
     """
     path = Path(path)
     if not path.is_file():
@@ -302,38 +428,46 @@ def check(exercise: Exercise, path: str | os.PathLike, timeout: float = 60.0,
     if path.suffix not in (".py", ".ipynb"):
         raise ArgumentError("file", f"{path} is not a Python script (.py) or notebook "
                                     f"(.ipynb)")
+    if not timeout > 0:
+        raise ArgumentError("timeout", f"must be positive, got {timeout}")
     calls, plan = _calls(exercise, seed)
-    records, problem, timed_out = _run(path.resolve(), calls, timeout)
-    report = Report(exercise, str(path), problem=problem)
-    stopped = False
+    begun = time.monotonic()
+    outcome = _run(path.resolve(), calls, plan, timeout, graded)
+    report = Report(exercise, str(path), problem=outcome.problem)
     for part in exercise.parts:
         cases, ids, symbolic = plan[part.letter]
-        outcome = _part(part, cases, [records.get(i) for i in ids],
-                        records.get(symbolic) if symbolic is not None else None,
-                        timed_out, stopped)
-        stopped = stopped or outcome.message.startswith("time limit")
-        report.parts.append(outcome)
+        try:
+            verdict = _part(part, cases, ids, symbolic, outcome)
+        except Exception as error:  # the checker's own failure must not lose the report
+            verdict = PartReport(part.letter, part.function, FAILED,
+                                 f"the checker could not compare this answer "
+                                 f"({type(error).__name__}: {error})")
+        report.parts.append(verdict)
+    report.seconds = time.monotonic() - begun
     return report
 
 
-def _part(part: Part, cases, records, symbolic, timed_out: bool, stopped: bool) -> PartReport:
-    """One part's outcome from its records (``None``: the call never ran)."""
+def _part(part: Part, cases, ids, symbolic_id, outcome: _Outcome) -> PartReport:
+    """One part's outcome from its records."""
     def result(status, message="", hint=""):
         return PartReport(part.letter, part.function, status, message, hint)
 
-    for args, record in zip(cases, records, strict=True):
-        if record is None or record.keys() == {"started"}:
-            if stopped:
-                return result(FAILED, "not run: the time limit ended the file earlier")
-            if timed_out and record is not None:
+    for args, call in zip(cases, ids, strict=True):
+        record = outcome.records.get(call)
+        if record is None:
+            if call in outcome.timed_out:
                 return result(FAILED, f"time limit: the call with {_describe(part, args)} "
                                       f"did not return (an endless loop?)")
-            return result(FAILED, "not run: the file's process ended (exit or crash) "
-                                  "before this part")
+            if call in outcome.ended:
+                return result(FAILED, f"the file's process ended (exit or crash) in the "
+                                      f"call with {_describe(part, args)}")
+            if not outcome.loaded:
+                return result(FAILED, "not run: the file did not load")
+            return result(FAILED, "not run: an earlier call of this part stopped the file")
         if record.get("missing"):
             return result(NOT_DONE, f"no function {part.function}() in the file")
         if "not_done" in record:
-            return result(NOT_DONE, record["not_done"].removeprefix(
+            return result(NOT_DONE, str(record["not_done"]).removeprefix(
                 f"part {part.letter} not done yet: "))
         if "error" in record:
             return result(FAILED, f"raised {record['error']} for {_describe(part, args)}")
@@ -346,10 +480,11 @@ def _part(part: Part, cases, records, symbolic, timed_out: bool, stopped: bool) 
         if got is None:
             return result(FAILED, "returned something that is not numbers")
         expected = part.answer(*args)
-        if not record.get("finite", True) or not _close(got, expected, part.rtol):
+        if not _close(got, expected, part.rtol):
             return result(FAILED, f"at {_describe(part, args)}: "
                                   f"{_first_difference(got, expected, part.rtol)}",
                           diagnose(part, args, got, expected))
+    symbolic = outcome.records.get(symbolic_id) if symbolic_id is not None else None
     note = ""
     if symbolic is not None and symbolic.get("symbolic") == "equal":
         note = "SymPy expression algebraically equal to flexmbd's"

@@ -1,17 +1,21 @@
 """The checker's child process: load a student's file and call its parts.
 
-Run as ``python -m flexmbd.course.runner FILE REQUEST RESULTS`` by
-:mod:`flexmbd.course.check`, never by users. ``REQUEST`` is a JSON file of calls
-(function name, encoded arguments, optionally a SymPy reference); each call's outcome
-is appended to ``RESULTS`` as one JSON line, with a ``started`` line before it, so the
-parent knows which call hung when the time limit ends the process. The student's
-output goes nowhere: results travel only through ``RESULTS``, so a file that prints
-garbage cannot confuse the checker.
+Run by :mod:`flexmbd.course.check` as ``python -I -m flexmbd.course.runner FILE REQUEST``
+in a scratch folder holding only a copy of ``FILE``, never by users. ``REQUEST`` is a JSON
+file: the calls (function name, encoded arguments, optionally a SymPy reference), the
+file descriptor of the pipe the results go through, whether the run is graded, and the
+scratch folder. Each call's outcome is one JSON line on that pipe, after a ``started``
+line, so the parent knows which call hung when it ends the process. The student's
+output is capped and discarded: results travel only through the pipe, whose descriptor
+the runner moves before the student's code runs.
+
+A graded run (:mod:`flexmbd.course.sandbox`) also confines the student's code: no
+writes outside the scratch folder, no new processes, no network, no flexmbd beyond the
+helper module the template imports, and no reading of flexmbd's files.
 """
 
 from __future__ import annotations
 
-import contextlib
 import io
 import json
 import os
@@ -19,6 +23,28 @@ import sys
 import traceback
 
 import numpy as np
+
+#: what a student's file may print before the rest is dropped [characters]
+OUTPUT_CAP = 20_000
+
+
+class CappedOutput(io.TextIOBase):
+    """A ``sys.stdout`` that keeps the first :data:`OUTPUT_CAP` characters and drops the
+    rest at once: printing in a loop costs the student's process, not the check."""
+
+    def __init__(self) -> None:
+        self.kept: list[str] = []
+        self.size = 0
+
+    def writable(self) -> bool:
+        return True
+
+    def write(self, text) -> int:
+        text = str(text)
+        if self.size < OUTPUT_CAP:
+            self.kept.append(text[:OUTPUT_CAP - self.size])
+            self.size += len(self.kept[-1])
+        return len(text)
 
 
 def decode(value):
@@ -48,12 +74,9 @@ def _message(error: BaseException, path: str) -> str:
 
 
 def encode(result) -> dict:
-    """A result as JSON: ``{"array", "shape"}``, ``{"tuple"}``, ``{"sympy"}`` or
-    ``{"garbage"}`` for anything that is not numbers."""
-    try:
-        import sympy as sp
-    except ImportError:  # pragma: no cover - sympy is a dependency of the course extra
-        sp = None
+    """A result as JSON: ``{"array", "shape"}`` (NaN and infinities kept), ``{"tuple"}``,
+    ``{"sympy"}`` or ``{"garbage"}`` for anything that is not numbers."""
+    sp = sys.modules.get("sympy")   # an answer in SymPy was made with an imported SymPy
     if sp is not None and isinstance(result, sp.Basic | sp.MatrixBase) \
             and getattr(result, "free_symbols", None):
         return {"sympy": sp.srepr(result)}
@@ -61,14 +84,22 @@ def encode(result) -> dict:
         result = np.array(result.evalf(), dtype=float)
     try:
         array = np.asarray(result, dtype=float)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         if isinstance(result, tuple | list) and len(result) <= 10:
             return {"tuple": [encode(item) for item in result]}
-        return {"garbage": repr(result)[:200]}
+        return {"garbage": _short(result)}
     if array.size > 100_000:
         return {"garbage": f"an array of shape {array.shape}"}
-    return {"array": np.where(np.isfinite(array), array, 0.0).tolist(),
-            "finite": bool(np.all(np.isfinite(array))), "shape": list(array.shape)}
+    return {"array": array.tolist(), "finite": bool(np.all(np.isfinite(array))),
+            "shape": list(array.shape)}
+
+
+def _short(value) -> str:
+    """``repr(value)``, short, and never failing (a student's object may raise)."""
+    try:
+        return repr(value)[:200]
+    except BaseException:
+        return f"an object of type {type(value).__name__}"
 
 
 def compare_symbolic(result, reference: str) -> str:
@@ -115,42 +146,53 @@ def load(path: str) -> tuple[dict, str | None]:
     return namespace, "; ".join(problems) or None
 
 
-def main(path: str, request: str, results: str) -> None:
+def _channel(fd: int):
+    """The results pipe moved to a descriptor the student's code is not told of."""
+    moved = os.dup(fd)
+    os.close(fd)
+    return os.fdopen(moved, "w", encoding="utf-8")
+
+
+def main(path: str, request: str) -> None:
     path = os.path.abspath(path)
     with open(request, encoding="utf-8") as handle:
-        calls = json.load(handle)["calls"]
-    out = open(results, "a", encoding="utf-8")  # noqa: SIM115 - written call by call
+        spec = json.load(handle)
+    out = _channel(spec["channel"])
 
     def write(record):
         out.write(json.dumps(record) + "\n")
         out.flush()
 
-    sink = io.StringIO()
-    with contextlib.redirect_stdout(sink), contextlib.redirect_stderr(sink):
-        namespace, problem = load(path)
-        write({"loaded": True, "problem": problem})
-        for call in calls:
-            write({"id": call["id"], "started": True})
-            function = namespace.get(call["function"])
-            if not callable(function):
-                write({"id": call["id"], "missing": True})
-                continue
-            try:
-                result = function(*[decode(a) for a in call["args"]])
-                record = encode(result)
-                if call.get("reference") and "sympy" in record:
-                    record["symbolic"] = compare_symbolic(result, call["reference"])
-            except BaseException as error:
-                if type(error).__name__ == "NotDone":
-                    record = {"not_done": str(error)}
-                else:
-                    record = {"error": _message(error, path)}
-            sink.seek(0)
-            sink.truncate()
-            write({"id": call["id"], **record})
+    sys.stdout = sys.stderr = CappedOutput()
+    # what the runner needs later is loaded before the student's code may load nothing
+    from . import student  # noqa: F401 - the helper the templates import
+    from .templates import notebook_code  # noqa: F401
+    if spec.get("graded"):
+        from .sandbox import confine
+
+        confine(spec["scratch"])
+    namespace, problem = load(path)
+    write({"loaded": True, "problem": problem})
+    for call in spec["calls"]:
+        write({"id": call["id"], "started": True})
+        function = namespace.get(call["function"])
+        if not callable(function):
+            write({"id": call["id"], "missing": True})
+            continue
+        try:
+            result = function(*[decode(a) for a in call["args"]])
+            record = encode(result)
+            if call.get("reference") and "sympy" in record:
+                record["symbolic"] = compare_symbolic(result, call["reference"])
+        except BaseException as error:
+            if type(error).__name__ == "NotDone":
+                record = {"not_done": str(error)}
+            else:
+                record = {"error": _message(error, path)}
+        write({"id": call["id"], **record})
     out.close()
 
 
 if __name__ == "__main__":
     os.environ.setdefault("MPLBACKEND", "Agg")
-    main(*sys.argv[1:4])
+    main(*sys.argv[1:3])
