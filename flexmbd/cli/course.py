@@ -35,18 +35,44 @@ def add_commands(commands) -> None:
         sub.add_argument("--force", action="store_true", help="overwrite an existing file")
     check = actions.add_parser(
         "check", help="check a completed file part by part",
-        description="Run FILE (.py or .ipynb) in a separate process with a time limit, call "
-                    "each part at the exercise's configuration and at random ones, and "
-                    "compare with flexmbd's answers. Exit status 0 when every part passes, "
-                    "1 otherwise.")
+        description="Run FILE (.py or .ipynb) in a separate process, in a scratch folder, "
+                    "with a time limit per part; call each part at the exercise's "
+                    "configuration and at random ones, and compare with flexmbd's answers. "
+                    "Exit status 0 when every part passes, 1 otherwise (--exit-zero: 0 "
+                    "whenever the check itself succeeded).")
     check.add_argument("name", help=_NAME_HELP)
     check.add_argument("file", help="the student's file")
     check.add_argument("--json", metavar="REPORT.json",
-                       help="also write the report in the Gradescope/otter-grader format")
-    check.add_argument("--timeout", type=float, default=60.0,
-                       help="time limit of the student's process [s] (default 60)")
-    check.add_argument("--seed", type=int, default=2026,
-                       help="seed of the random configurations")
+                       help="also write the report as a Gradescope autograder's results")
+    check.add_argument("--graded", action="store_true",
+                       help="confine the file as a graded run does: no flexmbd beyond the "
+                            "template's helper, no writes outside its scratch folder, no "
+                            "processes")
+    check.add_argument("--exit-zero", action="store_true",
+                       help="exit 0 whatever the score (for autograder scripts)")
+    grade = actions.add_parser(
+        "grade", help="grade every submission in a folder (for lecturers)",
+        description="Check every .py or .ipynb in FOLDER (or the one in each subfolder) in "
+                    "graded mode, in parallel; write one row per student with the points "
+                    "of each part (--out), a report per student (--reports) and print the "
+                    "score distribution and the parts most often failed.")
+    grade.add_argument("name", help=_NAME_HELP)
+    grade.add_argument("folder", help="the folder of submissions")
+    grade.add_argument("--out", default="grades.csv", metavar="GRADES.csv",
+                       help="the class table (default grades.csv)")
+    grade.add_argument("--reports", metavar="DIR",
+                       help="the reports, text and Gradescope JSON per student (default: "
+                            "GRADES_reports beside the table)")
+    grade.add_argument("--jobs", type=int, help="submissions checked at a time (default: "
+                                                "the CPUs)")
+    for sub in (check, grade):
+        sub.add_argument("--timeout", type=float, default=10.0,
+                         help="time limit of each part, and of loading the file [s] "
+                              "(default 10)")
+        sub.add_argument("--seed", type=int, default=2026,
+                         help="seed of the random configurations")
+        sub.add_argument("--points", metavar="a=2,b=1",
+                         help="points per part (default 1 each)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -58,6 +84,8 @@ def run(args: argparse.Namespace) -> int:
     chosen = exercise(args.name)
     if args.action == "check":
         return _check(chosen, args)
+    if args.action == "grade":
+        return _grade(chosen, args)
     return _write(chosen, args)
 
 
@@ -102,17 +130,56 @@ def _write(chosen, args) -> int:
 
 def _check(chosen, args) -> int:
     from ..course.check import check
+    from ..course.grading import parse_points
 
-    if args.timeout <= 0:
-        raise ArgumentError("--timeout", f"must be positive, got {args.timeout:g}")
+    _check_timeout(args.timeout)
+    points = parse_points(args.points, chosen)
     if args.json:
         report_path = Path(args.json)
         if report_path.suffix != ".json" or not report_path.parent.resolve().is_dir():
             raise ArgumentError("--json", f"cannot write {args.json!r}: give a .json file in "
                                           f"an existing directory")
-    report = check(chosen, args.file, timeout=args.timeout, seed=args.seed)
+    report = check(chosen, args.file, timeout=args.timeout, seed=args.seed,
+                   graded=args.graded, points=points)
     print(report.text())
-    if args.json:
+    if args.json:  # written by the checker, after the student's processes have ended
         Path(args.json).write_text(json.dumps(report.gradescope(), indent=1) + "\n")
         print(f"report written to {args.json}", file=sys.stderr)
-    return report.exit_status
+    return 0 if args.exit_zero else report.exit_status
+
+
+def _check_timeout(timeout: float) -> None:
+    if not 0 < timeout < float("inf"):
+        raise ArgumentError("--timeout", f"must be a positive number of seconds, got "
+                                         f"{timeout:g}")
+
+
+def _grade(chosen, args) -> int:
+    """``grade``: the class table, the reports and the summary; 0 when every submission
+    was graded."""
+    from ..course.grading import grade, parse_points, submissions
+
+    _check_timeout(args.timeout)
+    points = parse_points(args.points, chosen)
+    out = Path(args.out)
+    if out.suffix != ".csv" or not out.parent.resolve().is_dir():
+        raise ArgumentError("--out", f"cannot write {args.out!r}: give a .csv file in an "
+                                     f"existing directory")
+    reports = Path(args.reports) if args.reports else out.with_name(out.stem + "_reports")
+    count = len(submissions(args.folder))
+    print(f"grading {count} submissions of exercise {chosen.number} ({chosen.name})")
+    done = 0
+
+    def progress(student, report):
+        nonlocal done
+        done += 1
+        print(f"  [{done}/{count}] {student}: {report.score:g}/{report.max_score:g}"
+              + (f" ({report.problem})" if report.problem else ""), flush=True)
+
+    grades = grade(chosen, args.folder, points=points, timeout=args.timeout, jobs=args.jobs,
+                   seed=args.seed, progress=progress)
+    grades.write_csv(out)
+    grades.write_reports(reports)
+    print(grades.summary())
+    print(f"table written to {out}, reports to {reports}/")
+    return 0

@@ -6,7 +6,7 @@ with the engine's answer. A failure names the first entry that differs and, when
 answer equals a typical wrong one, says what to fix: a transposed or column-permuted
 Jacobian, the bending sign convention, degrees for radians, lumped for consistent mass,
 a missing quadratic velocity term. :func:`check` returns a :class:`Report` with a score;
-:meth:`Report.gradescope` is the JSON that otter-grader and Gradescope take in.
+:meth:`Report.gradescope` is the results JSON of a Gradescope autograder.
 """
 
 from __future__ import annotations
@@ -49,27 +49,37 @@ class PartReport:
 @dataclass
 class Report:
     """The outcome of checking one file: per part, a score and a problem with the file
-    itself (it failed to load or ran out of time) if any."""
+    itself (it failed to load or ran out of time) if any.
+
+    Attributes:
+        points: points per part letter (default 1 each).
+        seconds: how long the check took [s].
+    """
 
     exercise: Exercise
     file: str
     parts: list[PartReport] = field(default_factory=list)
     problem: str | None = None
     seconds: float = 0.0
+    points: dict[str, float] = field(default_factory=dict)
+
+    def worth(self, letter: str) -> float:
+        """The points of part ``letter``."""
+        return float(self.points.get(letter, 1.0))
 
     @property
-    def score(self) -> int:
-        """Parts passed (one point each)."""
-        return sum(p.status == PASSED for p in self.parts)
+    def score(self) -> float:
+        """Points of the parts passed."""
+        return sum(self.worth(p.letter) for p in self.parts if p.status == PASSED)
 
     @property
-    def max_score(self) -> int:
-        return len(self.exercise.parts)
+    def max_score(self) -> float:
+        return sum(self.worth(p.letter) for p in self.exercise.parts)
 
     @property
     def exit_status(self) -> int:
         """0 when every part passed, 1 otherwise (for autograders)."""
-        return 0 if self.score == self.max_score else 1
+        return 0 if all(p.status == PASSED for p in self.parts) and self.parts else 1
 
     def text(self) -> str:
         """The report as the command prints it."""
@@ -82,20 +92,35 @@ class Report:
                          + (f": {p.message}" if p.message else ""))
             if p.hint:
                 lines.append(f"      hint: {p.hint}")
-        lines.append(f"score {self.score}/{self.max_score}")
+        lines.append(f"score {_number(self.score)}/{_number(self.max_score)}")
         return "\n".join(lines)
 
     def gradescope(self) -> dict:
-        """The report in the Gradescope results format (read by otter-grader)."""
+        """The report as a Gradescope autograder's ``results.json``: the score, the time,
+        a summary the student sees (the reason when the file did not load), one test per
+        part with its points, status and message."""
         ex = self.exercise
-        return {"score": self.score, "max_score": self.max_score, "exercise": ex.name,
-                "file": self.file, "problem": self.problem,
+        summary = (f"Your file did not load completely: {self.problem}. Parts that need "
+                   f"what did not load fail." if self.problem else
+                   f"exercise {ex.number} ({ex.name}): {_number(self.score)} of "
+                   f"{_number(self.max_score)} points")
+        return {"score": self.score, "max_score": self.max_score,
+                "execution_time": round(self.seconds, 3), "output": summary,
+                "visibility": "visible", "stdout_visibility": "hidden",
                 "tests": [{"name": f"{ex.number}{p.letter} {p.function}",
-                           "score": int(p.status == PASSED), "max_score": 1,
+                           "score": self.worth(p.letter) if p.status == PASSED else 0.0,
+                           "max_score": self.worth(p.letter),
                            "status": "passed" if p.status == PASSED else "failed",
                            "output": ": ".join(filter(None, [p.status, p.message]))
-                           + (f" (hint: {p.hint})" if p.hint else "")}
-                          for p in self.parts]}
+                           + (f" (hint: {p.hint})" if p.hint else ""),
+                           "visibility": "visible"}
+                          for p in self.parts],
+                "extra_data": {"exercise": ex.name, "file": self.file,
+                               "problem": self.problem}}
+
+
+def _number(value: float) -> str:
+    return f"{value:g}"
 
 
 def _encode(value):
@@ -115,8 +140,23 @@ def _has_sympy() -> bool:
     return True
 
 
+@dataclass(frozen=True)
+class _Plan:
+    """A part's calls: its cases and their ids, its symbolic call, its probes."""
+
+    cases: list
+    ids: list
+    symbolic: int | None
+    probes: list = field(default_factory=list)
+    probe_ids: list = field(default_factory=list)
+
+    def all_ids(self) -> list[int]:
+        return [*self.ids, *([self.symbolic] if self.symbolic is not None else []),
+                *self.probe_ids]
+
+
 def _calls(exercise: Exercise, seed: int) -> tuple[list[dict], dict]:
-    """The calls for the child, and per part its cases and the id of its symbolic call."""
+    """The calls for the child, and per part its :class:`_Plan`."""
     rng = np.random.default_rng(seed)
     calls: list[dict] = []
     plan: dict = {}
@@ -136,7 +176,15 @@ def _calls(exercise: Exercise, seed: int) -> tuple[list[dict], dict]:
             calls.append({"id": symbolic, "function": part.function,
                           "args": [{"symbols": n} if isinstance(n, list) else {"symbol": n}
                                    for n in names], "reference": sp.srepr(reference)})
-        plan[part.letter] = (cases, ids, symbolic)
+        probes = part.probes(rng) if part.probes is not None else []
+        probe_ids = []
+        for probe in probes:
+            probe_ids.append(len(calls))
+            calls.append({"id": len(calls), "function": part.function,
+                          "args": [_encode(a) for a in probe.args],
+                          "substitutes": {name: _encode(np.asarray(value, dtype=float))
+                                          for name, value in probe.substitutes.items()}})
+        plan[part.letter] = _Plan(cases, ids, symbolic, probes, probe_ids)
     return calls, plan
 
 
@@ -165,8 +213,7 @@ def _run(path: Path, calls: list[dict], plan: dict, timeout: float, graded: bool
     part: a part that runs out of time (or ends the process) is ended with the process,
     and a new process runs the parts after it."""
     outcome = _Outcome()
-    part_of = {i: letter for letter, (_, ids, symbolic) in plan.items()
-               for i in [*ids, *([symbolic] if symbolic is not None else [])]}
+    part_of = {i: letter for letter, part in plan.items() for i in part.all_ids()}
     pending = list(calls)
     while pending:
         done = _run_once(path, pending, part_of, timeout, graded, outcome)
@@ -407,7 +454,8 @@ def diagnose(part: Part, args: tuple, got, expected) -> str:
 
 
 def check(exercise: Exercise, path: str | os.PathLike, timeout: float = 10.0,
-          seed: int = 2026, graded: bool = False) -> Report:
+          seed: int = 2026, graded: bool = False,
+          points: dict[str, float] | None = None) -> Report:
     """Check the student's file ``path`` (``.py`` or ``.ipynb``) for ``exercise``.
 
     The file runs in a process of its own, in a scratch folder holding only a copy of it,
@@ -421,6 +469,7 @@ def check(exercise: Exercise, path: str | os.PathLike, timeout: float = 10.0,
         seed: seed of the random configurations.
         graded: confine the file (:mod:`flexmbd.course.sandbox`): no flexmbd beyond the
             template's helper, no writes outside its scratch folder, no processes.
+        points: points per part letter (default 1 each).
     """
     path = Path(path)
     if not path.is_file():
@@ -433,11 +482,10 @@ def check(exercise: Exercise, path: str | os.PathLike, timeout: float = 10.0,
     calls, plan = _calls(exercise, seed)
     begun = time.monotonic()
     outcome = _run(path.resolve(), calls, plan, timeout, graded)
-    report = Report(exercise, str(path), problem=outcome.problem)
+    report = Report(exercise, str(path), problem=outcome.problem, points=dict(points or {}))
     for part in exercise.parts:
-        cases, ids, symbolic = plan[part.letter]
         try:
-            verdict = _part(part, cases, ids, symbolic, outcome)
+            verdict = _part(part, plan[part.letter], outcome)
         except Exception as error:  # the checker's own failure must not lose the report
             verdict = PartReport(part.letter, part.function, FAILED,
                                  f"the checker could not compare this answer "
@@ -447,12 +495,15 @@ def check(exercise: Exercise, path: str | os.PathLike, timeout: float = 10.0,
     return report
 
 
-def _part(part: Part, cases, ids, symbolic_id, outcome: _Outcome) -> PartReport:
+def _part(part: Part, plan: _Plan, outcome: _Outcome) -> PartReport:
     """One part's outcome from its records."""
     def result(status, message="", hint=""):
         return PartReport(part.letter, part.function, status, message, hint)
 
-    for args, call in zip(cases, ids, strict=True):
+    checks = [(args, call, None) for args, call in zip(plan.cases, plan.ids, strict=True)]
+    checks += [(probe.args, call, probe)
+               for probe, call in zip(plan.probes, plan.probe_ids, strict=True)]
+    for args, call, probe in checks:
         record = outcome.records.get(call)
         if record is None:
             if call in outcome.timed_out:
@@ -479,12 +530,22 @@ def _part(part: Part, cases, ids, symbolic_id, outcome: _Outcome) -> PartReport:
         got = _array(record)
         if got is None:
             return result(FAILED, "returned something that is not numbers")
+        if probe is not None:
+            if not _close(got, probe.expected, part.rtol):
+                unchanged = _close(got, part.answer(*args), part.rtol)
+                return result(FAILED, f"at {_describe(part, args)}, with other values of "
+                                      f"{', '.join(probe.substitutes)}: "
+                                      f"{_first_difference(got, probe.expected, part.rtol)}",
+                              f"{part.function} must be {probe.uses}"
+                              + ("; your answer did not change with them" if unchanged
+                                 else ""))
+            continue
         expected = part.answer(*args)
         if not _close(got, expected, part.rtol):
             return result(FAILED, f"at {_describe(part, args)}: "
                                   f"{_first_difference(got, expected, part.rtol)}",
                           diagnose(part, args, got, expected))
-    symbolic = outcome.records.get(symbolic_id) if symbolic_id is not None else None
+    symbolic = outcome.records.get(plan.symbolic) if plan.symbolic is not None else None
     note = ""
     if symbolic is not None and symbolic.get("symbolic") == "equal":
         note = "SymPy expression algebraically equal to flexmbd's"

@@ -36,6 +36,19 @@ class Mistake:
 
 
 @dataclass(frozen=True)
+class Probe:
+    """A check of a part through what it is made of: the student's function is called with
+    ``args`` while the functions of the student's file named in ``substitutes`` return the
+    given arrays, and must then return ``expected`` (for a part whose answer is zero at
+    every consistent state, the formula shows only with other ingredients)."""
+
+    args: tuple
+    substitutes: dict
+    expected: Any
+    uses: str  #: what the part must be made of, for the message
+
+
+@dataclass(frozen=True)
 class Part:
     """One part of an exercise (see the module docstring).
 
@@ -50,6 +63,7 @@ class Part:
         mistakes: typical wrong answers recognised in a failure.
         angles: indices of the arguments that are angles [rad].
         symbolic: ``() -> (symbol names per argument, reference expression)``.
+        probes: ``probes(rng)``, the :class:`Probe` checks of the part's formula.
         rtol: relative tolerance of the comparison.
     """
 
@@ -63,6 +77,7 @@ class Part:
     mistakes: tuple[Mistake, ...] = field(default=(), repr=False)
     angles: tuple[int, ...] = ()
     symbolic: Callable[[], tuple[Sequence, Any]] | None = field(default=None, repr=False)
+    probes: Callable[[Any], list[Probe]] | None = field(default=None, repr=False)
     rtol: float = 1e-7
 
 

@@ -12,7 +12,15 @@ import math
 import numpy as np
 
 from ..analysis import kinematics as kin
-from .parts import Exercise, Mistake, lettered, model_answer, model_reference, negated_rows
+from .parts import (
+    Exercise,
+    Mistake,
+    Probe,
+    lettered,
+    model_answer,
+    model_reference,
+    negated_rows,
+)
 
 DRAWN = math.pi / 3  #: the drawn configuration, phi2 = 60 degrees
 
@@ -61,6 +69,28 @@ _QUADRATIC = ("accelerations need the quadratic velocity term: xdd = F_q phi2dd 
               "phi2d^2, i.e. D_c xdd_c = -D_m phi2dd - (D_xx xd) xd")
 
 
+def _probes(rng, second: bool) -> list[Probe]:
+    """E_q and E_qq are zero at every consistent state of the rigid slider-crank, so a
+    formula shows only with other F_q (and F_qq): the student's part is called while its
+    first_order_transfer (and velocities, second_order_transfer) return random ones."""
+    probes = []
+    for phi2 in (DRAWN, rng.uniform(-math.pi, math.pi)):
+        x = configuration(phi2)
+        F, F2 = rng.normal(size=(2, 8, 1))
+        D = kin.jacobian(model(), x)
+        substitutes = {"first_order_transfer": F, "velocities": F[:, 0]}
+        if second:
+            substitutes["second_order_transfer"] = F2
+            expected = D @ F2 + kin.quadratic_velocity(model(), x, F[:, 0])[:, None]
+            uses = ("E_qq = D_x F_qq + (D_xx F_q) F_q made of your parts b, e and g "
+                    "(jacobian, first_order_transfer, second_order_transfer)")
+        else:
+            expected, uses = D @ F, ("E_q = D_x F_q made of your parts b and e (jacobian, "
+                                     "first_order_transfer)")
+        probes.append(Probe((phi2,), substitutes, expected, uses))
+    return probes
+
+
 _deformations = model_answer(model, "deformations")
 _jacobian = model_answer(model, "jacobian")
 
@@ -97,9 +127,9 @@ EXERCISE = Exercise(
              cases=_phi, angles=(0,)),
         dict(function="deformation_transfer", arguments="phi2",
              returns="E_q (4, 1) = D_x F_q (zero: all rigid)",
-             hint="E_q = D_x F_q",
+             hint="E_q = D_x F_q, from your parts b and e",
              answer=lambda phi2: kin.deformation_transfer(model(), configuration(phi2)),
-             cases=_phi, angles=(0,)),
+             cases=_phi, angles=(0,), probes=lambda rng: _probes(rng, second=False)),
         dict(function="second_order_transfer", arguments="phi2",
              returns="F_qq (8, 1): d^2x/dphi2^2",
              hint="the accelerations for phi2d = 1, phi2dd = 0",
@@ -108,8 +138,9 @@ EXERCISE = Exercise(
                                lambda phi2: kin.first_order_transfer(
                                    model(), configuration(phi2))),)),
         dict(function="deformation_second_order", arguments="phi2", returns="E_qq (4, 1)",
-             hint="E_qq = D_x F_qq + (D_xx F_q) F_q",
-             answer=lambda phi2: _second_order(phi2)[1][:, :, 0], cases=_phi, angles=(0,)),
+             hint="E_qq = D_x F_qq + (D_xx F_q) F_q, from your parts b, e and g",
+             answer=lambda phi2: _second_order(phi2)[1][:, :, 0], cases=_phi, angles=(0,),
+             probes=lambda rng: _probes(rng, second=True)),
         dict(function="accelerations", arguments="phi2, phi2d, phi2dd",
              returns="xdd (8,) = F_q phi2dd + F_qq phi2d^2",
              hint="xdd = F_q phi2dd + F_qq phi2d^2",

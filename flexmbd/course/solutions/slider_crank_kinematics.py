@@ -93,7 +93,7 @@ def first_order_transfer(phi2):
 
 
 def deformation_transfer(phi2):
-    """Part f: E_q (4, 1) = D_x F_q."""
+    """Part f: E_q (4, 1) = D_x F_q, from your jacobian() and first_order_transfer()."""
     # BEGIN SOLUTION
     return jacobian(configuration(phi2)) @ first_order_transfer(phi2)
     # END SOLUTION
@@ -124,7 +124,8 @@ def second_order_transfer(phi2):
 
 
 def deformation_second_order(phi2):
-    """Part h: E_qq (4, 1) = D_x F_qq + (D_xx F_q) F_q (zero for rigid beams)."""
+    """Part h: E_qq (4, 1) = D_x F_qq + (D_xx F_q) F_q (zero for rigid beams), from your
+    jacobian(), first_order_transfer() and second_order_transfer() and quadratic()."""
     # BEGIN SOLUTION
     x = configuration(phi2)
     return (jacobian(x) @ second_order_transfer(phi2)
