@@ -212,3 +212,24 @@ def test_grading_a_folder(tmp_path, capsys):
         NOT_DONE)
     printed = capsys.readouterr().out
     assert "graded 4 submissions" in printed and "parts most often not passed" in printed
+
+
+def test_the_package_ships_templates_not_solutions(monkeypatch, tmp_path, capsys):
+    """The solution bodies live in the repository's lecturer/solutions, not in the package
+    students install; the templates it ships are those the solutions make."""
+    from flexmbd.course import EXERCISES, templates
+
+    package = Path(templates.__file__).resolve().parents[1]
+    shipped = [p for p in package.rglob("*.py") if p.name != "templates.py"]
+    assert not [p for p in shipped if "# BEGIN SOLUTION" in p.read_text()]
+    assert not (package / "course" / "solutions").exists()
+    for item in EXERCISES.values():
+        assert templates.template_source(item) == templates.make_template(
+            item, templates.solution_source(item)), "run python -m flexmbd.course.templates"
+    monkeypatch.setattr(templates, "REPOSITORY_SOLUTIONS", tmp_path / "nowhere")
+    monkeypatch.delenv("FLEXMBD_SOLUTIONS", raising=False)
+    assert main(["exercise", "solution", "2", str(tmp_path)]) == 2
+    assert "lecturer/solutions" in capsys.readouterr().err
+    given = Path(__file__).resolve().parents[1] / "lecturer" / "solutions"
+    assert main(["exercise", "solution", "2", str(tmp_path), "--from", str(given)]) == 0
+    assert (tmp_path / "slider_crank_kinematics_solution.py").read_text() == SOLUTION

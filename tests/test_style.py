@@ -17,7 +17,7 @@ def test_ruff_is_clean():
     if ruff is None:
         pytest.skip("ruff is not installed (it comes with the test extra)")
     done = subprocess.run([ruff, "check", "flexmbd", "examples", "tests", "benchmarks", "docs",
-                           ".ci"],
+                           ".ci", "lecturer"],
                           cwd=ROOT, capture_output=True, text=True)
     assert done.returncode == 0, done.stdout + done.stderr
 

@@ -33,6 +33,11 @@ def add_commands(commands) -> None:
                          help="where to write it (default: the current directory)")
         sub.add_argument("--notebook", action="store_true", help="write a .ipynb notebook")
         sub.add_argument("--force", action="store_true", help="overwrite an existing file")
+        if action == "solution":
+            sub.add_argument("--from", dest="solutions", metavar="DIR",
+                             help="the solutions (default: FLEXMBD_SOLUTIONS, or the source "
+                                  "repository's lecturer/solutions); they are not in the "
+                                  "installed package")
     check = actions.add_parser(
         "check", help="check a completed file part by part",
         description="Run FILE (.py or .ipynb) in a separate process, in a scratch folder, "
@@ -116,7 +121,8 @@ def _write(chosen, args) -> int:
     target = directory / f"{chosen.module}{suffix}{'.ipynb' if args.notebook else '.py'}"
     if target.exists() and not args.force:
         raise ArgumentError("directory", f"{target} exists; give --force to overwrite it")
-    source = solution_source(chosen) if args.action == "solution" else template_source(chosen)
+    source = (solution_source(chosen, args.solutions) if args.action == "solution"
+              else template_source(chosen))
     directory.mkdir(parents=True, exist_ok=True)
     target.write_text(notebook(source) if args.notebook else source, encoding="utf-8")
     print(f"wrote {target}")

@@ -1,36 +1,73 @@
 """Exercise files: the solution, the template made from it, and notebooks.
 
-A solution file (:mod:`flexmbd.course.solutions`) marks the student's formulas with
-``# BEGIN SOLUTION`` / ``# END SOLUTION`` inside the part's function, as nbgrader and
-otter-grader do. The template replaces each marked block with a call of
-:func:`~flexmbd.course.student.not_done` carrying the part's letter and hint, so it runs
-as written and says which part is missing. Files are in the "percent" format
-(``# %%`` starts a code cell, ``# %% [markdown]`` a text cell), which Jupyter,
-VS Code and jupytext read; :func:`notebook` turns one into an ``.ipynb``.
+A solution file marks the student's formulas with ``# BEGIN SOLUTION`` / ``# END
+SOLUTION`` inside the part's function, as nbgrader and otter-grader do. The template
+replaces each marked block with a call of :func:`~flexmbd.course.student.not_done`
+carrying the part's letter and hint, so it runs as written and says which part is
+missing. Files are in the "percent" format (``# %%`` starts a code cell, ``# %%
+[markdown]`` a text cell), which Jupyter, VS Code and jupytext read; :func:`notebook`
+turns one into an ``.ipynb``.
+
+The solutions are not in the installed package, which students install too: they are
+in the source repository's ``lecturer/solutions/``. The package ships the templates made
+from them (``flexmbd/course/handouts/``); ``python -m flexmbd.course.templates`` makes
+them again after a solution changed.
 """
 
 from __future__ import annotations
 
 import json
+import os
 import re
+import sys
 from importlib import resources
+from pathlib import Path
 
-from ..errors import InputFileError
+from ..errors import ArgumentError, InputFileError
 from .parts import Exercise
 
 _BEGIN, _END = "# BEGIN SOLUTION", "# END SOLUTION"
 _DEF = re.compile(r"^def (\w+)\(")
 
 
-def solution_source(exercise: Exercise) -> str:
-    """The completed file of ``exercise`` (text of a Python script)."""
-    return (resources.files("flexmbd.course.solutions") / f"{exercise.module}.py").read_text()
+#: the solutions in the source repository, beside the package
+REPOSITORY_SOLUTIONS = Path(__file__).resolve().parents[2] / "lecturer" / "solutions"
+
+
+def solutions_directory(given: str | os.PathLike | None = None) -> Path:
+    """Where the solutions are: ``given``, else ``FLEXMBD_SOLUTIONS``, else the source
+    repository's ``lecturer/solutions`` when flexmbd runs from a clone.
+
+    Raises:
+        ArgumentError: none of them holds the solutions (an installed package has none).
+    """
+    for candidate in (given, os.environ.get("FLEXMBD_SOLUTIONS"), REPOSITORY_SOLUTIONS):
+        if candidate and (Path(candidate) / "sliding_bar.py").is_file():
+            return Path(candidate)
+    if given:
+        raise ArgumentError("--from", f"{given} holds no solutions (sliding_bar.py, ...)")
+    raise ArgumentError("solution", "the solutions are not in the installed package (students "
+                                    "install it too); lecturers find them in flexmbd's source "
+                                    "repository, lecturer/solutions/: clone it and give "
+                                    "--from CLONE/lecturer/solutions (or set "
+                                    "FLEXMBD_SOLUTIONS)")
+
+
+def solution_source(exercise: Exercise, directory: str | os.PathLike | None = None) -> str:
+    """The completed file of ``exercise`` (text of a Python script), from
+    :func:`solutions_directory`."""
+    return (solutions_directory(directory) / f"{exercise.module}.py").read_text()
 
 
 def template_source(exercise: Exercise) -> str:
-    """The template: the solution with every marked block replaced by "not done yet"."""
+    """The template of ``exercise``, as the package ships it."""
+    return (resources.files("flexmbd.course") / "handouts" / f"{exercise.module}.py").read_text()
+
+
+def make_template(exercise: Exercise, solution: str) -> str:
+    """The template of a solution's text: every marked block replaced by "not done yet"."""
     parts = {part.function: part for part in exercise.parts}
-    lines, out, function, inside = solution_source(exercise).splitlines(), [], None, False
+    lines, out, function, inside = solution.splitlines(), [], None, False
     for number, line in enumerate(lines, 1):
         match = _DEF.match(line)
         if match:
@@ -95,3 +132,22 @@ def notebook_code(text: str) -> list[str]:
         out.append("\n".join(line for line in source.splitlines()
                              if not line.lstrip().startswith(("%", "!"))))
     return out
+
+
+def write_handouts(directory: str | os.PathLike | None = None) -> list[Path]:
+    """Make every template again from the solutions into ``flexmbd/course/handouts``."""
+    from .catalogue import EXERCISES
+
+    target = Path(__file__).resolve().parent / "handouts"
+    target.mkdir(exist_ok=True)
+    written = []
+    for exercise in EXERCISES.values():
+        path = target / f"{exercise.module}.py"
+        path.write_text(make_template(exercise, solution_source(exercise, directory)))
+        written.append(path)
+    return written
+
+
+if __name__ == "__main__":
+    for written_path in write_handouts(sys.argv[1] if len(sys.argv) > 1 else None):
+        print(f"wrote {written_path}")
