@@ -233,3 +233,76 @@ def test_the_package_ships_templates_not_solutions(monkeypatch, tmp_path, capsys
     given = Path(__file__).resolve().parents[1] / "lecturer" / "solutions"
     assert main(["exercise", "solution", "2", str(tmp_path), "--from", str(given)]) == 0
     assert (tmp_path / "slider_crank_kinematics_solution.py").read_text() == SOLUTION
+
+
+NEWTON = "    x = drawn_guess(phi2)\n    x[[0, 1, 2, 7]] = [0.0, 0.0, phi2, 0.0]\n"
+
+
+def test_hints_where_students_get_stuck(tmp_path):
+    """A missing return, F_qq = 0, a loose Newton tolerance, and the parts that fail
+    because an earlier one does."""
+    path = _submission(tmp_path, "stuck", [
+        (F_Q, "    velocities(phi2, 1.0)[:, None]\n"),
+        ("    F_qq[DEPENDENT] = np.linalg.solve(D[:, DEPENDENT], -quadratic(x, velocities(phi2, "
+         "1.0)))\n", ""),
+    ])
+    verdicts = _verdicts(check(KINEMATICS, path))
+    assert "returned None" in verdicts["e"].message and "return" in verdicts["e"].hint
+    assert "F_qq is not zero" in verdicts["g"].hint
+    assert "uses 2e (first_order_transfer)" in verdicts["f"].hint and "fix it first" in \
+        verdicts["f"].hint
+    assert "2e (first_order_transfer)" in verdicts["i"].hint   # it failed there first
+    loose = _submission(tmp_path, "loose", [("if np.max(np.abs(e)) < 1e-13:",
+                                             "if np.max(np.abs(e)) < 1e-3:")])
+    part = _verdicts(check(KINEMATICS, loose))["c"]
+    assert part.status == FAILED and "tighten its tolerance" in part.hint
+
+
+def test_the_same_configuration_a_turn_away_passes(tmp_path):
+    """A Newton start at phi4 + 2 pi converges to the same configuration."""
+    path = _submission(tmp_path, "turned", [(NEWTON, NEWTON + "    x[5] += 2 * np.pi\n")])
+    assert _verdicts(check(KINEMATICS, path))["c"].status == PASSED
+
+
+def test_a_load_failure_is_reported_as_such(tmp_path):
+    """Parts after a failing import are 'not defined: the file stopped loading', not 'not
+    done'; input() says why it fails; display() works as in a notebook."""
+    stopped = _submission(tmp_path, "stopped", [
+        ("def velocities(phi2, phi2d):", "import nosuchmodule\n\n\ndef velocities(phi2, phi2d):")])
+    report = check(KINEMATICS, stopped)
+    assert "ModuleNotFoundError" in report.problem and "line" in report.problem
+    verdicts = _verdicts(report)
+    assert verdicts["a"].status == PASSED
+    assert verdicts["d"].status == FAILED and "stopped loading" in verdicts["d"].message
+    asking = _submission(tmp_path, "asking", extra="\nN = int(input('how many? '))\n")
+    assert "input() waits for a keyboard" in check(KINEMATICS, asking).problem
+    shown = _submission(tmp_path, "shown", extra="\ndisplay(deformations(drawn_guess(1.0)))\n")
+    report = check(KINEMATICS, shown)
+    assert report.problem is None and report.score == report.max_score
+
+
+def test_half_the_velocity_terms_of_4f_are_recognised():
+    """The two velocity terms of 4f's right-hand side, each left out, are named."""
+    from flexmbd.course import slider_crank_flex as flex
+    from flexmbd.course.check import diagnose
+
+    item = exercise("slider-crank-flex")
+    part = item.part("f")
+    args = part.cases(__import__("numpy").random.default_rng(3))[1]
+    expected = part.answer(*args)
+    for keep, words in (("h", "only the first"), ("F_qq", "only the second")):
+        hint = diagnose(part, args, flex.half_velocity_terms(*args, keep=keep), expected)
+        assert "half of the velocity terms" in hint and words in hint
+
+
+def test_notebook_templates_have_a_cell_per_part():
+    from flexmbd.course import EXERCISES
+    from flexmbd.course.templates import notebook
+
+    for item in EXERCISES.values():
+        cells = ["".join(c["source"]) for c in json.loads(notebook(template_source(item)))[
+            "cells"] if c["cell_type"] == "code"]
+        for part in item.parts:
+            holding = [c for c in cells if f"def {part.function}(" in c]
+            assert len(holding) == 1
+            assert sum(f"def {p.function}(" in holding[0] for p in item.parts) == 1

@@ -408,6 +408,22 @@ def _describe(part: Part, args: tuple) -> str:
     return ", ".join(shown)
 
 
+def _unwrapped(got, expected, angles) -> np.ndarray:
+    """``got`` with its angle entries ``angles`` turned by whole turns to the nearest of
+    ``expected``'s."""
+    if isinstance(got, tuple) or isinstance(expected, tuple):
+        return got
+    expected = np.asarray(expected, dtype=float)
+    got = _conform(got, expected)
+    if got.shape != expected.shape:
+        return got
+    flat, wanted = got.astype(float).ravel().copy(), expected.ravel()
+    for i in angles:
+        if i < flat.size and np.isfinite(flat[i]):
+            flat[i] -= 2 * np.pi * np.round((flat[i] - wanted[i]) / (2 * np.pi))
+    return flat.reshape(got.shape)
+
+
 def diagnose(part: Part, args: tuple, got, expected) -> str:
     """The hint for a wrong answer that matches a typical mistake, or ``""``."""
     def matches(wrong):
@@ -450,6 +466,9 @@ def diagnose(part: Part, args: tuple, got, expected) -> str:
                     f"{order}; order them as the coordinates ({part.arguments}) are")
     if matches(-expected):
         return "the sign is reversed: check the direction of d = r_q - r_p and of the normals"
+    if got.shape == expected.shape and _close(got, expected, 1e-3):
+        return (f"close to the answer but not within the check's relative {part.rtol:g}: if "
+                f"the part iterates (Newton-Raphson), tighten its tolerance (|e| < 1e-12)")
     return ""
 
 
@@ -491,8 +510,33 @@ def check(exercise: Exercise, path: str | os.PathLike, timeout: float = 10.0,
                                  f"the checker could not compare this answer "
                                  f"({type(error).__name__}: {error})")
         report.parts.append(verdict)
+    report.parts = _knock_on(exercise, plan, outcome, report.parts)
     report.seconds = time.monotonic() - begun
     return report
+
+
+def _knock_on(exercise: Exercise, plan: dict, outcome: _Outcome,
+              verdicts: list[PartReport]) -> list[PartReport]:
+    """A failed part that used failed earlier parts says so: fix those first."""
+    failed = {v.letter for v in verdicts if v.status != PASSED}
+    letter_of = {p.function: p.letter for p in exercise.parts}
+    out = []
+    for verdict in verdicts:
+        uses = set()
+        for call in plan[verdict.letter].all_ids():
+            record = outcome.records.get(call)
+            if isinstance(record, dict) and isinstance(record.get("uses"), list):
+                uses |= {letter_of[f] for f in record["uses"] if f in letter_of}
+        culprits = sorted(uses & failed - {verdict.letter})
+        if verdict.status == FAILED and culprits:
+            names = ", ".join(f"{exercise.number}{k} ({exercise.part(k).function})"
+                              for k in culprits)
+            note = f"it uses {names}, which {'fail' if len(culprits) > 1 else 'fails'}: " \
+                   f"fix {'them' if len(culprits) > 1 else 'it'} first"
+            verdict = PartReport(verdict.letter, verdict.function, verdict.status,
+                                 verdict.message, "; ".join(filter(None, [note, verdict.hint])))
+        out.append(verdict)
+    return out
 
 
 def _part(part: Part, plan: _Plan, outcome: _Outcome) -> PartReport:
@@ -516,7 +560,14 @@ def _part(part: Part, plan: _Plan, outcome: _Outcome) -> PartReport:
                 return result(FAILED, "not run: the file did not load")
             return result(FAILED, "not run: an earlier call of this part stopped the file")
         if record.get("missing"):
+            if outcome.problem:
+                return result(FAILED, f"not defined: the file stopped loading before "
+                                      f"{part.function}() ({outcome.problem})")
             return result(NOT_DONE, f"no function {part.function}() in the file")
+        if record.get("none"):
+            return result(FAILED, f"returned None for {_describe(part, args)}",
+                          "a missing return statement? end the function with "
+                          "`return <the answer>`")
         if "not_done" in record:
             return result(NOT_DONE, str(record["not_done"]).removeprefix(
                 f"part {part.letter} not done yet: "))
@@ -541,6 +592,8 @@ def _part(part: Part, plan: _Plan, outcome: _Outcome) -> PartReport:
                                  else ""))
             continue
         expected = part.answer(*args)
+        if part.wrapped is not None:
+            got = _unwrapped(got, expected, part.wrapped(*args))
         if not _close(got, expected, part.rtol):
             return result(FAILED, f"at {_describe(part, args)}: "
                                   f"{_first_difference(got, expected, part.rtol)}",

@@ -64,6 +64,9 @@ class Part:
         angles: indices of the arguments that are angles [rad].
         symbolic: ``() -> (symbol names per argument, reference expression)``.
         probes: ``probes(rng)``, the :class:`Probe` checks of the part's formula.
+        wrapped: ``wrapped(*args)``, the indices of the answer's (flattened) entries that are
+            angles: they are compared modulo ``2 pi`` (a Newton start a turn away gives
+            the same configuration).
         rtol: relative tolerance of the comparison.
     """
 
@@ -78,6 +81,7 @@ class Part:
     angles: tuple[int, ...] = ()
     symbolic: Callable[[], tuple[Sequence, Any]] | None = field(default=None, repr=False)
     probes: Callable[[Any], list[Probe]] | None = field(default=None, repr=False)
+    wrapped: Callable[..., Sequence[int]] | None = field(default=None, repr=False)
     rtol: float = 1e-7
 
 

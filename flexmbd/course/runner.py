@@ -75,7 +75,9 @@ def _message(error: BaseException, path: str) -> str:
 
 def encode(result) -> dict:
     """A result as JSON: ``{"array", "shape"}`` (NaN and infinities kept), ``{"tuple"}``,
-    ``{"sympy"}`` or ``{"garbage"}`` for anything that is not numbers."""
+    ``{"sympy"}``, ``{"none"}`` or ``{"garbage"}`` for anything that is not numbers."""
+    if result is None:
+        return {"none": True}
     sp = sys.modules.get("sympy")   # an answer in SymPy was made with an imported SymPy
     if sp is not None and isinstance(result, sp.Basic | sp.MatrixBase) \
             and getattr(result, "free_symbols", None):
@@ -118,11 +120,23 @@ def compare_symbolic(result, reference: str) -> str:
     return "equal" if zero else "different"
 
 
+def _no_input(prompt=""):
+    raise RuntimeError("input() waits for a keyboard, which a check has not: give the "
+                       "value in the file")
+
+
+def _display(*objects, **options):
+    """Jupyter's ``display`` outside Jupyter: printed (and dropped, as all output)."""
+    print(*objects)
+
+
 def load(path: str) -> tuple[dict, str | None]:
     """Run the student's file (script or notebook); returns its namespace and the error
     that stopped it, if any. A notebook's cells run one by one; a failing cell is
-    noted and the next ones still run."""
-    namespace = {"__name__": "student_exercise", "__file__": path}
+    noted and the next ones still run. ``input()`` fails with its reason and
+    ``display()`` works as in a notebook."""
+    namespace = {"__name__": "student_exercise", "__file__": path, "input": _no_input,
+                 "display": _display}
     with open(path, encoding="utf-8", errors="replace") as handle:
         text = handle.read()
     if path.endswith(".ipynb"):
@@ -144,6 +158,23 @@ def load(path: str) -> tuple[dict, str | None]:
             cell = f"cell {number}: " if len(blocks) > 1 else ""
             problems.append(cell + _message(error, path))
     return namespace, "; ".join(problems) or None
+
+
+def _track(namespace: dict, names: set) -> set:
+    """Wrap the student's functions of the parts so that a call records which of them it
+    used (for "part c fails and d uses it"); returns the set they are recorded in."""
+    used: set = set()
+
+    def tracked(name, function):
+        def call(*args, **kwargs):
+            used.add(name)
+            return function(*args, **kwargs)
+        return call
+
+    for name in names:
+        if callable(namespace.get(name)):
+            namespace[name] = tracked(name, namespace[name])
+    return used
 
 
 def _returning(value):
@@ -181,8 +212,10 @@ def main(path: str, request: str) -> None:
         confine(spec["scratch"])
     namespace, problem = load(path)
     write({"loaded": True, "problem": problem})
+    used = _track(namespace, {call["function"] for call in spec["calls"]})
     for call in spec["calls"]:
         write({"id": call["id"], "started": True})
+        used.clear()
         function = namespace.get(call["function"])
         if not callable(function):
             write({"id": call["id"], "missing": True})
@@ -202,6 +235,7 @@ def main(path: str, request: str) -> None:
                 record = {"error": _message(error, path)}
         finally:
             namespace.update(saved)
+        record["uses"] = sorted(used - {call["function"]})
         write({"id": call["id"], **record})
     out.close()
 

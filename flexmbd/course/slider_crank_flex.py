@@ -77,6 +77,28 @@ def dynamic_accelerations(x, qd, quadratic=True):
     return np.linalg.solve(Mbar[1:, 1:], -run.driving[0, 1:])
 
 
+def half_velocity_terms(x, qd, keep: str):
+    """:func:`dynamic_accelerations` with one of the two velocity terms of ``f_d`` left out:
+    ``keep="h"`` drops ``-F_q^T M (F_qq qd) qd``, ``keep="F_qq"`` drops ``-F_q^T h``."""
+    x, qd = np.asarray(x, dtype=float), np.asarray(qd, dtype=float)
+    m = model()
+    F_q = kin.first_order_transfer(m, x)
+    F_qq = kin.second_order_transfer(m, x)[0]
+    M, h, _ = Engine(m).mass(x, F_q @ qd)
+    term = {"h": F_q.T @ (M @ np.einsum("ijk,j,k->i", F_qq, qd, qd)),
+            "F_qq": F_q.T @ h}[keep]
+    Mbar = reduced_mass_matrix(m, x)
+    full = Mbar[1:, 1:] @ dynamic_accelerations(x, qd)
+    return np.linalg.solve(Mbar[1:, 1:], full + term[1:])
+
+
+def _angles(q, nbeams=1, eps1flex=False) -> list[int]:
+    """The coordinates of the rotational nodes in ``x`` of ``nbeams`` beams."""
+    m = model(int(nbeams), bool(eps1flex))
+    return [i for node in m.nodes.values() if node.kind == "rotational"
+            for i in node.coordinates]
+
+
 def midpoint(x, nbeams):
     from ..examples.slider_crank_flex import midpoint_deflection
 
@@ -177,13 +199,21 @@ EXERCISE = Exercise(
              cases=lambda rng: [(configuration(q), np.array([150.0, *rng.uniform(-5, 5, 2)]))
                                 for q in _q(rng)],
              mistakes=(Mistake(_QUADRATIC, functools.partial(dynamic_accelerations,
-                                                             quadratic=False)),)),
+                                                             quadratic=False)),
+                       Mistake("half of the velocity terms: f_d needs both -F_q^T h (the "
+                               "beam's own) and -F_q^T M (F_qq qd) qd (from the motion of "
+                               "the coordinates); yours has only the first",
+                               functools.partial(half_velocity_terms, keep="h")),
+                       Mistake("half of the velocity terms: f_d needs both -F_q^T h (the "
+                               "beam's own) and -F_q^T M (F_qq qd) qd (from the motion of "
+                               "the coordinates); yours has only the second",
+                               functools.partial(half_velocity_terms, keep="F_qq")))),
         dict(function="positions", arguments="q, nbeams, eps1flex",
              returns="x [m, rad] for nbeams beams by Newton-Raphson, q = [phi2, the beams' "
                      "(e1,) e2, e3]",
              hint="Newton on [e(o); e(m) - q_e] = 0 for the dependent coordinates, from the "
                   "straight rod",
-             answer=configuration, cases=_positions_cases, angles=(0,)),
+             answer=configuration, cases=_positions_cases, angles=(0,), wrapped=_angles),
         dict(function="midpoint_deflection", arguments="x, nbeams",
              returns="v/l2 [-] at the rod's middle (a node for even nbeams, the middle beam's "
                      "Hermite point for odd)",

@@ -113,7 +113,8 @@ EXERCISE = Exercise(
              returns="(x3, y3, phi4, x5) by Newton-Raphson",
              hint="Newton on e = 0 for the dependent coordinates, from the drawn "
                   "configuration",
-             answer=lambda phi2: configuration(phi2)[[3, 4, 5, 6]], cases=_phi, angles=(0,)),
+             answer=lambda phi2: configuration(phi2)[[3, 4, 5, 6]], cases=_phi, angles=(0,),
+             wrapped=lambda phi2: (2,)),
         dict(function="velocities", arguments="phi2, phi2d",
              returns="xd (8,) from the partitioned Jacobian",
              hint="D_c xd_c = -D_m phi2d; the fixed rates are 0",
@@ -136,7 +137,10 @@ EXERCISE = Exercise(
              answer=lambda phi2: _second_order(phi2)[0][:, :, 0], cases=_phi, angles=(0,),
              mistakes=(Mistake("F_qq is the derivative of F_q along phi2, not F_q itself",
                                lambda phi2: kin.first_order_transfer(
-                                   model(), configuration(phi2))),)),
+                                   model(), configuration(phi2))),
+                       Mistake("F_qq is not zero: the crank turning at a constant rate still "
+                               "accelerates the rod and the slider (D_c F_qq_c = -(D_xx F_q) "
+                               "F_q)", lambda phi2: np.zeros((8, 1))))),
         dict(function="deformation_second_order", arguments="phi2", returns="E_qq (4, 1)",
              hint="E_qq = D_x F_qq + (D_xx F_q) F_q, from your parts b, e and g",
              answer=lambda phi2: _second_order(phi2)[1][:, :, 0], cases=_phi, angles=(0,),

@@ -80,6 +80,7 @@ def rod_mass_lumped(x):
     # END SOLUTION
 
 
+# %%
 def rod_mass_consistent(x):
     """Part b: M (5, 5) of the rod, consistent: m2/6 [[2I, I], [I, 2I]] over (r_A, r_B)."""
     # BEGIN SOLUTION
@@ -98,24 +99,27 @@ def system_mass(x, rod_mass):
     return M
 
 
+# %%
 def reduced_mass_lumped(phi2):
-    """Part c: Mbar (1, 1) [kg m^2] with the lumped rod."""
+    """Part c: Mbar (1, 1) [kg m^2] with the lumped rod. Uses part a."""
     # BEGIN SOLUTION
     x, F_q, _ = transfer(phi2)
     return np.array([[F_q @ system_mass(x, rod_mass_lumped) @ F_q]])
     # END SOLUTION
 
 
+# %%
 def reduced_mass_consistent(phi2):
-    """Part d: Mbar (1, 1) [kg m^2] with the consistent rod."""
+    """Part d: Mbar (1, 1) [kg m^2] with the consistent rod. Uses part b."""
     # BEGIN SOLUTION
     x, F_q, _ = transfer(phi2)
     return np.array([[F_q @ system_mass(x, rod_mass_consistent) @ F_q]])
     # END SOLUTION
 
 
+# %%
 def driving_torque(phi2, phi2d, phi2dd):
-    """Part e: tau2 [N m] for the crank motion (phi2, phi2d, phi2dd)."""
+    """Part e: tau2 [N m] for the crank motion (phi2, phi2d, phi2dd). Uses part b."""
     # BEGIN SOLUTION
     x, F_q, F_qq = transfer(phi2)
     xdd = F_q * phi2dd + F_qq * phi2d**2
@@ -123,6 +127,7 @@ def driving_torque(phi2, phi2d, phi2dd):
     # END SOLUTION
 
 
+# %%
 def constraint_stresses(phi2, phi2d, phi2dd):
     """Part f: sigma(o) (4,) [N, N m] of the rigid deformations."""
     # BEGIN SOLUTION
@@ -132,6 +137,7 @@ def constraint_stresses(phi2, phi2d, phi2dd):
     # END SOLUTION
 
 
+# %%
 def reactions(phi2, phi2d, phi2dd):
     """Part g: f(o) (3,) [N] on x1, y1 and y5."""
     # BEGIN SOLUTION
@@ -142,8 +148,9 @@ def reactions(phi2, phi2d, phi2dd):
     # END SOLUTION
 
 
+# %%
 def crank_acceleration(phi2, phi2d, tau2):
-    """Part h: phi2dd [rad/s^2] under the crank torque tau2 [N m]."""
+    """Part h: phi2dd [rad/s^2] under the crank torque tau2 [N m]. Uses part b."""
     # BEGIN SOLUTION
     x, F_q, F_qq = transfer(phi2)
     M = system_mass(x, rod_mass_consistent)

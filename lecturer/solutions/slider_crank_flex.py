@@ -9,6 +9,12 @@
 # node order. Part 1 (a-f): one beam, `q = [phi2, e2, e3]`; part 2 (g-h): `nbeams`
 # beams, elongation rigid or flexible (`eps1flex`). Check your file with
 # `flexmbd exercise check slider-crank-flex THIS_FILE`.
+#
+# Sign convention of the bending deformations: this flexible beam's are
+# `e2 = -n_p . d` and `e3 = n_q . d` (`e2 ~ l theta_p`, `e3 ~ -l theta_q`), with `n`
+# the left normal of a node's tangent and `d = r_q - r_p`; exercise 2's rigid beam
+# has `e2 = +n_p . d`. The elastic law of the bending pair is
+# `[s2, s3] = EI / l^3 [[4, -2], [-2, 4]] [e2, e3]` (part f needs it).
 
 # %%
 import numpy as np
@@ -44,8 +50,9 @@ def beam_deformations(xe, l0=L2):
     # END SOLUTION
 
 
+# %%
 def beam_jacobian(xe, l0=L2):
-    """Part b: D_x (3, 6)."""
+    """Part b: D_x (3, 6), the derivative of part a."""
     # BEGIN SOLUTION
     d = xe[3:5] - xe[0:2]
     e_l = d / np.hypot(*d)
@@ -56,6 +63,7 @@ def beam_jacobian(xe, l0=L2):
     # END SOLUTION
 
 
+# %%
 def beam_quadratic(xe, xed, l0=L2):
     """Part c: (D_xx xed) xed (3,)."""
     # BEGIN SOLUTION
@@ -69,6 +77,7 @@ def beam_quadratic(xe, xed, l0=L2):
     # END SOLUTION
 
 
+# %%
 def beam_mass(xe, xed, m=M2, l0=L2):
     """Part d: (M (6, 6), h (6,)), the beam's consistent mass and velocity term."""
     # BEGIN SOLUTION
@@ -116,8 +125,9 @@ def one_beam_jacobian(x):
     return D
 
 
+# %%
 def transfer(x):
-    """Part e: F_q (9, 3) at x, q = [phi2, e2, e3]."""
+    """Part e: F_q (9, 3) at x, q = [phi2, e2, e3]. Uses part b (D_x)."""
     # BEGIN SOLUTION
     D = one_beam_jacobian(x)
     rhs = np.zeros((5, 3))
@@ -130,8 +140,10 @@ def transfer(x):
     # END SOLUTION
 
 
+# %%
 def dynamic_accelerations(x, qd):
-    """Part f: (e2dd, e3dd) [m/s^2] at constant crank speed (phi2dd = 0)."""
+    """Part f: (e2dd, e3dd) [m/s^2] at constant crank speed (phi2dd = 0). Uses parts a to e;
+    the stresses are [s2, s3] = EI / L2^3 [[4, -2], [-2, 4]] [e2, e3]."""
     # BEGIN SOLUTION
     F_q = transfer(x)
     xd = F_q @ qd
@@ -179,6 +191,7 @@ def all_deformations(x, nbeams):
     return e, D
 
 
+# %%
 def positions(q, nbeams, eps1flex):
     """Part g: x for q = [phi2, per beam (e1,) e2, e3], by Newton-Raphson."""
     # BEGIN SOLUTION
@@ -205,6 +218,7 @@ def positions(q, nbeams, eps1flex):
     # END SOLUTION
 
 
+# %%
 def midpoint_deflection(x, nbeams):
     """Part h: v/l2 at the middle of the rod (THEORY: a node for even nbeams, the middle
     beam's Hermite point at xi = 1/2 for odd)."""

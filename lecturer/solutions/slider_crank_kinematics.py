@@ -38,6 +38,7 @@ def deformations(x):
     # END SOLUTION
 
 
+# %%
 def jacobian(x):
     """Part b: D (4, 8) = de/dx, columns in the order of x."""
     # BEGIN SOLUTION
@@ -53,8 +54,10 @@ def jacobian(x):
     # END SOLUTION
 
 
+# %%
 def positions(phi2):
-    """Part c: (x3, y3, phi4, x5) for the crank angle phi2 [rad], by Newton-Raphson."""
+    """Part c: (x3, y3, phi4, x5) for the crank angle phi2 [rad], by Newton-Raphson.
+    Uses parts a and b."""
     # BEGIN SOLUTION
     x = drawn_guess(phi2)
     x[[0, 1, 2, 7]] = [0.0, 0.0, phi2, 0.0]
@@ -74,8 +77,9 @@ def configuration(phi2):
     return x
 
 
+# %%
 def velocities(phi2, phi2d):
-    """Part d: xd (8,) from the partitioned Jacobian."""
+    """Part d: xd (8,) from the partitioned Jacobian. Uses parts b and c."""
     # BEGIN SOLUTION
     D = jacobian(configuration(phi2))
     xd = np.zeros(8)
@@ -85,13 +89,15 @@ def velocities(phi2, phi2d):
     # END SOLUTION
 
 
+# %%
 def first_order_transfer(phi2):
-    """Part e: F_q (8, 1) = dx/dphi2."""
+    """Part e: F_q (8, 1) = dx/dphi2. Uses part d."""
     # BEGIN SOLUTION
     return velocities(phi2, 1.0)[:, None]
     # END SOLUTION
 
 
+# %%
 def deformation_transfer(phi2):
     """Part f: E_q (4, 1) = D_x F_q, from your jacobian() and first_order_transfer()."""
     # BEGIN SOLUTION
@@ -112,8 +118,10 @@ def quadratic(x, xd):
     return np.array(out)
 
 
+# %%
 def second_order_transfer(phi2):
-    """Part g: F_qq (8, 1) = d^2x/dphi2^2 (the accelerations for phi2d = 1, phi2dd = 0)."""
+    """Part g: F_qq (8, 1) = d^2x/dphi2^2 (the accelerations for phi2d = 1, phi2dd = 0).
+    Uses parts b, c and d."""
     # BEGIN SOLUTION
     x = configuration(phi2)
     D = jacobian(x)
@@ -123,6 +131,7 @@ def second_order_transfer(phi2):
     # END SOLUTION
 
 
+# %%
 def deformation_second_order(phi2):
     """Part h: E_qq (4, 1) = D_x F_qq + (D_xx F_q) F_q (zero for rigid beams), from your
     jacobian(), first_order_transfer() and second_order_transfer() and quadratic()."""
@@ -133,8 +142,9 @@ def deformation_second_order(phi2):
     # END SOLUTION
 
 
+# %%
 def accelerations(phi2, phi2d, phi2dd):
-    """Part i: xdd (8,) = F_q phi2dd + F_qq phi2d^2."""
+    """Part i: xdd (8,) = F_q phi2dd + F_qq phi2d^2. Uses parts e and g."""
     # BEGIN SOLUTION
     return (first_order_transfer(phi2) * phi2dd + second_order_transfer(phi2) * phi2d**2)[:, 0]
     # END SOLUTION

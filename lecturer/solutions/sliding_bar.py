@@ -28,6 +28,7 @@ def truss_elongation(x):
     # END SOLUTION
 
 
+# %%
 def truss_jacobian(x):
     """Part b: D_x (1, 4), the derivative of e1 with respect to x."""
     # BEGIN SOLUTION
@@ -37,8 +38,9 @@ def truss_jacobian(x):
     # END SOLUTION
 
 
+# %%
 def truss_position(x_p):
-    """Part c: y_q [m] for the input x_p, by Newton-Raphson from y_q = 1."""
+    """Part c: y_q [m] for the input x_p, by Newton-Raphson from y_q = 1. Uses parts a, b."""
     # BEGIN SOLUTION
     x = np.array([x_p, 0.0, 0.0, 1.0])
     for _ in range(50):
@@ -50,6 +52,7 @@ def truss_position(x_p):
     # END SOLUTION
 
 
+# %%
 def truss_motion(x_p, xd_p, xdd_p):
     """Part d: (yd_q, ydd_q) [m/s, m/s^2] from the partitioned Jacobian and the quadratic
     velocity term."""
@@ -79,6 +82,7 @@ def rigid_beam_deformations(x):
     # END SOLUTION
 
 
+# %%
 def rigid_beam_jacobian(x):
     """Part f: D_x (2, 5), rows (e1, e2), columns (x_p, y_p, phi_p, x_q, y_q)."""
     # BEGIN SOLUTION
@@ -101,8 +105,10 @@ def _beam_configuration(phi_p):
     return x
 
 
+# %%
 def rigid_beam_position(phi_p):
-    """Part g: (x_p, y_q) [m] for the input phi_p [rad], by Newton-Raphson."""
+    """Part g: (x_p, y_q) [m] for the input phi_p [rad], by Newton-Raphson. Uses parts e
+    and f."""
     # BEGIN SOLUTION
     x = np.array([-L0 * np.cos(phi_p) - 0.1, 0.0, phi_p, 0.0, L0 * np.sin(phi_p) + 0.1])
     for _ in range(50):
@@ -115,6 +121,7 @@ def rigid_beam_position(phi_p):
     # END SOLUTION
 
 
+# %%
 def rigid_beam_velocities(phi_p, omega):
     """Part h: (xd_p, yd_q) [m/s] for phi_p [rad] and omega [rad/s]."""
     # BEGIN SOLUTION
@@ -123,6 +130,7 @@ def rigid_beam_velocities(phi_p, omega):
     # END SOLUTION
 
 
+# %%
 def rigid_beam_quadratic(x, xd):
     """Part i: (D_xx xd) xd (2,) [m/s^2]."""
     # BEGIN SOLUTION
@@ -137,6 +145,7 @@ def rigid_beam_quadratic(x, xd):
     # END SOLUTION
 
 
+# %%
 def rigid_beam_accelerations(phi_p, omega, omegad):
     """Part j: (xdd_p, ydd_q) [m/s^2] for phi_p, omega, omegad."""
     # BEGIN SOLUTION

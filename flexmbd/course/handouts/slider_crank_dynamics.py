@@ -79,6 +79,7 @@ def rod_mass_lumped(x):
     not_done('a', 'm2/2 at each end and the rotary inertia m2 l2^2/12 - m2 l2^2/4 at phi4')
 
 
+# %%
 def rod_mass_consistent(x):
     """Part b: M (5, 5) of the rod, consistent: m2/6 [[2I, I], [I, 2I]] over (r_A, r_B)."""
     # part b: write M (5, 5): consistent rod mass
@@ -93,38 +94,44 @@ def system_mass(x, rod_mass):
     return M
 
 
+# %%
 def reduced_mass_lumped(phi2):
-    """Part c: Mbar (1, 1) [kg m^2] with the lumped rod."""
+    """Part c: Mbar (1, 1) [kg m^2] with the lumped rod. Uses part a."""
     # part c: write Mbar (1, 1) [kg m^2] with the lumped rod
     not_done('c', 'Mbar = F_q^T M F_q with the lumped rod and the slider')
 
 
+# %%
 def reduced_mass_consistent(phi2):
-    """Part d: Mbar (1, 1) [kg m^2] with the consistent rod."""
+    """Part d: Mbar (1, 1) [kg m^2] with the consistent rod. Uses part b."""
     # part d: write Mbar (1, 1) with the consistent rod
     not_done('d', 'Mbar = F_q^T M F_q with the consistent rod and the slider')
 
 
+# %%
 def driving_torque(phi2, phi2d, phi2dd):
-    """Part e: tau2 [N m] for the crank motion (phi2, phi2d, phi2dd)."""
+    """Part e: tau2 [N m] for the crank motion (phi2, phi2d, phi2dd). Uses part b."""
     # part e: write tau2 [N m] (inverse dynamics)
     not_done('e', 'tau2 = Mbar phi2dd + F_q^T (M F_qq phi2d^2 + h)')
 
 
+# %%
 def constraint_stresses(phi2, phi2d, phi2dd):
     """Part f: sigma(o) (4,) [N, N m] of the rigid deformations."""
     # part f: write sigma(o) (4,) [N, N m]: the rigid deformations' stresses
     not_done('f', 'D_c^T sigma = -(M xdd + h) on the dependent rows')
 
 
+# %%
 def reactions(phi2, phi2d, phi2dd):
     """Part g: f(o) (3,) [N] on x1, y1 and y5."""
     # part g: write f(o) (3,) [N]: the support reactions at O (x, y) and the slider's y
     not_done('g', 'f(o) = D_x^T sigma + M xdd + h on the fixed rows x1, y1, y5')
 
 
+# %%
 def crank_acceleration(phi2, phi2d, tau2):
-    """Part h: phi2dd [rad/s^2] under the crank torque tau2 [N m]."""
+    """Part h: phi2dd [rad/s^2] under the crank torque tau2 [N m]. Uses part b."""
     # part h: write phi2dd [rad/s^2] under the crank torque tau2 (forward dynamics; the given PD-controlled simulation integrates it)
     not_done('h', 'Mbar phi2dd = tau2 - F_q^T (M F_qq phi2d^2 + h)')
 

@@ -9,6 +9,12 @@
 # node order. Part 1 (a-f): one beam, `q = [phi2, e2, e3]`; part 2 (g-h): `nbeams`
 # beams, elongation rigid or flexible (`eps1flex`). Check your file with
 # `flexmbd exercise check slider-crank-flex THIS_FILE`.
+#
+# Sign convention of the bending deformations: this flexible beam's are
+# `e2 = -n_p . d` and `e3 = n_q . d` (`e2 ~ l theta_p`, `e3 ~ -l theta_q`), with `n`
+# the left normal of a node's tangent and `d = r_q - r_p`; exercise 2's rigid beam
+# has `e2 = +n_p . d`. The elastic law of the bending pair is
+# `[s2, s3] = EI / l^3 [[4, -2], [-2, 4]] [e2, e3]` (part f needs it).
 
 # %%
 import numpy as np
@@ -41,18 +47,21 @@ def beam_deformations(xe, l0=L2):
     not_done('a', 'e1 = |d| - l0, e2 = -n_p . d, e3 = n_q . d')
 
 
+# %%
 def beam_jacobian(xe, l0=L2):
-    """Part b: D_x (3, 6)."""
+    """Part b: D_x (3, 6), the derivative of part a."""
     # part b: write D_x (3, 6) of the beam
     not_done('b', 'differentiate (e1, e2, e3) with respect to the six element coordinates')
 
 
+# %%
 def beam_quadratic(xe, xed, l0=L2):
     """Part c: (D_xx xed) xed (3,)."""
     # part c: write (D_xx xed) xed (3,) [m/s^2] of the beam
     not_done('c', 'e2: w_p^2 (n_p . d) + 2 w_p (e_p . dv); e3: -w_q^2 (n_q . d) - 2 w_q (e_q . dv)')
 
 
+# %%
 def beam_mass(xe, xed, m=M2, l0=L2):
     """Part d: (M (6, 6), h (6,)), the beam's consistent mass and velocity term."""
     # part d: write (M (6, 6) [kg, kg m, kg m^2], h (6,) [N]): the rod's consistent mass and its velocity term (Hermite interpolation)
@@ -90,14 +99,17 @@ def one_beam_jacobian(x):
     return D
 
 
+# %%
 def transfer(x):
-    """Part e: F_q (9, 3) at x, q = [phi2, e2, e3]."""
+    """Part e: F_q (9, 3) at x, q = [phi2, e2, e3]. Uses part b (D_x)."""
     # part e: write F_q (9, 3) of the one-beam rod at x, q = [phi2, e2, e3]
     not_done('e', 'D_c F_c = [-D_m | 0; 0 | I] over the rows [e(o); e2, e3]')
 
 
+# %%
 def dynamic_accelerations(x, qd):
-    """Part f: (e2dd, e3dd) [m/s^2] at constant crank speed (phi2dd = 0)."""
+    """Part f: (e2dd, e3dd) [m/s^2] at constant crank speed (phi2dd = 0). Uses parts a to e;
+    the stresses are [s2, s3] = EI / L2^3 [[4, -2], [-2, 4]] [e2, e3]."""
     # part f: write (e2dd, e3dd) [m/s^2] at constant crank speed: Mbar_dd qdd_d = f_d
     not_done('f', 'Mbar = F_q^T M F_q; f = F_q^T (-h - M (F_qq qd) qd) - E_q^T S e')
 
@@ -127,12 +139,14 @@ def all_deformations(x, nbeams):
     return e, D
 
 
+# %%
 def positions(q, nbeams, eps1flex):
     """Part g: x for q = [phi2, per beam (e1,) e2, e3], by Newton-Raphson."""
     # part g: write x [m, rad] for nbeams beams by Newton-Raphson, q = [phi2, the beams' (e1,) e2, e3]
     not_done('g', 'Newton on [e(o); e(m) - q_e] = 0 for the dependent coordinates, from the straight rod')
 
 
+# %%
 def midpoint_deflection(x, nbeams):
     """Part h: v/l2 at the middle of the rod (THEORY: a node for even nbeams, the middle
     beam's Hermite point at xi = 1/2 for odd)."""

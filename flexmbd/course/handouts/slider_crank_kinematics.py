@@ -32,14 +32,17 @@ def deformations(x):
     not_done('a', 'per rigid beam: e1 = |d| - l0, e2 = n_p . d (beta0 = 0 for both)')
 
 
+# %%
 def jacobian(x):
     """Part b: D (4, 8) = de/dx, columns in the order of x."""
     # part b: write D (4, 8): D_x, columns in the order of x
     not_done('b', 'one row per deformation, one column per coordinate of x')
 
 
+# %%
 def positions(phi2):
-    """Part c: (x3, y3, phi4, x5) for the crank angle phi2 [rad], by Newton-Raphson."""
+    """Part c: (x3, y3, phi4, x5) for the crank angle phi2 [rad], by Newton-Raphson.
+    Uses parts a and b."""
     # part c: write (x3, y3, phi4, x5) by Newton-Raphson
     not_done('c', 'Newton on e = 0 for the dependent coordinates, from the drawn configuration')
 
@@ -51,18 +54,21 @@ def configuration(phi2):
     return x
 
 
+# %%
 def velocities(phi2, phi2d):
-    """Part d: xd (8,) from the partitioned Jacobian."""
+    """Part d: xd (8,) from the partitioned Jacobian. Uses parts b and c."""
     # part d: write xd (8,) from the partitioned Jacobian
     not_done('d', 'D_c xd_c = -D_m phi2d; the fixed rates are 0')
 
 
+# %%
 def first_order_transfer(phi2):
-    """Part e: F_q (8, 1) = dx/dphi2."""
+    """Part e: F_q (8, 1) = dx/dphi2. Uses part d."""
     # part e: write F_q (8, 1) = dx/dphi2
     not_done('e', 'the velocities for phi2d = 1')
 
 
+# %%
 def deformation_transfer(phi2):
     """Part f: E_q (4, 1) = D_x F_q, from your jacobian() and first_order_transfer()."""
     # part f: write E_q (4, 1) = D_x F_q (zero: all rigid)
@@ -82,12 +88,15 @@ def quadratic(x, xd):
     return np.array(out)
 
 
+# %%
 def second_order_transfer(phi2):
-    """Part g: F_qq (8, 1) = d^2x/dphi2^2 (the accelerations for phi2d = 1, phi2dd = 0)."""
+    """Part g: F_qq (8, 1) = d^2x/dphi2^2 (the accelerations for phi2d = 1, phi2dd = 0).
+    Uses parts b, c and d."""
     # part g: write F_qq (8, 1): d^2x/dphi2^2
     not_done('g', 'the accelerations for phi2d = 1, phi2dd = 0')
 
 
+# %%
 def deformation_second_order(phi2):
     """Part h: E_qq (4, 1) = D_x F_qq + (D_xx F_q) F_q (zero for rigid beams), from your
     jacobian(), first_order_transfer() and second_order_transfer() and quadratic()."""
@@ -95,8 +104,9 @@ def deformation_second_order(phi2):
     not_done('h', 'E_qq = D_x F_qq + (D_xx F_q) F_q, from your parts b, e and g')
 
 
+# %%
 def accelerations(phi2, phi2d, phi2dd):
-    """Part i: xdd (8,) = F_q phi2dd + F_qq phi2d^2."""
+    """Part i: xdd (8,) = F_q phi2dd + F_qq phi2d^2. Uses parts e and g."""
     # part i: write xdd (8,) = F_q phi2dd + F_qq phi2d^2
     not_done('i', 'xdd = F_q phi2dd + F_qq phi2d^2')
 

@@ -26,18 +26,21 @@ def truss_elongation(x):
     not_done('a', 'e1 = |r_q - r_p| - l0')
 
 
+# %%
 def truss_jacobian(x):
     """Part b: D_x (1, 4), the derivative of e1 with respect to x."""
     # part b: write D_x (1, 4): de1/dx
     not_done('b', 'differentiate e1 with respect to each of x_p, y_p, x_q, y_q: a row (1, 4)')
 
 
+# %%
 def truss_position(x_p):
-    """Part c: y_q [m] for the input x_p, by Newton-Raphson from y_q = 1."""
+    """Part c: y_q [m] for the input x_p, by Newton-Raphson from y_q = 1. Uses parts a, b."""
     # part c: write y_q [m] by Newton-Raphson from y_q = 1
     not_done('c', 'iterate y_q -= e1 / (de1/dy_q) from y_q = 1 until |e1| < 1e-12')
 
 
+# %%
 def truss_motion(x_p, xd_p, xdd_p):
     """Part d: (yd_q, ydd_q) [m/s, m/s^2] from the partitioned Jacobian and the quadratic
     velocity term."""
@@ -55,6 +58,7 @@ def rigid_beam_deformations(x):
     not_done('e', 'e1 = |d| - l0, e2 = n_p . d with d = r_q - r_p, n_p = (-sin phi_p, cos phi_p)')
 
 
+# %%
 def rigid_beam_jacobian(x):
     """Part f: D_x (2, 5), rows (e1, e2), columns (x_p, y_p, phi_p, x_q, y_q)."""
     # part f: write D_x (2, 5)
@@ -71,24 +75,29 @@ def _beam_configuration(phi_p):
     return x
 
 
+# %%
 def rigid_beam_position(phi_p):
-    """Part g: (x_p, y_q) [m] for the input phi_p [rad], by Newton-Raphson."""
+    """Part g: (x_p, y_q) [m] for the input phi_p [rad], by Newton-Raphson. Uses parts e
+    and f."""
     # part g: write (x_p, y_q) [m] by Newton-Raphson
     not_done('g', 'Newton on (e1, e2) = 0 for the dependent x_p, y_q')
 
 
+# %%
 def rigid_beam_velocities(phi_p, omega):
     """Part h: (xd_p, yd_q) [m/s] for phi_p [rad] and omega [rad/s]."""
     # part h: write (xd_p, yd_q) [m/s]
     not_done('h', 'D_c [xd_p, yd_q] = -D_m omega')
 
 
+# %%
 def rigid_beam_quadratic(x, xd):
     """Part i: (D_xx xd) xd (2,) [m/s^2]."""
     # part i: write (D_xx xd) xd (2,) [m/s^2]
     not_done('i', 'e1: (dv.dv - (e_l.dv)^2)/l; e2: -w^2 (n_p . d) - 2 w (e_p . dv)')
 
 
+# %%
 def rigid_beam_accelerations(phi_p, omega, omegad):
     """Part j: (xdd_p, ydd_q) [m/s^2] for phi_p, omega, omegad."""
     # part j: write (xdd_p, ydd_q) [m/s^2]
