@@ -108,6 +108,9 @@ def test_graded_runs_refuse_flexmbd_s_answers(tmp_path):
                       "SOURCE = (pathlib.Path(flexmbd.__file__).parent / 'course' / "
                       "'slider_crank_kinematics.py').read_text()\n")
     assert "may not read flexmbd's files" in check(KINEMATICS, reader, graded=True).problem
+    examples = Path(__file__).resolve().parents[1] / "examples" / "slider_crank_kinematics.py"
+    reader.write_text(f"TEXT = open({str(examples)!r}).read()\n")
+    assert "may not read flexmbd's files" in check(KINEMATICS, reader, graded=True).problem
 
 
 def test_graded_runs_write_only_in_their_scratch_folder(tmp_path):
@@ -306,3 +309,10 @@ def test_notebook_templates_have_a_cell_per_part():
             holding = [c for c in cells if f"def {part.function}(" in c]
             assert len(holding) == 1
             assert sum(f"def {p.function}(" in holding[0] for p in item.parts) == 1
+
+
+def test_the_other_assembly_branch_is_named(tmp_path):
+    path = _submission(tmp_path, "branch", [(NEWTON, NEWTON + "    x[5] = np.pi - x[5]\n"
+                                                            "    x[6] = x[3] - 1.8\n")])
+    part = _verdicts(check(KINEMATICS, path))["c"]
+    assert part.status == FAILED and "other assembly branch" in part.hint

@@ -48,7 +48,8 @@ def add_commands(commands) -> None:
     check.add_argument("name", help=_NAME_HELP)
     check.add_argument("file", help="the student's file")
     check.add_argument("--json", metavar="REPORT.json",
-                       help="also write the report as a Gradescope autograder's results")
+                       help="also write the report as a Gradescope autograder's results "
+                            "(the file is then checked as --graded)")
     check.add_argument("--graded", action="store_true",
                        help="confine the file as a graded run does: no flexmbd beyond the "
                             "template's helper, no writes outside its scratch folder, no "
@@ -145,8 +146,9 @@ def _check(chosen, args) -> int:
         if report_path.suffix != ".json" or not report_path.parent.resolve().is_dir():
             raise ArgumentError("--json", f"cannot write {args.json!r}: give a .json file in "
                                           f"an existing directory")
+    # a report for an autograder is a grade: the file is confined
     report = check(chosen, args.file, timeout=args.timeout, seed=args.seed,
-                   graded=args.graded, points=points)
+                   graded=args.graded or bool(args.json), points=points)
     print(report.text())
     if args.json:  # written by the checker, after the student's processes have ended
         Path(args.json).write_text(json.dumps(report.gradescope(), indent=1) + "\n")

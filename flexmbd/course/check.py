@@ -428,7 +428,9 @@ def diagnose(part: Part, args: tuple, got, expected) -> str:
     """The hint for a wrong answer that matches a typical mistake, or ``""``."""
     def matches(wrong):
         try:
-            return _close(got, wrong, part.rtol)
+            mine = got if part.wrapped is None else _unwrapped(got, wrong,
+                                                              part.wrapped(*args))
+            return _close(mine, wrong, part.rtol)
         except (TypeError, ValueError):
             return False
 

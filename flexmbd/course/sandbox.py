@@ -61,12 +61,22 @@ def limit_resources(cpu_seconds: int | None = None) -> None:
             resource.setrlimit(kind, (target, target))
 
 
+def _flexmbd_folders() -> tuple[str, ...]:
+    """The folders of flexmbd's files: the package, and its examples (a folder of their own
+    in a source checkout)."""
+    package = os.path.dirname(os.path.dirname(os.path.realpath(__file__))) + os.sep
+    examples = os.path.join(os.path.dirname(package.rstrip(os.sep)), "examples")
+    return (package, *((os.path.realpath(examples) + os.sep,)
+                       if os.path.isfile(os.path.join(examples, "slider_crank_flex.dat"))
+                       else ()))
+
+
 def confine(scratch: str) -> None:
     """Limit this process and install the audit hook for the files under ``scratch``."""
     limit_resources()
     inside = os.path.realpath(scratch) + os.sep
-    package = os.path.dirname(os.path.dirname(os.path.realpath(__file__))) + os.sep
-    helper = os.path.join(package, "course", "student.py")
+    folders = _flexmbd_folders()
+    helper = os.path.join(folders[0], "course", "student.py")
 
     def within(path) -> bool:
         try:
@@ -92,7 +102,7 @@ def confine(scratch: str) -> None:
                 raise PermissionError(f"a graded check writes only in its scratch folder, "
                                       f"not {os.fsdecode(path)!r}")
             real = os.path.realpath(os.fsdecode(path))
-            if real.startswith(package) and real != helper:
+            if real.startswith(folders) and real != helper:
                 raise PermissionError("a graded check may not read flexmbd's files")
         elif event in PROCESS_EVENTS:
             raise PermissionError(f"a graded check may not start or signal processes "

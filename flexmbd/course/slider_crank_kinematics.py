@@ -44,6 +44,14 @@ def configuration(phi2: float) -> np.ndarray:
     return kin.solve_position(model(), np.array([phi2]), guess)
 
 
+def other_branch(phi2):
+    """``(x3, y3, phi4, x5)`` of the other assembly branch: the slider left of the crank pin,
+    the rod turned to ``pi - phi4``."""
+    x3, y3, phi4, _ = configuration(phi2)[[3, 4, 5, 6]]
+    turned = math.pi - phi4
+    return np.array([x3, y3, turned, x3 + math.sqrt(3.0) * math.cos(turned)])
+
+
 def accelerations(phi2, phi2d, phi2dd, quadratic=True):
     x = configuration(phi2)
     xd = kin.velocities(model(), x, np.array([phi2d]))
@@ -114,7 +122,10 @@ EXERCISE = Exercise(
              hint="Newton on e = 0 for the dependent coordinates, from the drawn "
                   "configuration",
              answer=lambda phi2: configuration(phi2)[[3, 4, 5, 6]], cases=_phi, angles=(0,),
-             wrapped=lambda phi2: (2,)),
+             wrapped=lambda phi2: (2,),
+             mistakes=(Mistake("your Newton-Raphson converged to the other assembly branch "
+                               "(the slider left of the crank pin): start it from the drawn "
+                               "configuration, drawn_guess(phi2)", other_branch),)),
         dict(function="velocities", arguments="phi2, phi2d",
              returns="xd (8,) from the partitioned Jacobian",
              hint="D_c xd_c = -D_m phi2d; the fixed rates are 0",
