@@ -38,6 +38,7 @@ _NAMES = {
     "orientation": ("angular_velocity", "axis_angle", "euler_parameters", "euler_rates",
                     "rotation_matrix"),
     "results": ("KinematicResult", "SimulationResult"),
+    "sections": ("Circle", "Material", "Rectangle", "Tube", "beam_values"),
     "settings": ("RunSettings",),
     "analysis.dynamics": ("inverse_dynamics", "mass_matrix", "reduced_mass_matrix",
                           "simulate"),

@@ -244,6 +244,37 @@ class ModelBuilder:
         return self.add_element(number, SpatialBeam, (p, lam_p, q, lam_q),
                                 orientation=orientation, bending_linked=linked)
 
+    def add_spatial_beams(self, first: int, p: int, lam_p: int, q: int, lam_q: int,
+                          nbeams: int, orientation, *, new_nodes: int, section=None,
+                          material=None, dynamic=(1, 2, 3, 4, 5, 6)) -> ModelBuilder:
+        """``nbeams`` spatial beams in a row from ``p`` to ``q`` (a leaf spring, a wire),
+        elements ``first`` to ``first + nbeams - 1``. The nodes between them are equally spaced
+        on the line from ``p`` to ``q`` and numbered from ``new_nodes`` on, a translational
+        node and then its rotational node for each. With ``section`` and ``material``
+        (:mod:`flexmbd.sections`) each beam gets their stiffness, mass and section inertia
+        (:meth:`set_section`); the deformations ``dynamic`` (default all six) of each are
+        dynamic degrees of freedom. ``p`` and ``q`` need their positions first."""
+        count = checks.whole(nbeams, "nbeams", 1, 10_000)
+        if p not in self._positions or q not in self._positions:
+            self._problems.append(f"add_spatial_beams {first}: nodes {p} and {q} need their "
+                                  f"positions (add_node) first")
+            return self
+        start, end = np.array(self._positions[p]), np.array(self._positions[q])
+        chain = [(p, lam_p)]
+        for k in range(1, count):
+            node = new_nodes + 2 * (k - 1)
+            self.add_node(node, *(start + (end - start) * k / count))
+            chain.append((node, node + 1))
+        chain.append((q, lam_q))
+        for k in range(count):
+            number = first + k
+            self.add_spatial_beam(number, *chain[k], *chain[k + 1], orientation)
+            if section is not None or material is not None:
+                self.set_section(number, section, material)
+            if dynamic:
+                self.dynamic_deformation(number, *dynamic)
+        return self
+
     def add_spatial_hinge(self, number: int, lam_p: int, lam_q: int, axis=(0.0, 0.0, 1.0)
                           ) -> ModelBuilder:
         """Spatial hinge between rotational nodes ``lam_p`` and ``lam_q`` about ``axis``
@@ -368,6 +399,25 @@ class ModelBuilder:
         A_s`` [N] (Timoshenko correction); a hinge ``hinge`` [N m/rad]; a spring-damper
         ``spring`` [N/m]."""
         return self._set_values(element, "stiffness", values)
+
+    def set_section(self, element: int, section, material) -> ModelBuilder:
+        """A spatial beam's stiffness (ESTIFF), mass (EM) and section inertia from its
+        cross-section and material (:mod:`flexmbd.sections`: ``Rectangle(w, t)`` with ``w``
+        along the orientation vector, ``Circle(d)``, ``Tube(outer, inner)``;
+        ``Material(E, G, rho)``), as SPACAR Light computes them. A massless material sets
+        no mass. The warping values ``ECw``, ``rhoCw`` are not used by the spatial beam."""
+        from .sections import beam_values
+
+        try:
+            values = beam_values(section, material)
+        except ArgumentError as error:
+            self._problems.append(f"set_section element {element}: {error}")
+            return self
+        self.set_stiffness(element, **values.stiffness)
+        if values.mass_per_length:
+            self.set_mass(element, values.mass_per_length,
+                          section_inertia=values.section_inertia)
+        return self
 
     def set_damping(self, element: int, **values: float) -> ModelBuilder:
         """Viscous damping (EDAMP), the twins of the stiffnesses: ``axial`` [N s] acts as
