@@ -51,6 +51,7 @@ _NAMES = {
     "analysis.modes": ("Buckling", "Modes", "ModesAlong", "buckling", "compliance",
                        "modes_along", "vibration_modes"),
     "analysis.statespace": ("StateSpace", "state_space"),
+    "analysis.stresses": ("BeamStress", "StressHistory", "beam_stresses", "stress_history"),
     "analysis.statics": ("StaticResult", "static_equilibrium"),
     "io.dat": ("read_dat", "write_dat"),
     "io.sbd": ("SpacarFile", "read_sbd", "write_ltv", "write_sbd", "write_sbm"),

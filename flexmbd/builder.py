@@ -126,6 +126,7 @@ class ModelBuilder:
         self._nodal_masses: dict[int, float] = {}
         self._nodal_inertias: dict[int, tuple[float, ...]] = {}
         self._section_inertias: dict[int, tuple[float, ...]] = {}
+        self._sections: dict[int, tuple[Any, Any]] = {}  # element -> (section, material)
         self._nodal_forces: dict[int, tuple[float, ...]] = {}
         self._gravity: tuple[float, ...] = ()
         self._problems: list[str] = []
@@ -413,6 +414,7 @@ class ModelBuilder:
         except ArgumentError as error:
             self._problems.append(f"set_section element {element}: {error}")
             return self
+        self._sections[element] = (section, material)
         self.set_stiffness(element, **values.stiffness)
         if values.mass_per_length:
             self.set_mass(element, values.mass_per_length,
@@ -700,7 +702,7 @@ class ModelBuilder:
         """Properties by element, each checked against what the element's type takes."""
         out = {}
         numbers = {*self._masses, *self._prestress, *(n for n, _ in self._values),
-                   *self._section_inertias}
+                   *self._section_inertias, *self._sections}
         for number in sorted(numbers):
             if number not in elements:
                 problems.append(f"properties given for element {number}, which is not in "
@@ -748,6 +750,8 @@ class ModelBuilder:
                                     f"not exist; a {etype.name} has deformations 1 to {nd}")
             if number in self._prestress:
                 fields["prestress"] = tuple(prestress)
+            if number in self._sections:
+                fields["section"], fields["material"] = self._sections[number]
             out[number] = ElementProperties(**fields)
         return out
 

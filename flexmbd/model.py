@@ -29,6 +29,7 @@ from .elements import ElementType
 from .elements.base import SPATIAL_KINDS, SPATIAL_ROTATIONAL, is_translational
 from .errors import LabelError
 from .motion import Law
+from .sections import Material, Section
 
 
 class CoordinateClass(IntEnum):
@@ -95,6 +96,9 @@ class ElementProperties:
             length), or ``None``.
         section_inertia: a spatial beam's ``(Jxx, Jyy, Jzz, Jyz)`` [kg m] per unit
             length, lumped on its rotational nodes, or ``None``.
+        section, material: the cross-section and material the values came from
+            (:mod:`flexmbd.sections`, ``ModelBuilder.set_section``), for stresses; ``None``
+            when the values were given as numbers.
     """
 
     mass_per_length: float = 0.0
@@ -103,6 +107,8 @@ class ElementProperties:
     damping: Mapping[str, float] = field(default_factory=dict)
     prestress: tuple[float, ...] | None = None
     section_inertia: tuple[float, ...] | None = None
+    section: Section | None = None
+    material: Material | None = None
 
 
 def frozen_array(a) -> np.ndarray:

@@ -75,14 +75,31 @@ class SectionProperties:
     Cw: float
 
 
+#: the section resultants' order: normal force, shear forces, torque, bending moments
+RESULTANTS = ("N", "Qy", "Qz", "T", "My", "Mz")
+
+
 class Section:
-    """A cross-section: :meth:`properties` and Cowper's shear factor :meth:`shear_factor`."""
+    """A cross-section: :meth:`properties`, Cowper's shear factor :meth:`shear_factor`, and
+    the largest von Mises stress of its resultants (:meth:`largest_stress`)."""
 
     def properties(self) -> SectionProperties:
         raise NotImplementedError
 
     def shear_factor(self, nu: float) -> float:
         raise NotImplementedError
+
+    def stress_points(self, resultants) -> list[tuple[str, float, float]]:
+        """``(point, sigma, tau)`` [Pa] at the points where the largest stress can be, for
+        the resultants ``(N, Qy, Qz, T, My, Mz)`` [N, N m] in the beam's local axes."""
+        raise NotImplementedError
+
+    def largest_stress(self, resultants) -> tuple[float, str]:
+        """The largest von Mises stress ``sqrt(sigma^2 + 3 tau^2)`` [Pa] over the section for
+        the resultants ``(N, Qy, Qz, T, My, Mz)``, and the point where it is."""
+        stress, point = max((math.sqrt(sigma**2 + 3.0 * tau**2), point)
+                            for point, sigma, tau in self.stress_points(resultants))
+        return stress, point
 
 
 def _positive(value, name: str) -> float:
@@ -130,6 +147,32 @@ class Rectangle(Section):
         """Cowper's ``k = 10 (1 + nu) / (12 + 11 nu)``."""
         return 10.0 * (1.0 + nu) / (12.0 + 11.0 * nu)
 
+    def stress_points(self, resultants) -> list[tuple[str, float, float]]:
+        """The four corners (normal stress only), the middles of the long sides and of the
+        short sides: bending and normal stress, St Venant torsion (Timoshenko and Goodier's
+        series) and the parabolic shear ``1.5 |Q| / A`` along the side."""
+        N, Qy, Qz, T, My, Mz = (float(v) for v in resultants)
+        s = self.properties()
+        w, t = self.w, self.t
+
+        def normal(y, z):
+            return N / s.A + My * z / s.Iy - Mz * y / s.Iz
+
+        long_, short = _rectangle_torsion_shear(max(w, t), min(w, t), s.It)
+        # the long sides run along the larger dimension: along y when w > t
+        wide = w >= t
+        tau_long = abs(T) * long_ + 1.5 * abs(Qy if wide else Qz) / s.A
+        tau_short = abs(T) * short + 1.5 * abs(Qz if wide else Qy) / s.A
+        corners = max((abs(normal(sy * w / 2, sz * t / 2)), f"corner ({sy:+.0f}, {sz:+.0f})")
+                      for sy in (-1, 1) for sz in (-1, 1))
+        across_t = max(abs(normal(0.0, t / 2)), abs(normal(0.0, -t / 2)))
+        across_w = max(abs(normal(w / 2, 0.0)), abs(normal(-w / 2, 0.0)))
+        middles_long = across_t if wide else across_w
+        middles_short = across_w if wide else across_t
+        return [(corners[1], corners[0], 0.0),
+                ("middle of a long side", middles_long, tau_long),
+                ("middle of a short side", middles_short, tau_short)]
+
 
 @dataclass(frozen=True)
 class Circle(Section):
@@ -148,6 +191,11 @@ class Circle(Section):
     def shear_factor(self, nu: float) -> float:
         """Cowper's ``k = 6 (1 + nu) / (7 + 6 nu)``."""
         return 6.0 * (1.0 + nu) / (7.0 + 6.0 * nu)
+
+    def stress_points(self, resultants) -> list[tuple[str, float, float]]:
+        """The outer fibre (bending, normal force, torsion) and the neutral axis (shear
+        ``4/3 |Q| / A`` added to the torsion)."""
+        return _round_stress_points(self.properties(), resultants, self.d / 2, 0.0)
 
 
 @dataclass(frozen=True)
@@ -175,6 +223,36 @@ class Tube(Section):
         m2 = (self.inner / self.outer) ** 2
         return 6.0 * (1.0 + nu) * (1.0 + m2) ** 2 / ((7.0 + 6.0 * nu) * (1.0 + m2) ** 2
                                                       + (20.0 + 12.0 * nu) * m2)
+
+    def stress_points(self, resultants) -> list[tuple[str, float, float]]:
+        """As the circle's, with the hollow section's largest shear of a force."""
+        return _round_stress_points(self.properties(), resultants, self.outer / 2,
+                                    self.inner / 2)
+
+
+def _rectangle_torsion_shear(b: float, c: float, It: float) -> tuple[float, float]:
+    """St Venant shear per unit torque [Pa/(N m)] at the middles of the long and of the
+    short sides of a ``b >= c`` rectangle of torsion constant ``It``."""
+    long_sum = short_sum = 0.0
+    for k in range(200):
+        n = 2 * k + 1
+        ratio = n * math.pi * b / (2.0 * c)
+        long_sum += 1.0 / (n**2 * math.cosh(ratio)) if ratio < 700 else 0.0
+        short_sum += (-1) ** k * math.tanh(ratio) / n**2
+    return (c / It * (1.0 - 8.0 / math.pi**2 * long_sum),
+            c / It * 8.0 / math.pi**2 * short_sum)
+
+
+def _round_stress_points(s: SectionProperties, resultants, outer: float, inner: float
+                         ) -> list[tuple[str, float, float]]:
+    """The outer fibre and the neutral axis of a circle or tube of radii ``outer``,
+    ``inner``."""
+    N, Qy, Qz, T, My, Mz = (float(v) for v in resultants)
+    moment, force = math.hypot(My, Mz), math.hypot(Qy, Qz)
+    torsion = abs(T) * outer / s.It
+    shear = 4.0 / 3.0 * (outer**2 + outer * inner + inner**2) / (outer**2 + inner**2)
+    return [("outer fibre", abs(N) / s.A + moment * outer / s.Iy, torsion),
+            ("neutral axis", abs(N) / s.A, torsion + shear * force / s.A)]
 
 
 @dataclass(frozen=True)

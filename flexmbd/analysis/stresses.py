@@ -1,0 +1,125 @@
+"""Stresses in spatial beams built with a cross-section (``ModelBuilder.set_section``): the
+section resultants at both ends of each beam and the largest von Mises stress, at one
+state or at every row of a result.
+
+The resultants are the beam's own share of ``D_x^T sigma``, exact at large rotations: at q
+the force ``f_q`` and the moment ``1/2 E(lam_q) f_lam_q`` the beam takes from its end
+nodes, at p the negatives of p's, each in the local axes ``R(lam) R0`` of its end node:
+the normal force ``N``, the shear forces ``Qy``, ``Qz``, the torque ``T`` and the bending
+moments ``My``, ``Mz`` of the q side acting on the p side of a section. Moments vary
+linearly and forces are constant along a beam, so the largest stress is at an end; the
+section gives it (:meth:`flexmbd.sections.Section.largest_stress`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..elements.base import SPATIAL_ROTATIONAL
+from ..errors import ArgumentError
+from ..model import Model
+from ..orientation import moment_of, rotation_matrix
+from ..results import KinematicResult
+from .kinematics import jacobian
+
+__all__ = ["BeamStress", "StressHistory", "beam_stresses", "stress_history"]
+
+
+@dataclass(frozen=True)
+class BeamStress:
+    """The stress state of one beam.
+
+    Attributes:
+        element: the beam's number.
+        resultants: ``(2, 6)``: at p and at q, ``(N, Qy, Qz, T, My, Mz)`` [N, N m] in the end
+            node's local axes.
+        von_mises: the largest von Mises stress over the beam [Pa].
+        where: the end (``"p"`` or ``"q"``) and the point of the section where it is.
+    """
+
+    element: int
+    resultants: np.ndarray
+    von_mises: float
+    where: str
+
+
+def _sectioned(model: Model) -> list[int]:
+    return [k for k, element in model.elements.items()
+            if element.type.keyword == "BEAM" and (props := model.element_properties.get(k))
+            is not None and props.section is not None]
+
+
+def beam_stresses(model: Model, x, sigma) -> dict[int, BeamStress]:
+    """The stresses of every spatial beam built with a section at coordinates ``x``
+    ``(nx,)`` [m, -] and generalized stresses ``sigma`` ``(ne,)`` (a result row), by
+    element number.
+
+    Raises:
+        ArgumentError: the model has no beam with a section (``set_section``: a ``.dat``
+            file carries none).
+    """
+    beams = _sectioned(model)
+    if not beams:
+        raise ArgumentError("model", "no spatial beam has a cross-section: give one with "
+                                     "ModelBuilder.set_section (a .dat file carries none)")
+    x = np.asarray(x, dtype=float)
+    sigma = np.asarray(sigma, dtype=float)
+    if x.shape != (model.n_coordinates,) or sigma.shape != (model.n_deformations,):
+        raise ArgumentError("x", f"x and sigma must have shapes ({model.n_coordinates},) and "
+                                 f"({model.n_deformations},), got {x.shape} and {sigma.shape}")
+    D = jacobian(model, x)
+    out = {}
+    for k in beams:
+        element = model.elements[k]
+        coords, defs = list(element.coordinates), list(element.deformations)
+        loads = D[np.ix_(defs, coords)].T @ sigma[defs]   # (14,): p, lam_p, q, lam_q
+        frame0 = np.array(element.reference[1:10]).reshape(3, 3).T   # columns ex0, ey0, ez0
+        ends = []
+        for sign, at in ((-1.0, 0), (1.0, 7)):
+            lam = x[coords[at + 3:at + 7]]
+            axes = rotation_matrix(lam) @ frame0
+            force = sign * loads[at:at + 3]
+            moment = sign * moment_of(lam, loads[at + 3:at + 7])
+            ends.append(np.concatenate([axes.T @ force, axes.T @ moment]))
+        resultants = np.array(ends)
+        section = model.element_properties[k].section
+        assert section is not None and model.nodes[element.nodes[1]].kind == SPATIAL_ROTATIONAL
+        (stress_p, point_p), (stress_q, point_q) = (section.largest_stress(r)
+                                                    for r in resultants)
+        von_mises, where = max((stress_p, f"p, {point_p}"), (stress_q, f"q, {point_q}"))
+        out[k] = BeamStress(k, resultants, von_mises, where)
+    return out
+
+
+@dataclass(frozen=True)
+class StressHistory:
+    """The largest stresses at every row of a result.
+
+    Attributes:
+        t: the rows' times [s] (or load factors).
+        elements: the beams with a section, in order.
+        von_mises: ``(nt, n_beams)``: each beam's largest von Mises stress [Pa].
+        maximum: ``(nt,)``: the model's largest [Pa].
+    """
+
+    t: np.ndarray
+    elements: tuple[int, ...]
+    von_mises: np.ndarray
+    maximum: np.ndarray
+
+
+def stress_history(result: KinematicResult) -> StressHistory:
+    """:func:`beam_stresses` at every row of a result that recorded its stresses (a static
+    equilibrium, a simulation, inverse dynamics)."""
+    sigma = getattr(result, "sigma", None)
+    if sigma is None:
+        raise ArgumentError("result", "records no stresses: use a static, simulation or "
+                                      "inverse-dynamics result")
+    rows = [beam_stresses(result.model, x, s) for x, s in zip(result.x, sigma, strict=True)]
+    elements = tuple(_sectioned(result.model))
+    values = np.array([[row[k].von_mises for k in elements] for row in rows]).reshape(
+        len(rows), len(elements))
+    return StressHistory(np.asarray(result.t).copy(), elements, values,
+                         values.max(axis=1) if len(elements) else np.zeros(len(rows)))
