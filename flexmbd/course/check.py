@@ -321,7 +321,11 @@ def _end(process: subprocess.Popen) -> None:
     """End the runner and everything it started (its whole process group)."""
     with contextlib.suppress(ProcessLookupError, PermissionError):
         os.killpg(process.pid, signal.SIGKILL)
-    process.wait()
+    try:
+        process.wait(timeout=10)
+    except subprocess.TimeoutExpired:   # the group was gone but not its leader
+        process.kill()
+        process.wait()
 
 
 def _array(record) -> np.ndarray | tuple | None:
