@@ -49,7 +49,7 @@ _NAMES = {
                             "velocities"),
     "analysis.linearization": ("Linearization", "linearize"),
     "analysis.modes": ("Buckling", "Modes", "ModesAlong", "buckling", "compliance",
-                       "modes_along", "vibration_modes"),
+                       "modes_along", "node_compliance", "vibration_modes"),
     "analysis.statespace": ("StateSpace", "state_space"),
     "analysis.stresses": ("BeamStress", "StressHistory", "beam_stresses", "stress_history"),
     "analysis.statics": ("StaticResult", "static_equilibrium"),

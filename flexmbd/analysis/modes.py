@@ -16,17 +16,21 @@ All three are eigen- or linear problems of one
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Literal
 
 import numpy as np
 from threadpoolctl import threadpool_limits
 
+from ..elements.base import SPATIAL_ROTATIONAL
 from ..engine import workspace_of
 from ..errors import ArgumentError, SingularConfigurationError
+from ..orientation import rotation_matrix
 from ..progress import progress_bar
 from ..results import KinematicResult
 from .linearization import Linearization, linearize
 
 __all__ = ["Buckling", "Modes", "ModesAlong", "buckling", "compliance", "modes_along",
+           "node_compliance",
            "vibration_modes"]
 
 #: relative asymmetry below which a stiffness block counts as symmetric (rounding of the
@@ -303,22 +307,93 @@ def compliance(linearization: Linearization, labels) -> np.ndarray:
     displacement of coordinate ``i`` per unit load on coordinate ``j``. On a spatial
     rotational node the labels of ``lam1..lam3`` stand for its global rotations about x,
     y and z and the moments about them (``T = diag(I, 2 E)``, the spatial theory,
-    section 6).
+    section 6). The prescribed entries of ``q`` are held.
 
     Raises:
         SingularConfigurationError: ``K0 + G0`` is singular (a mechanism, or buckling).
     """
-    lin = linearization
-    F = lin.transfer(labels)
-    K = lin.block("K0") + lin.block("G0")
+    return _compliance(linearization, labels, held=True)
+
+
+def _compliance(lin: Linearization, labels, held: bool) -> np.ndarray:
+    """``T F_sel K^-1 F_sel^T T^T`` over the dynamic entries of ``q`` (``held``) or all."""
+    columns = lin.dynamic if held else np.arange(lin.model.n_dof)
+    rows = [lin.model.coordinate_index(label) for label in labels]
+    lin.transfer(labels)   # refuses the lam0 of a rotational node, by label
+    F = lin.motion_transfer[np.ix_(np.asarray(rows, dtype=int), columns)]
+    K = (lin.K0 + lin.G0)[np.ix_(columns, columns)]
     K = 0.5 * (K + K.T)
+    if not held:   # a free drive that nothing resists: name it (its pivot may round > 0)
+        scale = np.abs(K).max(initial=0.0)
+        for j in np.flatnonzero(lin.model.q_is_input):
+            if np.abs(K[j]).max() <= 1e-12 * scale:
+                raise SingularConfigurationError(
+                    f"with the drives free, the drive of {lin.model.q_labels[j]} has no "
+                    f"stiffness: a drive without stiffness is a mechanism (its compliance "
+                    f"is infinite)")
     factor = _cholesky(K)
     if factor is None or not _well_posed(factor, K):
-        raise SingularConfigurationError(
-            "the stiffness K0 + G0 is not positive definite: the dynamic degrees of freedom "
-            "include a mechanism (no stiffness) or the loads buckle the structure")
+        what = ("the dynamic degrees of freedom include a mechanism (no stiffness) or the "
+                "loads buckle the structure" if held else
+                "with the drives free, a drive without stiffness is a mechanism (its "
+                "compliance is infinite), or the loads buckle the structure")
+        raise SingularConfigurationError(f"the stiffness K0 + G0 is not positive definite: "
+                                         f"{what}")
     half = np.linalg.solve(factor, F.T)  # L^-1 F^T: F K^-1 F^T = half^T half
     return half.T @ half
+
+
+def node_compliance(linearization: Linearization, node: int, rotational: int | None = None,
+                    *, frame: Literal["global", "body"] = "global",
+                    drive: Literal["held", "free"] = "held") -> np.ndarray:
+    """The compliance of a node (and its rotational node): its displacement and rotation
+    per unit force and moment on it, ``(6, 6)`` in space (``(3, 3)`` in the plane; the
+    translations only without ``rotational``) [m/N, m/(N m), rad/(N m)], FLEXURES 6.
+    ``1 / C[i, i]`` is the support stiffness in direction ``i`` with the node free
+    otherwise; ``inv(C)`` the stiffness with its other motions held.
+
+    Args:
+        node: the translational node.
+        rotational: its rotational node, for rotations and moments.
+        frame: ``"global"`` axes, or ``"body"``: the axes of ``rotational`` as it has turned
+            (``C_body = diag(R^T, R^T) C diag(R, R)``).
+        drive: ``"held"``: the prescribed inputs stay (SPACAR Light's static mode);
+            ``"free"``: they become degrees of freedom, loaded by their drive force as a
+            dead load (``C_free - C_held`` is positive semidefinite).
+
+    Raises:
+        SingularConfigurationError: a mechanism, buckling, or a free drive without
+            stiffness (infinite compliance).
+    """
+    if frame not in ("global", "body"):
+        raise ArgumentError("frame", f"must be 'global' or 'body', got {frame!r}")
+    if drive not in ("held", "free"):
+        raise ArgumentError("drive", f"must be 'held' or 'free', got {drive!r}")
+    model = linearization.model
+    for number, kind in ((node, "translational"), (rotational, "rotational")):
+        if number is not None and (number not in model.nodes or
+                                   kind not in model.nodes[number].kind):
+            raise ArgumentError("node" if kind == "translational" else "rotational",
+                                f"{number} is not a {kind} node of the model")
+    if frame == "body" and rotational is None:
+        raise ArgumentError("frame", "the body frame is a rotational node's: give rotational")
+    width = len(model.nodes[node].coordinates)
+    labels = [f"x{node}.{k}" for k in range(1, width + 1)]
+    if rotational is not None:
+        spatial = model.nodes[rotational].kind == SPATIAL_ROTATIONAL
+        labels += [f"x{rotational}.{k}" for k in ((2, 3, 4) if spatial else (1,))]
+    C = _compliance(linearization, labels, held=drive == "held")
+    if frame == "body" and rotational is not None:
+        at = list(model.nodes[rotational].coordinates)
+        lam = linearization.x[at]
+        if model.nodes[rotational].kind == SPATIAL_ROTATIONAL:
+            R = rotation_matrix(lam)
+            turn = np.block([[R, np.zeros((3, 3))], [np.zeros((3, 3)), R]])
+        else:
+            c, s = np.cos(lam[0]), np.sin(lam[0])
+            turn = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+        C = turn.T @ C @ turn
+    return C
 
 
 def _count(count: int | None, available: int) -> int:
