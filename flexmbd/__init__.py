@@ -48,6 +48,7 @@ _NAMES = {
                             "quadratic_velocity", "second_order_transfer", "solve_position",
                             "velocities"),
     "analysis.linearization": ("Linearization", "linearize"),
+    "analysis.load_steps": ("load_step_table",),
     "analysis.modes": ("Buckling", "Modes", "ModesAlong", "buckling", "compliance",
                        "modes_along", "node_compliance", "vibration_modes"),
     "analysis.statespace": ("StateSpace", "state_space"),

@@ -112,3 +112,37 @@ def test_bad_requests_are_named():
         fm.node_compliance(lin, 4)
     with pytest.raises(ArgumentError, match="drive"):
         fm.node_compliance(lin, 3, 4, drive="loose")
+
+
+def test_every_load_step_is_linearized_at_its_own_equilibrium(tmp_path, capsys):
+    """A leaf column compressed in 4 steps: at each step the buckling factor times the
+    step's load is the critical load pi^2 EI / (4 L^2) (with shear), the lowest frequency
+    of the unloaded step is the cantilever's 1.8751^2 / (2 pi) sqrt(EI / (rhoA L^4)), and
+    the tip's bending compliance grows as the load nears the critical one."""
+    model = _cantilever()
+    P = 10.0
+    statics = fm.static_equilibrium(model, load_increment={"x3.1": -P}, steps=4)
+    table = fm.load_step_table(statics, modes=2, buckle=1, compliance=[(3, 4)])
+    s, E = LEAF.properties(), STEEL.E
+    kGA = LEAF.shear_factor(STEEL.nu) * STEEL.G * s.A
+    euler = math.pi**2 * E * s.Iy / (4 * L**2)
+    critical = euler / (1 + euler / kGA)
+    loads = P * np.arange(5) / 4
+    assert np.isnan(table["buckling1"][0])   # no stresses, nothing to buckle
+    np.testing.assert_allclose(table["buckling1"][1:] * loads[1:], critical, rtol=2e-5)
+    f1 = 1.8751041**2 / (2 * math.pi) * math.sqrt(E * s.Iy / (STEEL.rho * s.A * L**4))
+    assert table["f1"][0] == pytest.approx(f1, rel=1e-4)
+    assert table["C3.33"][0] == pytest.approx(_closed_form()[2, 2], rel=1e-9)
+    assert np.all(np.diff(table["C3.33"]) > 0) and np.all(np.diff(table["f1"]) < 0)
+    # the command line: the same columns for a file (no section needed)
+    dat = tmp_path / "column.dat"
+    fm.write_dat(model, dat, fm.RunSettings(load_increment={"x3.1": -P}, load_steps=4))
+    out = tmp_path / "steps.csv"
+    from flexmbd.cli import main
+
+    assert main(["static", str(dat), "--modes", "1", "--buckling", "1", "--compliance",
+                 "3:4", "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "buckling1" in printed and "C3.33" in printed and "C3.12" not in printed
+    header = out.read_text().splitlines()[0].split(",")
+    assert "C3.12" in header and "f1" in header

@@ -50,6 +50,18 @@ def add_commands(commands) -> None:
                                 help="modes to report (default 6)")
         if name == "static":
             parser.add_argument("--steps", type=int, help="load steps (default: ITERSTEP)")
+            parser.add_argument("--modes", type=int, default=0, metavar="K",
+                                help="the K lowest frequencies at every load step")
+            parser.add_argument("--buckling", type=int, default=0, metavar="K",
+                                help="the K buckling load factors (signed) at every step")
+            parser.add_argument("--compliance", action="append", default=[],
+                                metavar="NODE[:ROT]",
+                                help="the compliance of a node (and its rotational node) at "
+                                     "every step; repeat for more nodes")
+            parser.add_argument("--frame", choices=("global", "body"), default="global",
+                                help="axes of the compliance (default global)")
+            parser.add_argument("--drive", choices=("held", "free"), default="held",
+                                help="inputs held or free in the compliance (default held)")
         if name == "modes":
             parser.add_argument("--along", action="store_true",
                                 help="linearize at every output time of the file's motion")
@@ -101,16 +113,48 @@ def watched_columns(model: Model, settings: RunSettings) -> list[str]:
 def _static(args, model, settings, statics) -> int:
     columns = watched_columns(model, settings)
     print(statics.message)
-    print(_table(["load", *columns], [statics["load"], *(statics[c] for c in columns)]))
+    shown = {"load": statics["load"], **{c: statics[c] for c in columns}}
+    table = _load_step_table(args, statics)
+    for name, values in table.items():
+        # the printed table shows each compliance's diagonal; the CSV holds it all
+        if name != "load" and (not name.startswith("C") or name[-1] == name[-2]):
+            shown[name] = values
+    print(_table(list(shown), list(shown.values())))
     if args.out:
         from .run import save_result
 
-        save_result(statics, args.out, SPACAR_MODES["static"])
+        if table and Path(args.out).suffix.lower() == ".csv":
+            write_csv(args.out, {**statics.columns(), **{k: v for k, v in table.items()
+                                                         if k != "load"}})
+        else:
+            save_result(statics, args.out, SPACAR_MODES["static"])
         print(f"{len(statics.t)} rows written to {args.out}")
     if args.plot and len(statics.t) > 1:
         statics.plot(columns, "load", filename=args.plot, title=f"{model.name} (static)")
         print(f"plot saved to {args.plot}")
     return 0
+
+
+def _load_step_table(args, statics) -> dict:
+    """The linearized analyses of every load step the options ask for (empty: none)."""
+    if not (args.modes or args.buckling or args.compliance):
+        return {}
+    from ..analysis.load_steps import load_step_table
+
+    for option in ("modes", "buckling"):
+        if getattr(args, option) < 0:
+            raise ArgumentError(f"--{option}", f"must be 0 or more, got {getattr(args, option)}")
+    nodes = []
+    for given in args.compliance:
+        node, _, rotational = given.partition(":")
+        try:
+            nodes.append((int(node), int(rotational) if rotational else None))
+        except ValueError:
+            raise ArgumentError("--compliance", f"{given!r}: give NODE or NODE:ROT, node "
+                                                f"numbers") from None
+    return load_step_table(statics, modes=args.modes, buckle=args.buckling,
+                           compliance=nodes, frame=args.frame, drive=args.drive,
+                           progress=True)
 
 
 def _modes(args, model, settings, statics) -> int:
