@@ -25,7 +25,7 @@ def load_step_table(statics: StaticResult, *, modes: int = 0, buckle: int = 0,
                     drive: Literal["held", "free"] = "held",
                     progress: bool | None = None) -> dict[str, np.ndarray]:
     """Columns over the load steps of a static equilibrium: ``load`` (the load factor);
-    ``f1 .. f<modes>`` the lowest vibration frequencies [Hz]; ``buckling1 ..`` the load
+    ``f1`` to ``f<modes>`` the lowest vibration frequencies [Hz]; ``buckling1``, ... the load
     factors of the step's loads at which it buckles, smallest in size first, with their
     sign (a negative one buckles with the loads reversed); for each ``(node, rotational)``
     of ``compliance`` the entries ``C<node>.<i><j>`` of its compliance
