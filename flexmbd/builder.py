@@ -127,6 +127,7 @@ class ModelBuilder:
         self._nodal_inertias: dict[int, tuple[float, ...]] = {}
         self._section_inertias: dict[int, tuple[float, ...]] = {}
         self._sections: dict[int, tuple[Any, Any]] = {}  # element -> (section, material)
+        self._not_last: set[int] = set()   # beams of a chain (add_spatial_beams) but its last
         self._nodal_forces: dict[int, tuple[float, ...]] = {}
         self._gravity: tuple[float, ...] = ()
         self._problems: list[str] = []
@@ -267,6 +268,7 @@ class ModelBuilder:
             self.add_node(node, *(start + (end - start) * k / count))
             chain.append((node, node + 1))
         chain.append((q, lam_q))
+        self._not_last |= set(range(first, first + count - 1))
         for k in range(count):
             number = first + k
             self.add_spatial_beam(number, *chain[k], *chain[k + 1], orientation)
@@ -487,6 +489,84 @@ class ModelBuilder:
         return self
 
     # --- building -------------------------------------------------------------------
+    def release_overconstraints(self) -> list[tuple[int, int]]:
+        """Release over-constraints as SPACAR Light does (FLEXURES 5) and return the
+        releases made, ``(element, deformation)``.
+
+        In the initial configuration the SVD of ``D_c`` (rows: rigid, input and dynamic
+        deformations; columns: dependent coordinates) counts the over- and
+        under-constraints. For each over-constraint, the left singular vector of the
+        smallest singular value names the deformations involved, largest first; the first
+        that is a dynamic (flexible) deformation of the last beam of a leaf
+        (:meth:`add_spatial_beams`; any other beam is its own leaf) and not yet released
+        is released. A released deformation keeps its stiffness, so statics and
+        compliance do not change. Several valid sets exist; this picks one.
+
+        Raises:
+            ModelError: the description has problems other than its count, it is
+                under-constrained, or no deformation qualifies for an over-constraint.
+        """
+        structural = self._element_problems() + self._family_problems()
+        kinds = self._node_kinds(structural)
+        problems = list(self._problems)
+        if structural:
+            raise ModelError(problems + structural)
+        model = self._assemble(kinds, problems)
+        if problems:
+            raise ModelError(problems)
+        D_x = deformations_and_jacobian(model, np.asarray(model.x0))[1]
+        rows = list(model.constrained)
+        D_c = D_x[np.ix_(rows, model.dependent)]
+        element_of = {i: (number, k + 1) for number, element in model.elements.items()
+                      for k, i in enumerate(element.deformations)}
+        over, under = _constraint_counts(D_c)
+        if under:
+            raise ModelError([f"the model is under-constrained ({under} coordinate(s) free): "
+                              f"check the connections, the supports and the releases"])
+        releases: list[tuple[int, int]] = []
+        while over:
+            U = np.linalg.svd(D_c)[0]
+            u = U[:, len(rows) - over]
+            order = np.argsort(-u**2)
+            needed = int(np.searchsorted(np.cumsum(u[order] ** 2), np.sqrt(1 - 1e-6))) + 1
+            chosen = None
+            for at in order[:needed]:
+                number, k = element_of[rows[at]]
+                element = model.elements[number]
+                if (element.type.keyword == "BEAM" and number not in self._not_last
+                        and model.deformation_class[rows[at]] == DeformationClass.DYNAMIC):
+                    chosen = at
+                    break
+            if chosen is None:
+                involved = ", ".join(model.describe_deformation(rows[at])
+                                     for at in order[:needed])
+                raise ModelError([f"{over} over-constraint(s) left that no flexible "
+                                  f"deformation of a leaf's last beam can release (they "
+                                  f"involve {involved}); release deformations yourself"])
+            releases.append(element_of[rows[chosen]])
+            del rows[chosen]
+            D_c = np.delete(D_c, chosen, axis=0)
+            over -= 1
+        for number, k in releases:
+            self._reclassify(number, k)
+        return releases
+
+    def _reclassify(self, element: int, k: int) -> None:
+        """Release deformation ``k`` of ``element``, taking it out of its dynamic request."""
+        kept = []
+        for request in self._deformation_requests:
+            if request.number == element and request.what == DeformationClass.DYNAMIC and \
+                    request.k in (None, k):
+                if request.k is None:   # all of them: the others stay dynamic
+                    n = next(t for n, t, _, _ in self._elements if n == element
+                             ).n_deformations()
+                    kept += [_Request(request.what, element, j, None, request.command)
+                             for j in range(1, n + 1) if j != k]
+                continue
+            kept.append(request)
+        self._deformation_requests = kept
+        self.release(element, k)
+
     def build(self) -> Model:
         """Check the description and return the immutable :class:`Model`.
 
@@ -856,6 +936,19 @@ def _assign(i, label, req, classes, assigned, problems):
         return
     assigned[i] = word
     classes[i] = req.what
+
+
+def _constraint_counts(D_c: np.ndarray) -> tuple[int, int]:
+    """Over- and under-constraints of ``D_c`` (FLEXURES 5): singular values below
+    ``sqrt(eps)`` of the largest count in both, and a surplus of rows (columns) adds to
+    the over- (under-) constraints."""
+    rows, cols = D_c.shape
+    if not rows or not cols:
+        return rows, cols
+    values = np.linalg.svd(D_c, compute_uv=False)
+    singular = int(np.sum(values < np.sqrt(np.finfo(float).eps) * values[0])) + \
+        (min(rows, cols) - len(values))
+    return max(rows - cols, 0) + singular, max(cols - rows, 0) + singular
 
 
 def check_solvability(model: Model) -> list[Problem]:

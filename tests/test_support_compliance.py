@@ -146,3 +146,51 @@ def test_every_load_step_is_linearized_at_its_own_equilibrium(tmp_path, capsys):
     assert "buckling1" in printed and "C3.33" in printed and "C3.12" not in printed
     header = out.read_text().splitlines()[0].split(",")
     assert "C3.12" in header and "f1" in header
+
+
+def _parallel_guide(leaves: int = 4, manual: bool = False):
+    """FLEXURES 7's parallel guide: leaves 50 mm long, 20 x 0.5 mm, 40 mm apart along the
+    stroke x, clamped below, a rigid stage across their tops (nodes 3, 4 and 7, 8)."""
+    b = fm.ModelBuilder("parallel guide")
+    b.add_node(1, 0, 0, 0).add_node(3, 0, 0, 0.05).add_node(5, 0.04, 0, 0)
+    b.add_node(7, 0.04, 0, 0.05)
+    b.add_spatial_beams(1, 1, 2, 3, 4, leaves, orientation=(0, 1, 0), new_nodes=100,
+                        section=LEAF, material=STEEL)
+    b.add_spatial_beams(21, 5, 6, 7, 8, leaves, orientation=(0, 1, 0), new_nodes=200,
+                        section=LEAF, material=STEEL, dynamic=() if manual else (1, 2, 3, 4,
+                                                                                 5, 6))
+    b.add_spatial_beam(50, 3, 4, 7, 8, (0, 1, 0))   # the stage: all six deformations rigid
+    b.fix(1).fix(2).fix(5).fix(6)
+    if manual:   # another valid set: the whole last beam of the second leaf released
+        for k in range(21, 20 + leaves):
+            b.dynamic_deformation(k)
+        b.release(20 + leaves)
+        return b.build(), []
+    releases = b.release_overconstraints()
+    return b.build(), releases
+
+
+def test_over_constraints_are_released_as_spacar_light_does():
+    """The rigid stage over-constrains the two leaves six times: six releases from the
+    leaves' last beams make D_c square and regular, and the guide's stiffness is that of
+    FLEXURES 7 (8396.1190 N/m along the stroke: 24EI/L^3 with shear and the stage's tilt)
+    and of any other valid set of releases."""
+    model, releases = _parallel_guide()
+    assert len(releases) == 6 and {element for element, _ in releases} <= {4, 24}
+    D_c = fm.jacobian(model, model.x0)[np.ix_(model.constrained, model.dependent)]
+    assert D_c.shape[0] == D_c.shape[1] and np.linalg.cond(D_c) < 1e8
+    C = fm.node_compliance(fm.static_equilibrium(model).linearization(), 3, 4)
+    assert 1 / C[0, 0] == pytest.approx(8396.1190, rel=1e-7)
+    other, _ = _parallel_guide(manual=True)
+    C_other = fm.node_compliance(fm.static_equilibrium(other).linearization(), 3, 4)
+    np.testing.assert_allclose(C_other, C, rtol=1e-7, atol=1e-9 * np.abs(C).max())
+
+
+def test_an_under_constrained_model_is_named():
+    b = fm.ModelBuilder("loose")
+    b.add_node(1, 0, 0, 0).add_node(3, L, 0, 0)
+    b.add_spatial_beams(1, 1, 2, 3, 4, 2, orientation=(0, 1, 0), new_nodes=10,
+                        section=LEAF, material=STEEL)
+    b.fix(1)   # the clamp's rotation is free
+    with pytest.raises(fm.ModelError, match="under-constrained"):
+        b.release_overconstraints()
