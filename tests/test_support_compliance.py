@@ -194,3 +194,24 @@ def test_an_under_constrained_model_is_named():
     b.fix(1)   # the clamp's rotation is free
     with pytest.raises(fm.ModelError, match="under-constrained"):
         b.release_overconstraints()
+
+
+def test_a_file_s_over_constraints_are_released_on_request(tmp_path, capsys):
+    """A parallel guide written without releases is refused as over-constrained; read
+    with release (flexmbd static --release) it runs, the releases are listed, and its
+    stiffness is the guide's."""
+    from flexmbd.cli import main
+    from flexmbd.io.dat import dat_text
+
+    manual, _ = _parallel_guide(manual=True)
+    text = dat_text(manual).replace("RLSE     24 1 2 3 4 5 6", "DYNE     24 1 2 3 4 5 6")
+    path = tmp_path / "guide.dat"
+    path.write_text(text)
+    with pytest.raises(fm.InputFileError, match="does not close"):
+        fm.read_dat(path)
+    model, settings = fm.read_dat(path, release=True)
+    assert any(note.startswith("released over-constraints") for note in settings.notes)
+    C = fm.node_compliance(fm.static_equilibrium(model).linearization(), 3, 4)
+    assert 1 / C[0, 0] == pytest.approx(8396.1190, rel=1e-7)
+    assert main(["static", str(path), "--release", "--compliance", "3:4"]) == 0
+    assert "RLSE" in capsys.readouterr().err

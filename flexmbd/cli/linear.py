@@ -37,6 +37,9 @@ def add_commands(commands) -> None:
     for name, text in COMMANDS.items():
         parser = commands.add_parser(name, help=text, description=text[0].upper() + text[1:])
         parser.add_argument("file", metavar="FILE.dat", help="SPACAR input file")
+        parser.add_argument("--release", action="store_true",
+                            help="release over-constraints as SPACAR Light does (they are "
+                                 "printed)")
         parser.add_argument("--out", metavar="FILE",
                             help="write the table (.csv; static: also SPACAR's .sbd; modes: "
                                  "also .sbm, the linearized equations of every load step; "
@@ -86,7 +89,7 @@ def run(args: argparse.Namespace) -> int:
         raise ArgumentError("--count", f"must be at least 1, got {args.count}")
     from .run import read_input
 
-    model, settings = read_input(args.file)
+    model, settings = read_input(args.file, args.release)
     print(model.summary())
     if args.command == "modes" and args.along:
         return _modes_along(args, model, settings)

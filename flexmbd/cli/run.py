@@ -40,6 +40,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--movie", metavar="FILE.mp4", help="animate the mechanism (.mp4, .gif)")
     parser.add_argument("--steps", type=int, help="output intervals (default: TIMESTEP)")
     parser.add_argument("--t-end", type=float, help="end time [s] (default: TIMESTEP)")
+    parser.add_argument("--release", action="store_true",
+                        help="release over-constraints as SPACAR Light does (they are "
+                             "printed)")
     parser.add_argument("--method", choices=sorted(METHODS),
                         help="integrator of the dynamic mode (default RK45, or "
                              "GeneralizedAlpha when RK45 finds the model stiff)")
@@ -103,9 +106,10 @@ def check_arguments(args: argparse.Namespace) -> None:
             raise ArgumentError(option, "chooses what --plot draws; add --plot FILE.png")
 
 
-def read_input(path) -> tuple[Model, RunSettings]:
-    """Read a SPACAR file for a command, printing its notes (values read but not used)."""
-    model, settings = read_dat(path)
+def read_input(path, release: bool = False) -> tuple[Model, RunSettings]:
+    """Read a SPACAR file for a command, printing its notes (values read but not used, the
+    over-constraints released with ``release``)."""
+    model, settings = read_dat(path, release=release)
     for note in settings.notes:
         print(f"note: {note}", file=sys.stderr)
     return model, settings
@@ -115,7 +119,7 @@ def run(args: argparse.Namespace) -> int:
     """``flexmbd run``: 0 when the run completed, 1 when it stopped early, 130 when it was
     interrupted. Everything computed is written, also after a failure or an interrupt."""
     check_arguments(args)
-    model, settings = read_input(args.file)
+    model, settings = read_input(args.file, args.release)
     mode = args.mode or default_mode(model)
     check_mode(model, mode)
     times = output_times(settings, args.steps, args.t_end)

@@ -84,8 +84,14 @@ class DatFile(NamedTuple):
     settings: RunSettings
 
 
-def read_dat(path: str | Path) -> DatFile:
+def read_dat(path: str | Path, *, release: bool = False) -> DatFile:
     """Read a SPACAR input file (``.dat``), planar or spatial.
+
+    Args:
+        path: the file.
+        release: release the model's over-constraints as SPACAR Light does
+            (:meth:`~flexmbd.ModelBuilder.release_overconstraints`); the releases are
+            listed in ``settings.notes``.
 
     Returns:
         :class:`DatFile` ``(model, settings)``: the model, and the file's run settings
@@ -94,7 +100,7 @@ def read_dat(path: str | Path) -> DatFile:
     Raises:
         InputFileError: naming the file, the line and the reason.
     """
-    return dat_from_text(read_text(path), path)
+    return dat_from_text(read_text(path), path, release=release)
 
 
 def read_text(path: str | Path) -> str:
@@ -122,16 +128,18 @@ def read_text(path: str | Path) -> str:
     return data.decode("utf-8", errors="replace")
 
 
-def dat_from_text(text: str, path: str | Path | None = None) -> DatFile:
+def dat_from_text(text: str, path: str | Path | None = None, *, release: bool = False
+                  ) -> DatFile:
     """:func:`read_dat` for the text of a file (``path`` is used in messages and the name)."""
-    return _Reader(parse_text(text, path)).read()
+    return _Reader(parse_text(text, path), release).read()
 
 
 class _Reader:
     """Applies the statements to a :class:`ModelBuilder`, checking what needs a line number."""
 
-    def __init__(self, text: DatText):
+    def __init__(self, text: DatText, release: bool = False):
         self.text, self.path = text, text.path
+        self.release = release
         name = Path(self.path).stem if self.path else "SPACAR model"
         self.builder = ModelBuilder(name)
         self.elements: dict[int, tuple[str, tuple[int, ...], int]] = {}  # keyword, nodes, line
@@ -171,6 +179,11 @@ class _Reader:
             self.transfer(statement)
         self.order_transfer()
         try:
+            if self.release:
+                released = self.builder.release_overconstraints()
+                if released:
+                    self.remarks.append("released over-constraints as SPACAR Light does: " +
+                                        ", ".join(f"RLSE {e} {k}" for e, k in released))
             model = self.builder.build()
         except ModelError as error:
             raise self.located(error.problems) from None
