@@ -248,15 +248,18 @@ class ModelBuilder:
 
     def add_spatial_beams(self, first: int, p: int, lam_p: int, q: int, lam_q: int,
                           nbeams: int, orientation, *, new_nodes: int, section=None,
-                          material=None, dynamic=(1, 2, 3, 4, 5, 6)) -> ModelBuilder:
+                          material=None, dynamic=(1, 2, 3, 4, 5, 6), node_step: int = 2
+                          ) -> ModelBuilder:
         """``nbeams`` spatial beams in a row from ``p`` to ``q`` (a leaf spring, a wire),
         elements ``first`` to ``first + nbeams - 1``. The nodes between them are equally spaced
         on the line from ``p`` to ``q`` and numbered from ``new_nodes`` on, a translational
-        node and then its rotational node for each. With ``section`` and ``material``
-        (:mod:`flexmbd.sections`) each beam gets their stiffness, mass and section inertia
-        (:meth:`set_section`); the deformations ``dynamic`` (default all six) of each are
-        dynamic degrees of freedom. ``p`` and ``q`` need their positions first."""
+        node and then its rotational node for each, ``node_step`` numbers apart (3 leaves
+        a number free for a warping node, as SPACAR Light numbers them). With ``section``
+        and ``material`` (:mod:`flexmbd.sections`) each beam gets their stiffness, mass and
+        section inertia (:meth:`set_section`); the deformations ``dynamic`` (default all
+        six) of each are dynamic degrees of freedom. ``p`` and ``q`` need their positions first."""
         count = checks.whole(nbeams, "nbeams", 1, 10_000)
+        step = checks.whole(node_step, "node_step", 2, 1_000)
         if p not in self._positions or q not in self._positions:
             self._problems.append(f"add_spatial_beams {first}: nodes {p} and {q} need their "
                                   f"positions (add_node) first")
@@ -264,7 +267,7 @@ class ModelBuilder:
         start, end = np.array(self._positions[p]), np.array(self._positions[q])
         chain = [(p, lam_p)]
         for k in range(1, count):
-            node = new_nodes + 2 * (k - 1)
+            node = new_nodes + step * (k - 1)
             self.add_node(node, *(start + (end - start) * k / count))
             chain.append((node, node + 1))
         chain.append((q, lam_q))
@@ -408,7 +411,8 @@ class ModelBuilder:
         cross-section and material (:mod:`flexmbd.sections`: ``Rectangle(w, t)`` with ``w``
         along the orientation vector, ``Circle(d)``, ``Tube(outer, inner)``;
         ``Material(E, G, rho)``), as SPACAR Light computes them. A massless material sets
-        no mass. The warping values ``ECw``, ``rhoCw`` are not used by the spatial beam."""
+        no mass; a rigid one (``Material.rigid(rho)``) no stiffness. The warping values
+        ``ECw``, ``rhoCw`` are not used by the spatial beam."""
         from .sections import beam_values
 
         try:
@@ -417,7 +421,8 @@ class ModelBuilder:
             self._problems.append(f"set_section element {element}: {error}")
             return self
         self._sections[element] = (section, material)
-        self.set_stiffness(element, **values.stiffness)
+        if not material.is_rigid:
+            self.set_stiffness(element, **values.stiffness)
         if values.mass_per_length:
             self.set_mass(element, values.mass_per_length,
                           section_inertia=values.section_inertia)

@@ -40,9 +40,11 @@ class Material:
     rho: float = 0.0
 
     def __post_init__(self):
-        for name, low in (("E", 0.0), ("G", 0.0)):
-            value = checks.real(getattr(self, name), f"Material {name}")
-            if not value > low:
+        for name in ("E", "G"):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float)) and value == math.inf):  # rigid()
+                value = checks.real(value, f"Material {name}")
+            if not value > 0.0:
                 raise ArgumentError(name, f"must be positive [Pa], got {value:g}")
         if not checks.real(self.rho, "Material rho") >= 0:
             raise ArgumentError("rho", f"must be 0 or more [kg/m^3], got {self.rho:g}")
@@ -54,6 +56,16 @@ class Material:
         if not -1.0 < nu < 0.5 + 1e-12:
             raise ArgumentError("nu", f"Poisson's ratio must lie in (-1, 0.5], got {nu:g}")
         return cls(E, E / (2.0 * (1.0 + nu)), rho)
+
+    @classmethod
+    def rigid(cls, rho: float) -> Material:
+        """A rigid body's material of density ``rho`` [kg/m^3]: ``E = G = inf``; a beam of it
+        takes only mass and section inertia (:meth:`flexmbd.ModelBuilder.set_section`)."""
+        return cls(math.inf, math.inf, rho)
+
+    @property
+    def is_rigid(self) -> bool:
+        return math.isinf(self.E) or math.isinf(self.G)
 
     @property
     def nu(self) -> float:

@@ -1,0 +1,243 @@
+"""A SPACAR Light model made an ordinary flexmbd model, numbered as SPACAR Light numbers it.
+
+User node ``j`` becomes translational node ``3j - 2`` and rotational node ``3j - 1``
+(``3j`` is kept for its warping node). User element ``i`` becomes ``nbeams`` spatial beams,
+numbered on from 1 over the elements in order; the nodes between them are numbered on from
+``3n + 1``, three numbers each. The flexible deformations (``flex``) of every beam are
+dynamic degrees of freedom; releases (``rls``) go on the last beam of an element, as
+SPACAR Light puts them.
+
+Loads and inputs follow SPACAR Light's static mode: ``force_initial``, ``moment_initial``
+and ``displ_initial_*``, ``rot_initial*`` act from the first load step; ``force``,
+``moment``, ``displ_*`` and ``rot*`` are added over the load steps (SPACAR's ``DELXF`` and
+``DELINPX``). An input rotation prescribes Euler parameters, as SPACAR does: ``rot``
+``lam1..lam3``, ``rot_x`` only ``lam1`` (and so on), moved linearly over the steps.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..builder import ModelBuilder
+from ..errors import ArgumentError
+from ..model import Model
+from ..motion import Polynomial
+from ..sections import Circle, Material, Rectangle, Section
+from .fields import ElementSet, NodeProps, Options
+
+
+@dataclass
+class LightModel:
+    """The flexmbd model of a SPACAR Light description and what a run needs besides.
+
+    Attributes:
+        model: the mechanism.
+        positions: the user nodes ``(n, 3)`` [m].
+        elements: the user elements ``(m, 2)``, pairs of user node numbers.
+        beams: per user element (1-based), its beams' element numbers in order.
+        sets: per user element, its property set (None: rigid and massless).
+        connected: the user nodes an element uses.
+        load_increment: loads added over the load steps by coordinate label [N, N m].
+        input_increment: input increments over the load steps by label [m, -].
+        transfer_inputs, transfer_outputs: the state-space inputs (``"x4.1"``) and outputs
+            (``"x4.1"``, rates ``"xd4.1"``) in SPACAR Light's order, with its names.
+        releases: the released deformations ``(beam, k)``.
+        options: the checked ``opt``.
+        notes: what was read in a way worth saying.
+    """
+
+    model: Model
+    positions: np.ndarray
+    elements: np.ndarray
+    beams: dict[int, tuple[int, ...]]
+    sets: dict[int, ElementSet | None]
+    connected: frozenset[int]
+    load_increment: dict[str, float]
+    input_increment: dict[str, float]
+    transfer_inputs: list[tuple[str, str]]
+    transfer_outputs: list[tuple[str, str]]
+    releases: list[tuple[int, int]]
+    options: Options
+    notes: list[str] = field(default_factory=list)
+
+
+def translational(node: int) -> int:
+    """SPACAR Light's translational node of user node ``node``."""
+    return 3 * node - 2
+
+
+def rotational(node: int) -> int:
+    """SPACAR Light's rotational node of user node ``node``."""
+    return 3 * node - 1
+
+
+def section_of(s: ElementSet) -> Section | None:
+    if s.cshape == "rect":
+        return Rectangle(s.dim[0], s.dim[1])
+    if s.cshape == "circ":
+        return Circle(s.dim[0])
+    return None
+
+
+def assemble(positions: np.ndarray, elements: np.ndarray, props: dict[int, NodeProps],
+             sets: list[ElementSet], opt: Options, notes: list[str]) -> LightModel:
+    """Build the model (releases made, automatic ones when ``opt.rls`` is not given)."""
+    n = len(positions)
+    builder = ModelBuilder(opt.filename or "spacar light model")
+    connected = frozenset(int(v) for v in elements.ravel())
+    for j in sorted(connected):
+        builder.add_node(translational(j), *positions[j - 1])
+    owner = {e: s for s in sets for e in s.elems}
+    unused = sorted(set(range(1, n + 1)) - connected)
+    if unused:
+        notes.append(f"node{'s' if len(unused) > 1 else ''} "
+                     f"{', '.join(map(str, unused))} not attached to an element")
+    beams: dict[int, tuple[int, ...]] = {}
+    next_beam, next_node = 1, 3 * n + 1
+    for i, (p, q) in enumerate(elements, 1):
+        s = owner.get(i)
+        count = s.nbeams if s else 1
+        section = section_of(s) if s else None
+        if s and s.warping:
+            raise ArgumentError(f"eprops({s.number}).warping",
+                                "warping (SPACAR's BEAMW) is not supported yet; leave it "
+                                "out to model the leaf without warping")
+        builder.add_spatial_beams(next_beam, translational(p), rotational(p), translational(q),
+                                  rotational(q), count, s.orien if s else (0.0, 1.0, 0.0),
+                                  new_nodes=next_node, dynamic=(), node_step=3)
+        beams[i] = tuple(range(next_beam, next_beam + count))
+        if s is not None and section is not None:
+            for beam in beams[i]:
+                builder.set_section(beam, section, _material(s))
+        next_beam += count
+        next_node += 3 * (count - 1)
+    _classify(builder, beams, owner, opt)
+    increments = _nodes(builder, positions, props, connected, opt)
+    if opt.gravity is not None:
+        builder.set_gravity(*opt.gravity)
+    releases = [(e, k) for e, ks in sorted(_user_releases(beams, opt).items()) for k in ks]
+    if opt.rls is None:
+        releases = builder.release_overconstraints()   # names an under-constrained model
+        if releases:
+            notes.append("over-constraints released: " +
+                         ", ".join(f"element {_user_element(beams, e)} (beam {e}) "
+                                   f"deformation {k}" for e, k in releases))
+    model = builder.build()
+    inputs, outputs = _transfer(props, opt)
+    return LightModel(model, positions, elements, beams, {i: owner.get(i) for i in beams},
+                      connected, increments[0], increments[1], inputs, outputs, releases, opt,
+                      notes)
+
+
+def _material(s: ElementSet) -> Material:
+    """The set's material; a rigid set's is rigid (SPACAR Light needs no moduli for it)."""
+    if not s.flex:
+        return Material.rigid(s.dens or 0.0)
+    assert s.emod is not None and s.smod is not None
+    return Material(s.emod, s.smod, s.dens or 0.0)
+
+
+def _user_element(beams: dict[int, tuple[int, ...]], beam: int) -> int:
+    return next(i for i, numbers in beams.items() if beam in numbers)
+
+
+def _user_releases(beams, opt: Options) -> dict[int, tuple[int, ...]]:
+    """``opt.rls`` by beam: the last beam of each element."""
+    return {beams[i][-1]: ks for i, ks in (opt.rls or {}).items() if ks}
+
+
+def _classify(builder: ModelBuilder, beams, owner, opt: Options) -> None:
+    released = _user_releases(beams, opt)
+    for i, numbers in beams.items():
+        s = owner.get(i)
+        flex = s.flex if s else ()
+        for beam in numbers:
+            dynamic = [k for k in flex if k not in released.get(beam, ())]
+            if dynamic:
+                builder.dynamic_deformation(beam, *dynamic)
+            if beam in released:
+                builder.release(beam, *released[beam])
+
+
+def _nodes(builder: ModelBuilder, positions, props: dict[int, NodeProps], connected,
+           opt: Options) -> tuple[dict[str, float], dict[str, float]]:
+    """Fixes, inputs, loads and masses of the user nodes; returns the load and input
+    increments over the load steps."""
+    loads: dict[str, float] = {}
+    inputs: dict[str, float] = {}
+    static = opt.mode == 10 and not opt.transfer
+    for j, p in sorted(props.items()):
+        if j not in connected:
+            if _has_any(p):
+                raise ArgumentError(f"nprops({j})", "the node is not attached to an element")
+            continue
+        t, r = translational(j), rotational(j)
+        if p.fix or p.fix_pos:
+            builder.fix(t)
+        if p.fix or p.fix_orien:
+            builder.fix(r)
+        if p.fix_dirs:
+            builder.fix(t, *p.fix_dirs)
+        for k in sorted(set(p.displ) | set(p.displ_initial)):
+            if opt.mode == 3:
+                builder.dynamic_coordinate(t, k)
+                continue
+            if opt.transfer:
+                continue
+            start = positions[j - 1][k - 1] + p.displ_initial.get(k, 0.0)
+            builder.input_coordinate(t, k, law=Polynomial(start))
+            if k in p.displ:
+                inputs[f"x{t}.{k}"] = p.displ[k]
+        for k in p.rot_dirs:
+            if opt.mode == 3:
+                builder.dynamic_coordinate(r, k)
+                continue
+            if opt.transfer:
+                continue
+            start = 0.0 if p.rot_initial is None else float(p.rot_initial[k - 1])
+            builder.input_coordinate(r, k, law=Polynomial(start))
+            if p.rot is not None:
+                inputs[f"x{r}.{k}"] = float(p.rot[k - 1])
+        if static or opt.mode == 3:
+            if p.force_initial is not None:
+                builder.add_force(t, *p.force_initial)
+            if p.moment_initial is not None:
+                builder.add_force(r, *p.moment_initial)
+            for node, values in ((t, p.force), (r, p.moment)):
+                first = 1 if node == t else 2   # a moment's slots are lam1..lam3
+                for k, value in enumerate(values if values is not None else (), first):
+                    loads[f"x{node}.{k}"] = loads.get(f"x{node}.{k}", 0.0) + float(value)
+        if p.mass:
+            builder.add_point_mass(t, p.mass)
+        if p.mominertia is not None:
+            builder.add_rotary_inertia(r, *p.mominertia)
+    return loads, inputs
+
+
+def _has_any(p: NodeProps) -> bool:
+    return p != NodeProps()
+
+
+def _transfer(props: dict[int, NodeProps], opt: Options
+              ) -> tuple[list[tuple[str, str]], list[tuple[str, str]]]:
+    """State-space inputs and outputs, numbered in node order as SPACAR Light numbers them,
+    with its names (``"force-x n3"``)."""
+    if not opt.transfer:
+        return [], []
+    inputs, outputs = [], []
+    for j, p in sorted(props.items()):
+        t = translational(j)
+        for name in p.transfer_in:
+            k = "xyz".index(name[-1]) + 1
+            inputs.append((f"x{t}.{k}", f"force-{name[-1]} n{j}"))
+        for name in p.transfer_out:
+            k = "xyz".index(name[-1]) + 1
+            rate = name.startswith("veloc")
+            outputs.append((f"{'xd' if rate else 'x'}{t}.{k}",
+                            f"{'veloc' if rate else 'displ'}-{name[-1]} n{j}"))
+    if not inputs or not outputs:
+        raise ArgumentError("opt.transfer", "needs transfer_in and transfer_out on nodes "
+                                            "(nprops)")
+    return inputs, outputs

@@ -1,0 +1,277 @@
+"""``light.run``: a SPACAR Light description built, solved over its load steps and
+linearized at every step's equilibrium."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..analysis.linearization import Linearization
+from ..analysis.modes import buckling, node_compliance, vibration_modes
+from ..analysis.statespace import StateSpace, state_space
+from ..analysis.statics import StaticResult, static_equilibrium
+from ..analysis.stresses import beam_stresses
+from ..errors import ArgumentError, FlexmbdError
+from ..progress import progress_bar
+from .build import LightModel, assemble, rotational, translational
+from .fields import DEFAULT_LOADSTEPS, ElementSet, element_sets, node_props, options
+from .results import ElementResult, LightResult, NodeResult, OneBased
+
+#: SPACAR Light refuses elements whose lengths differ more than this; flexmbd notes it
+LENGTH_RATIO = 1000.0
+
+
+def build(nodes, elements, nprops=None, eprops=None, opt=None) -> LightModel:
+    """The flexmbd model of a SPACAR Light description, without running it (SPACAR
+    Light's ``opt.showinputonly``). Arguments as :func:`run`.
+
+    Returns:
+        :class:`~flexmbd.light.build.LightModel`: ``.model`` and the numbering.
+
+    Raises:
+        ArgumentError: a field, value or combination SPACAR Light refuses, named.
+        ModelError: the model cannot be built (e.g. a mechanism), with every problem.
+    """
+    notes: list[str] = []
+    positions, pairs = _geometry(nodes, elements, notes)
+    props = node_props(nprops, len(positions))
+    sets = element_sets(eprops, len(pairs), notes)
+    opt = options(opt, len(pairs), notes)
+    constraints = sum(p.constraints for p in props.values())
+    if constraints < 6:
+        raise ArgumentError("nprops", f"the nodes have too few constraints ({constraints} < 6; "
+                                      f"fix, fix_*, displ_* or rot*): the model can move freely")
+    bare = sorted(set(range(1, len(pairs) + 1)) - {e for s in sets for e in s.elems})
+    if bare:
+        notes.append(f"element{'s' if len(bare) > 1 else ''} {', '.join(map(str, bare))} "
+                     f"{'have' if len(bare) > 1 else 'has'} no properties: rigid and massless")
+    if not any(s.flex for s in sets):
+        notes.append("no element has the flex property: nothing deforms")
+    return assemble(positions, pairs, props, sets, opt, notes)
+
+
+def run(nodes, elements, nprops=None, eprops=None, opt=None) -> LightResult:
+    """Run a SPACAR Light model: static equilibrium over the load steps and, at every
+    step's equilibrium, the eigenfrequencies, buckling load factors, compliance of every
+    node and largest stresses.
+
+    Args:
+        nodes: ``(n, 3)`` node positions [m]; user node ``j`` is row ``j`` (1-based).
+        elements: ``(m, 2)`` pairs ``[p, q]`` of user node numbers.
+        nprops: node properties: a list of dicts (entry ``j - 1`` for node ``j``) or a
+            dict ``{j: {...}}``, with SPACAR Light's fields (``fix``, ``force``, ...).
+        eprops: element property sets: a list of dicts with SPACAR Light's fields
+            (``elems``, ``emod``, ``smod``, ``dens``, ``cshape``, ``dim``, ``orien``,
+            ``nbeams``, ``flex``, ...).
+        opt: options, a dict with SPACAR Light's fields (``gravity``, ``loadsteps``,
+            ``rls``, ``transfer``, ``calcbuck``, ``calccompl``, ``silent``, ...). Without
+            ``rls`` the over-constraints are released automatically and printed.
+
+    Returns:
+        :class:`~flexmbd.light.results.LightResult`, read as SPACAR Light's output:
+        ``res.node[j].p`` ``(3, nsteps)``, ``res.step[i].freq``, ``res.stressmax``, ...
+
+    Raises:
+        ArgumentError: a field, value or combination SPACAR Light refuses, named.
+        ModelError: the model cannot be built, with every problem.
+        ConvergenceError: a load step did not converge; ``error.partial_result`` keeps the
+            converged steps.
+
+    Example:
+        >>> import numpy as np
+        >>> from flexmbd import light
+        >>> nodes = np.array([[0, 0, 0], [0.1, 0, 0]])
+        >>> res = light.run(nodes, [[1, 2]], {1: {"fix": True}, 2: {"force": [0, 0, -1]}},
+        ...                 [{"elems": 1, "emod": 210e9, "smod": 80e9, "dens": 7800,
+        ...                   "cshape": "rect", "dim": [20e-3, 1e-3], "orien": [0, 1, 0],
+        ...                   "nbeams": 4, "flex": [1, 2, 3, 4, 5, 6]}],
+        ...                 {"loadsteps": 3, "silent": True})
+        >>> res.node[2].p.shape
+        (3, 3)
+    """
+    lm = build(nodes, elements, nprops, eprops, opt)
+    opt_ = lm.options
+    show = not opt_.silent
+    if show:
+        for note in lm.notes:
+            print(f"flexmbd.light: {note}")
+    given = bool(lm.load_increment or lm.input_increment)
+    steps = (opt_.loadsteps or DEFAULT_LOADSTEPS) - 1 if given else 0
+    if opt_.loadsteps and opt_.loadsteps > 1 and not given and not opt_.transfer:
+        lm.notes.append("opt.loadsteps: no force, moment, displ or rot is added over the "
+                        "steps, so there is one step")
+    statics = static_equilibrium(lm.model, load_increment=lm.load_increment or None,
+                                 input_increment=lm.input_increment or None, steps=steps,
+                                 progress=None if show else False)
+    return _results(lm, statics, show)
+
+
+def _geometry(nodes, elements, notes: list[str]) -> tuple[np.ndarray, np.ndarray]:
+    try:
+        positions = np.asarray(nodes, dtype=float)
+    except (TypeError, ValueError):
+        raise ArgumentError("nodes", "must be an (n, 3) array of positions [m]") from None
+    if positions.ndim != 2 or positions.shape[1] != 3 or not len(positions):
+        raise ArgumentError("nodes", f"must be an (n, 3) array of positions [m], got shape "
+                                     f"{positions.shape}")
+    if not np.all(np.isfinite(positions)):
+        raise ArgumentError("nodes", "holds a value that is not a finite number")
+    try:
+        raw = np.asarray(elements, dtype=float)
+    except (TypeError, ValueError):
+        raise ArgumentError("elements", "must be an (m, 2) array of node numbers") from None
+    raw = raw.reshape(1, -1) if raw.ndim == 1 else raw
+    if raw.ndim != 2 or raw.shape[1] != 2 or not len(raw):
+        raise ArgumentError("elements", f"must be an (m, 2) array of node numbers [p q], got "
+                                        f"shape {np.shape(elements)}")
+    n = len(positions)
+    if not np.all(np.isfinite(raw)) or np.any(raw != np.round(raw)) or \
+            np.any((raw < 1) | (raw > n)):
+        raise ArgumentError("elements", f"must hold node numbers 1 to {n} (the rows of nodes)")
+    pairs = raw.astype(int)
+    lengths = np.linalg.norm(positions[pairs[:, 1] - 1] - positions[pairs[:, 0] - 1], axis=1)
+    for i, length in enumerate(lengths, 1):
+        if pairs[i - 1, 0] == pairs[i - 1, 1]:
+            raise ArgumentError("elements", f"element {i} connects node {pairs[i - 1, 0]} to "
+                                            f"itself")
+        if length == 0.0:
+            raise ArgumentError("elements", f"element {i} has zero length (nodes "
+                                            f"{pairs[i - 1, 0]} and {pairs[i - 1, 1]} coincide)")
+    if lengths.max() / lengths.min() > LENGTH_RATIO:
+        notes.append(f"element lengths differ by more than {LENGTH_RATIO:g} times (SPACAR "
+                     f"Light refuses this)")
+    return positions, pairs
+
+
+def _results(lm: LightModel, statics: StaticResult, show: bool) -> LightResult:
+    model, opt = lm.model, lm.options
+    rows = len(statics.t)
+    lins = []
+    with progress_bar(statics.t, "linearized load steps", None if show else False) as advance:
+        for row in range(rows):
+            lins.append(statics.linearization(row))
+            if advance is not None:
+                advance(statics.t[row])
+    ndof = len(lins[0].dynamic) if lins else 0
+    freq = np.full((ndof, rows), np.nan)
+    buck = np.full((ndof, rows), np.nan) if opt.calcbuck else None
+    if opt.calcbuck and not lm.load_increment and not model.nodal_forces \
+            and not any(model.gravity):
+        lm.notes.append("opt.calcbuck: no loads are applied, so there are no buckling load "
+                        "factors")
+    for row, lin in enumerate(lins):
+        _fill(freq, row, lambda lin=lin: vibration_modes(lin).frequencies, lm.notes,
+              "eigenfrequencies")
+        if buck is not None:
+            _fill(buck, row, lambda lin=lin: buckling(lin).factors, lm.notes, "buckling")
+    stress, per_beam = _stresses(lm, lins)
+    nodes = [_node(lm, j, statics, lins) for j in range(1, len(lm.positions) + 1)]
+    elements = []
+    for i, beams in lm.beams.items():
+        assert statics.e is not None
+        e = np.stack([statics.e[:, list(model.elements[b].deformations)].T for b in beams])
+        top = None
+        if opt.stressperelement and per_beam:
+            top = np.max([per_beam.get(b, np.full(rows, np.nan)) for b in beams], axis=0)
+        p, q = lm.elements[i - 1]
+        length = float(np.linalg.norm(lm.positions[q - 1] - lm.positions[p - 1]))
+        elements.append(ElementResult(beams, np.full(len(beams), length / len(beams)), e, top))
+    space = _state_space(lm, lins[0]) if opt.transfer and lins else None
+    if show and not statics.success:
+        print(f"flexmbd.light: {statics.message}")
+    return LightResult(OneBased(nodes, "node"), OneBased(elements, "element"), freq, buck,
+                       stress, np.asarray(statics.t, dtype=float), ndof, lm.releases,
+                       lm.notes, model, statics, space)
+
+
+def _fill(table: np.ndarray, row: int, values, notes: list[str], what: str) -> None:
+    """Put ``values()`` into column ``row``; a step whose analysis fails keeps NaN, noted."""
+    try:
+        found = np.asarray(values(), dtype=float)
+    except (FlexmbdError, ArithmeticError, ValueError) as error:
+        notes.append(f"{what} at step {row + 1}: {error}")
+        return
+    table[:len(found), row] = found[:table.shape[0]]
+
+
+def _stresses(lm: LightModel, lins: list[Linearization]
+              ) -> tuple[np.ndarray, dict[int, np.ndarray]]:
+    """The largest von Mises stress per step over the flexible beams (all beams with a
+    section with ``rigidstress``), and per beam."""
+    rows = len(lins)
+    per_beam: dict[int, np.ndarray] = {}
+    counted = {b for i, beams in lm.beams.items() for b in beams
+               if lm.options.rigidstress or _flexible(lm.sets[i])}
+    for row, lin in enumerate(lins):
+        try:
+            found = beam_stresses(lm.model, lin.x, lin.sigma)
+        except ArgumentError:   # no beam has a section
+            break
+        for b, s in found.items():
+            per_beam.setdefault(b, np.full(rows, np.nan))[row] = s.von_mises
+    top = np.zeros(rows)
+    for b in counted & set(per_beam):
+        top = np.fmax(top, per_beam[b])
+    return top, per_beam
+
+
+def _flexible(s: ElementSet | None) -> bool:
+    return s is not None and bool(s.flex)
+
+
+def _node(lm: LightModel, j: int, statics: StaticResult, lins: list[Linearization]
+          ) -> NodeResult:
+    rows = len(statics.t)
+    model = lm.model
+    t, r = translational(j), rotational(j)
+    if j not in lm.connected:
+        return NodeResult(np.tile(lm.positions[j - 1][:, None], (1, rows)), spa_nrs=(t, r),
+                          attached=False)
+    ct, cr = list(model.nodes[t].coordinates), list(model.nodes[r].coordinates)
+    p = statics.x[:, ct].T
+    quat = statics.x[:, cr].T
+    axang = np.array([_axis_angle(q) for q in quat.T]).T
+    euler = np.array([_euler_zyx(q) for q in quat.T]).T
+    force = np.array([lin.reactions[ct] for lin in lins]).T
+    moment = np.array([lin.reactions[cr[1:]] for lin in lins]).T
+    glob = loc = None
+    if lm.options.calccompl:
+        glob, loc = np.full((6, 6, rows), np.nan), np.full((6, 6, rows), np.nan)
+        for row, lin in enumerate(lins):
+            try:
+                glob[:, :, row] = node_compliance(lin, t, r, frame="global")
+                loc[:, :, row] = node_compliance(lin, t, r, frame="body")
+            except (FlexmbdError, ArithmeticError, ValueError):
+                continue
+    return NodeResult(p, quat, axang, euler, force, moment, glob, loc, (t, r))
+
+
+def _axis_angle(lam: np.ndarray) -> np.ndarray:
+    """``[angle, ax, ay, az]`` of Euler parameters, as SPACAR Light gives it (axis x for a
+    rotation too small to have one)."""
+    c = min(max(float(lam[0]), -1.0), 1.0)
+    angle = 2.0 * math.acos(c)
+    s = math.sqrt(max(0.0, 1.0 - c * c))
+    axis = np.array([1.0, 0.0, 0.0]) if s < 1e-3 else lam[1:4] / s
+    return np.concatenate([[angle], axis])
+
+
+def _euler_zyx(lam: np.ndarray) -> np.ndarray:
+    """ZYX Euler angles ``[z, y, x]`` [rad] of Euler parameters."""
+    q0, q1, q2, q3 = lam / np.linalg.norm(lam)
+    sine = min(1.0, max(-1.0, -2.0 * (q1 * q3 - q0 * q2)))
+    return np.array([math.atan2(2 * (q1 * q2 + q0 * q3), q0**2 + q1**2 - q2**2 - q3**2),
+                     math.asin(sine),
+                     math.atan2(2 * (q2 * q3 + q0 * q1), q0**2 - q1**2 - q2**2 + q3**2)])
+
+
+def _state_space(lm: LightModel, lin: Linearization) -> StateSpace:
+    """The state-space model with inputs and outputs in SPACAR Light's order."""
+    inputs = [label for label, _ in lm.transfer_inputs]
+    outputs = [label for label, _ in lm.transfer_outputs if not label.startswith("xd")]
+    rates = ["x" + label[2:] for label, _ in lm.transfer_outputs if label.startswith("xd")]
+    space = state_space(lin, inputs, outputs, rates, damping_ratio=lm.options.damping)
+    order = [space.outputs.index(label) for label, _ in lm.transfer_outputs]
+    return StateSpace(space.A, space.B, space.C[order], space.D[order], space.inputs,
+                      tuple(space.outputs[k] for k in order), space.states)

@@ -1,0 +1,202 @@
+"""The SPACAR Light front door (flexmbd.light): FLEXURES 7's parallel guide (stiffness,
+parasitic motion, buckling with its sign), a leaf's root stress, the body-frame compliance
+of a turned leaf, the state-space model, SPACAR Light's numbering and its refusals; and,
+where SPACAR's own output is beside the checkout, its numbers for a SPACAR Light model."""
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import flexmbd as fm
+from flexmbd import light
+from flexmbd.errors import ArgumentError
+
+SAMPLES = Path(__file__).parent.parent.parent / "shared" / "spacar-samples"
+ALL = [1, 2, 3, 4, 5, 6]
+#: FLEXURES 7's leaves: steel (nu 0.3), 20 x 0.5 mm, 50 mm long, 40 mm apart
+LEAF = {"emod": 210e9, "smod": 210e9 / 2.6, "dens": 7800, "cshape": "rect",
+        "dim": [0.02, 0.0005], "orien": [0, 1, 0], "nbeams": 4, "flex": ALL}
+GUIDE_NODES = [[0, 0, 0], [0, 0, 0.05], [0.04, 0, 0], [0.04, 0, 0.05], [0.02, 0, 0.05]]
+GUIDE_ELEMENTS = [[1, 2], [3, 4], [2, 5], [5, 4]]   # two leaves, the stage in two halves
+
+
+def _guide(stage: dict | None = None, opt: dict | None = None):
+    nprops = {1: {"fix": True}, 3: {"fix": True}, 5: stage or {}}
+    return light.run(GUIDE_NODES, GUIDE_ELEMENTS, nprops, [dict(LEAF, elems=[1, 2])],
+                     dict({"silent": True}, **(opt or {})))
+
+
+def test_the_parallel_guide_is_released_automatically_and_has_its_stiffness():
+    """No rls: six over-constraints released on the leaves' last beams; the stage's
+    stiffness along the stroke is FLEXURES 7's 8396.1190 N/m (24EI/L^3 = 8400 with shear
+    and the stage's tilt)."""
+    res = _guide()
+    assert len(res.releases) == 6
+    last_beams = {res.element[1].spa_nrs[-1], res.element[2].spa_nrs[-1]}
+    assert {beam for beam, _ in res.releases} <= last_beams
+    assert 1 / res.node[5].CMglob[0, 0, 0] == pytest.approx(8396.1190, rel=1e-7)
+    assert res.node[5].CMglob.shape == (6, 6, 1) and res.freq.shape == (res.ndof, 1)
+
+
+def test_numbering_follows_spacar_light():
+    """User node j is node 3j-2 with rotational node 3j-1; the nodes between sub-beams are
+    numbered on from 3n+1, three apart; the beams on from 1 over the elements."""
+    res = _guide()
+    assert res.node[2].spa_nrs == (4, 5)
+    assert res.element[1].spa_nrs == (1, 2, 3, 4) and res.element[3].spa_nrs == (9,)
+    assert {16, 17, 19, 20, 22, 23} <= set(res.model.nodes)    # element 1's inner nodes
+    assert res.model.nodes[16].kind == "spatial translational"
+    np.testing.assert_allclose(res.model.x0[list(res.model.nodes[16].coordinates)],
+                               [0, 0, 0.0125])
+    np.testing.assert_allclose(res.element[1].L0, [0.0125] * 4)
+
+
+def test_a_stroke_gives_the_parasitic_motion():
+    """The stage driven 1 mm along the stroke (displ_x, 5 load steps) sinks by 0.6 u^2/L
+    (FLEXURES 7: -11.9978 um at n = 4), its drive holding it at every step."""
+    res = _guide({"displ_x": 1e-3}, {"loadsteps": 5})
+    assert res.node[5].p.shape == (3, 5)
+    np.testing.assert_allclose(res.node[5].p[0], 0.02 + np.linspace(0, 1e-3, 5), atol=1e-15)
+    sink = res.node[5].p[2, -1] - 0.05
+    assert sink == pytest.approx(-0.6 * 1e-3**2 / 0.05, rel=1e-3)
+    assert sink == pytest.approx(-11.9978e-6, rel=1e-4)
+    assert res.step[1].node[5].Freac[0] == pytest.approx(0.0, abs=1e-9)
+    stiffness = 8396.1190   # the drive's force is about the stroke times the stiffness
+    assert res.node[5].Freac[0, 1] == pytest.approx(stiffness * 0.25e-3, rel=2e-3)
+
+
+def test_buckling_keeps_its_sign():
+    """A vertical load on the stage's middle: FLEXURES 7's 345.50 N (2 pi^2 EI/L^2 =
+    345.436) as the load factor of 1 N pressing down, the same negative for 1 N pulling."""
+    down = _guide({"force": [0, 0, -1.0]}, {"calcbuck": True, "loadsteps": 2})
+    assert down.buck[0, -1] == pytest.approx(345.50, rel=1e-4)
+    assert np.isnan(down.buck[0, 0])       # step 1 carries no load
+    up = _guide({"force": [0, 0, 1.0]}, {"calcbuck": True, "loadsteps": 2})
+    assert up.buck[0, -1] == pytest.approx(-345.50, rel=1e-3)
+    assert down.step[2].buck[0] == down.buck[0, 1]
+
+
+def test_a_leaf_s_root_stress_and_its_largest_stress_per_element():
+    """A cantilever leaf (100 x 20 x 1 mm) with 0.1 N across its thickness at the tip:
+    6 F L / (w t^2) = 3 MPa at the root's surface (FLEXURES 4), zero before the load."""
+    F, L, w, t = 0.1, 0.1, 0.02, 0.001
+    leaf = dict(LEAF, elems=1, dim=[w, t], nbeams=4)
+    res = light.run([[0, 0, 0], [L, 0, 0]], [[1, 2]], {1: {"fix": True},
+                    2: {"force": [0, 0, F]}}, [leaf],
+                    {"loadsteps": 2, "stressperelement": True, "silent": True})
+    assert res.stressmax[0] == pytest.approx(0.0, abs=1e-3)
+    assert res.stressmax[1] == pytest.approx(6 * F * L / (w * t**2), rel=1e-4)
+    np.testing.assert_array_equal(res.element[1].stressmax, res.stressmax)
+    assert res.step[2].stressmax == res.stressmax[1]
+
+
+def test_the_body_frame_compliance_is_the_global_one_turned():
+    """A leaf whose clamp is turned 0.4 rad about z (rot): in the body frame its tip
+    compliance is that of the unturned leaf; in global axes it is that turned."""
+    leaf = dict(LEAF, elems=1, nbeams=3)
+    res = light.run([[0, 0, 0], [0.05, 0, 0]], [[1, 2]],
+                    {1: {"fix_pos": True, "rot": [0.4, 0, 0, 1]}}, [leaf],
+                    {"loadsteps": 3, "silent": True})
+    C0, C_loc, C_glob = (res.node[2].CMglob[:, :, 0], res.node[2].CMloc[:, :, -1],
+                         res.node[2].CMglob[:, :, -1])
+    np.testing.assert_allclose(C_loc, C0, rtol=1e-8, atol=1e-8 * np.abs(C0).max())
+    c, s = math.cos(0.4), math.sin(0.4)
+    R = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+    T = np.kron(np.eye(2), R)
+    np.testing.assert_allclose(C_glob, T @ C0 @ T.T, rtol=1e-8, atol=1e-8 * np.abs(C0).max())
+    assert res.node[2].r_axang[:, -1] == pytest.approx([0.4, 0, 0, 1], abs=1e-12)
+    assert res.node[2].r_eulzyx[:, -1] == pytest.approx([0.4, 0, 0], abs=1e-12)
+
+
+def test_the_state_space_model_keeps_spacar_light_s_order():
+    """transfer_in and transfer_out (velocity listed first): the outputs in that order;
+    the static gain of the displacement is the stage's compliance."""
+    res = _guide({"transfer_in": ["force_x"], "transfer_out": ["veloc_x", "displ_x"]},
+                 {"transfer": [True, 0.01]})
+    ss = res.statespace
+    assert ss.inputs == ("x13.1",) and ss.outputs == ("xd13.1", "x13.1")
+    gain = -ss.C @ np.linalg.solve(ss.A, ss.B) + ss.D
+    assert gain[1, 0] == pytest.approx(res.node[5].CMglob[0, 0, 0], rel=1e-8)
+    assert gain[0, 0] == pytest.approx(0.0, abs=1e-12)
+
+
+def test_mode_3_frees_the_prescribed_directions():
+    """opt.mode = 3 makes displ_x a free direction: the frequencies are the free guide's."""
+    free = _guide()
+    driven = _guide({"displ_x": 1e-3}, {"mode": 3})
+    np.testing.assert_allclose(driven.freq[:, 0], free.freq[:, 0], rtol=1e-9)
+
+
+@pytest.mark.parametrize("call, match", [
+    (lambda: _guide({"forse": [1, 0, 0]}), r"unknown field 'forse'; did you mean 'force'"),
+    (lambda: _guide(opt={"loadstep": 3}), r"did you mean 'loadsteps'"),
+    (lambda: _guide(opt={"customkin": ["X 1 0 0 0"]}), r"customkin: is not supported"),
+    (lambda: _guide({"fix": True, "fix_pos": True}), r"fix is combined"),
+    (lambda: _guide({"force": [1, 0, 0], "displ_x": 1e-3}), r"fix_x, force\(1\) and displ"),
+    (lambda: _guide({"rot_x": 0.1, "rot_y": 0.1}), r"more than one input rotation"),
+    (lambda: _guide(opt={"mode": 4}), r"must be 10 \(static\) or 3"),
+    (lambda: _guide(opt={"rls": [{"def": [7]}]}), r"deformation modes are 1 to 6"),
+    (lambda: light.run(GUIDE_NODES, GUIDE_ELEMENTS, {1: {"fix_pos": True}}, []),
+     r"too few constraints \(3 < 6"),
+    (lambda: light.run(GUIDE_NODES, [[1, 9]], {1: {"fix": True}}), r"node numbers 1 to 5"),
+    (lambda: light.run(GUIDE_NODES, GUIDE_ELEMENTS, {1: {"fix": True}},
+                       [{"elems": 1, "flex": ALL}]), r"flexible elements \(flex\) need cshape"),
+    (lambda: light.run(GUIDE_NODES, GUIDE_ELEMENTS, {1: {"fix": True}},
+                       [{"elems": 1}, {"elems": [1, 2]}]), r"element 1 is already in eprops"),
+    (lambda: light.run(GUIDE_NODES, GUIDE_ELEMENTS, {1: {"fix": True}},
+                       [dict(LEAF, elems=1, warping=True)]), r"warping .* not supported yet"),
+])
+def test_what_spacar_light_refuses_is_refused_by_name(call, match):
+    with pytest.raises(ArgumentError, match=match):
+        call()
+
+
+def test_numbers_are_one_based():
+    res = _guide()
+    with pytest.raises(IndexError, match="numbered 1 to 5"):
+        res.node[0]
+    assert res.step[1].node[5].p.shape == (3,)
+    assert "5 nodes" in repr(res) and len(repr(res)) < 300
+
+
+def test_notes_are_printed_unless_silent(capsys):
+    light.run(GUIDE_NODES, GUIDE_ELEMENTS, [{"fix": True}, None, {"fix": True}],
+              [dict(LEAF, elems=[1, 2])])
+    printed = capsys.readouterr().out
+    assert "over-constraints released" in printed and "elements 3, 4 have no properties" \
+        in printed
+
+
+@pytest.mark.skipif(not SAMPLES.is_dir(), reason="SPACAR's sample output is not beside the "
+                                                 "checkout")
+def test_spacar_s_own_numbers_for_a_spacar_light_model():
+    """The sample cross hinge as SPACAR Light described it (its .dat header and lines):
+    SPACAR 2018's positions, reactions and frequencies at all ten steps."""
+    import scipy.linalg
+
+    nodes = [[0, 0, 0], [0, 0.1, 0], [0.1, 0.1, 0], [0.1, 0, 0]]
+    leaf = {"elems": [1, 3], "emod": 210e9, "smod": 70e9, "dens": 7800, "cshape": "rect",
+            "dim": [50e-3, 0.2e-3], "orien": [0, 0, 1], "flex": ALL}
+    body = {"elems": 2, "dens": 3000, "cshape": "rect", "dim": [50e-3, 10e-3],
+            "orien": [0, 0, 1]}
+    nprops = {1: {"fix": True}, 4: {"fix": True},   # the file's DELINPX is sin(angle/2)
+              3: {"rot_z": 2 * math.asin(0.247404), "mass": 0.1}}
+    res = light.run(nodes, [[1, 3], [2, 3], [2, 4]], nprops, [leaf, body],
+                    {"gravity": [0, 0, -9.81], "rls": [{"def": ALL}, None, {"def": [4]}],
+                     "silent": True})
+    sbd, sbm = (fm.read_sbd(SAMPLES / f"crosshinge.{kind}") for kind in ("sbd", "sbm"))
+    places = sbd["LNP"].astype(int) - 1
+    for j in (2, 3):
+        np.testing.assert_allclose(res.node[j].p.T, sbd["X"][:, places[3 * j - 3, :3], 0],
+                                   atol=1e-12)
+    reactions = sbd["FXT"][:, :, 0]
+    np.testing.assert_allclose(res.node[1].Freac.T, reactions[:, places[0, :3]], atol=1e-9)
+    np.testing.assert_allclose(res.node[1].Mreac.T, reactions[:, places[1, 1:4]] / 2,
+                               atol=1e-9)
+    for step in range(10):
+        K = sbm["K0"][step] + sbm["N0"][step] + sbm["G0"][step]
+        omega2 = np.sort(scipy.linalg.eigvals(K, sbm["M0"][step]).real)
+        np.testing.assert_allclose(res.freq[:, step], np.sqrt(omega2) / (2 * np.pi),
+                                   rtol=1e-10)
