@@ -24,6 +24,7 @@ from .elements import (
     SPATIAL_ROTATIONAL,
     SPATIAL_TRANSLATIONAL,
     TRANSLATIONAL,
+    WARPING,
     Beam,
     ElementType,
     EulerNormalization,
@@ -34,6 +35,7 @@ from .elements import (
     SpatialHinge,
     SpatialTruss,
     Truss,
+    WarpingBeam,
 )
 from .elements.base import is_translational
 from .engine import deformations_and_jacobian, workspace_of
@@ -246,10 +248,21 @@ class ModelBuilder:
         return self.add_element(number, SpatialBeam, (p, lam_p, q, lam_q),
                                 orientation=orientation, bending_linked=linked)
 
+    def add_warping_beam(self, number: int, p: int, lam_p: int, w_p: int, q: int, lam_q: int,
+                         w_q: int, orientation, *, bending_linked: bool = True
+                         ) -> ModelBuilder:
+        """Warping beam (BEAMW): a spatial beam (:meth:`add_spatial_beam`) with warping
+        nodes ``w_p``, ``w_q``, whose rate of twist ``psi`` [rad/m] is free unless fixed
+        (``fix(w_p)`` restrains the warping there). Its warping deformations ``e7``, ``e8``
+        are always computed; ``set_stiffness(..., warping=ECw)`` [N m^4] stiffens them."""
+        linked = 1.0 if checks.flag(bending_linked, "bending_linked") else 0.0
+        return self.add_element(number, WarpingBeam, (p, lam_p, w_p, q, lam_q, w_q),
+                                orientation=orientation, bending_linked=linked)
+
     def add_spatial_beams(self, first: int, p: int, lam_p: int, q: int, lam_q: int,
                           nbeams: int, orientation, *, new_nodes: int, section=None,
-                          material=None, dynamic=(1, 2, 3, 4, 5, 6), node_step: int = 2
-                          ) -> ModelBuilder:
+                          material=None, dynamic=(1, 2, 3, 4, 5, 6), node_step: int = 2,
+                          warping: tuple[int, int] | None = None) -> ModelBuilder:
         """``nbeams`` spatial beams in a row from ``p`` to ``q`` (a leaf spring, a wire),
         elements ``first`` to ``first + nbeams - 1``. The nodes between them are equally spaced
         on the line from ``p`` to ``q`` and numbered from ``new_nodes`` on, a translational
@@ -257,24 +270,32 @@ class ModelBuilder:
         a number free for a warping node, as SPACAR Light numbers them). With ``section``
         and ``material`` (:mod:`flexmbd.sections`) each beam gets their stiffness, mass and
         section inertia (:meth:`set_section`); the deformations ``dynamic`` (default all
-        six) of each are dynamic degrees of freedom. ``p`` and ``q`` need their positions first."""
+        six) of each are dynamic degrees of freedom. With ``warping = (w_p, w_q)`` they are
+        warping beams (:meth:`add_warping_beam`) from warping node ``w_p`` to ``w_q``, each
+        node between them with its warping node two numbers after its translational one
+        (``node_step`` 3). ``p`` and ``q`` need their positions first."""
         count = checks.whole(nbeams, "nbeams", 1, 10_000)
-        step = checks.whole(node_step, "node_step", 2, 1_000)
+        step = checks.whole(node_step, "node_step", 3 if warping else 2, 1_000)
         if p not in self._positions or q not in self._positions:
             self._problems.append(f"add_spatial_beams {first}: nodes {p} and {q} need their "
                                   f"positions (add_node) first")
             return self
         start, end = np.array(self._positions[p]), np.array(self._positions[q])
-        chain = [(p, lam_p)]
+        chain: list[tuple[int, ...]] = [(p, lam_p, warping[0]) if warping else (p, lam_p)]
         for k in range(1, count):
             node = new_nodes + step * (k - 1)
             self.add_node(node, *(start + (end - start) * k / count))
-            chain.append((node, node + 1))
-        chain.append((q, lam_q))
+            chain.append((node, node + 1, node + 2) if warping else (node, node + 1))
+        chain.append((q, lam_q, warping[1]) if warping else (q, lam_q))
         self._not_last |= set(range(first, first + count - 1))
         for k in range(count):
             number = first + k
-            self.add_spatial_beam(number, *chain[k], *chain[k + 1], orientation)
+            if warping:
+                (a, b, c), (d, f, g) = chain[k], chain[k + 1]
+                self.add_warping_beam(number, a, b, c, d, f, g, orientation)
+            else:
+                (a, b), (d, f) = chain[k], chain[k + 1]
+                self.add_spatial_beam(number, a, b, d, f, orientation)
             if section is not None or material is not None:
                 self.set_section(number, section, material)
             if dynamic:
@@ -364,17 +385,19 @@ class ModelBuilder:
 
         A spatial beam also takes ``section_inertia = (Jxx, Jyy, Jzz, Jyz)`` [kg m] per
         unit length (torsional ``rho (Iy + Iz)``, ``rho Iy``, ``rho Iz``, ``rho Iyz``), lumped
-        on its two rotational nodes (THEORY-SPATIAL 4).
+        on its two rotational nodes (THEORY-SPATIAL 4); a warping beam a fifth, ``Jw = rho
+        Cw`` [kg m^3], lumped on its warping nodes.
         """
         if section_inertia is not None:
             try:
                 inertia = tuple(float(v) for v in section_inertia)
             except (TypeError, ValueError):
                 inertia = ()
-            if len(inertia) != 4 or not all(map(math.isfinite, inertia)):
+            if len(inertia) not in (4, 5) or not all(map(math.isfinite, inertia)):
                 self._problems.append(f"set_mass element {element}: section_inertia "
                                       f"{section_inertia!r} is not four finite numbers "
-                                      f"(Jxx, Jyy, Jzz, Jyz)")
+                                      f"(Jxx, Jyy, Jzz, Jyz), or five with a warping "
+                                      f"beam's Jw")
                 return self
             self._section_inertias[element] = inertia
         if formulation not in MASS_FORMULATIONS:
@@ -412,7 +435,7 @@ class ModelBuilder:
         along the orientation vector, ``Circle(d)``, ``Tube(outer, inner)``;
         ``Material(E, G, rho)``), as SPACAR Light computes them. A massless material sets
         no mass; a rigid one (``Material.rigid(rho)``) no stiffness. The warping values
-        ``ECw``, ``rhoCw`` are not used by the spatial beam."""
+        ``ECw``, ``rhoCw`` go to a warping beam (added before), not to a spatial beam."""
         from .sections import beam_values
 
         try:
@@ -421,12 +444,19 @@ class ModelBuilder:
             self._problems.append(f"set_section element {element}: {error}")
             return self
         self._sections[element] = (section, material)
+        warping = self._type_of(element) is WarpingBeam
         if not material.is_rigid:
-            self.set_stiffness(element, **values.stiffness)
+            self.set_stiffness(element, **values.stiffness,
+                               **({"warping": values.estiff[6]} if warping else {}))
         if values.mass_per_length:
             self.set_mass(element, values.mass_per_length,
-                          section_inertia=values.section_inertia)
+                          section_inertia=values.section_inertia +
+                          ((values.em[5],) if warping else ()))
         return self
+
+    def _type_of(self, element: int) -> type[ElementType] | None:
+        """The type of an element added so far (None if not yet added)."""
+        return next((t for n, t, _, _ in self._elements if n == element), None)
 
     def set_damping(self, element: int, **values: float) -> ModelBuilder:
         """Viscous damping (EDAMP), the twins of the stiffnesses: ``axial`` [N s] acts as
@@ -538,7 +568,7 @@ class ModelBuilder:
             for at in order[:needed]:
                 number, k = element_of[rows[at]]
                 element = model.elements[number]
-                if (element.type.keyword == "BEAM" and number not in self._not_last
+                if (element.type in (SpatialBeam, WarpingBeam) and number not in self._not_last
                         and model.deformation_class[rows[at]] == DeformationClass.DYNAMIC):
                     chosen = at
                     break
@@ -563,10 +593,11 @@ class ModelBuilder:
             if request.number == element and request.what == DeformationClass.DYNAMIC and \
                     request.k in (None, k):
                 if request.k is None:   # all of them: the others stay dynamic
-                    n = next(t for n, t, _, _ in self._elements if n == element
-                             ).n_deformations()
+                    etype = self._type_of(element)
+                    assert etype is not None
                     kept += [_Request(request.what, element, j, None, request.command)
-                             for j in range(1, n + 1) if j != k]
+                             for j in range(1, etype.n_deformations() + 1)
+                             if j != k and j not in etype.calculable]
                 continue
             kept.append(request)
         self._deformation_requests = kept
@@ -692,7 +723,8 @@ class ModelBuilder:
             nd = etype.n_deformations()
             deformation_labels += [f"e{number}.{k}" for k in range(1, nd + 1)]
             default_class += [DeformationClass.RELEASED if etype.released_by_default
-                              else DeformationClass.RIGID] * nd
+                              or k in etype.calculable else DeformationClass.RIGID
+                              for k in range(1, nd + 1)]
             refused = etype.check_data(x0_array[list(coords)], data)
             problems += [Problem(f"{etype.name} {number}: {text}", ("element", number))
                          for text in refused]
@@ -718,7 +750,11 @@ class ModelBuilder:
             deformation_labels.append(f"e{number}.1")
             default_class.append(DeformationClass.RIGID)
 
-        coordinate_class = np.full(len(x0), CoordinateClass.DEPENDENT, dtype=int)
+        # a warping node's psi is free unless fixed or prescribed (FLEXURES 1)
+        coordinate_class = np.array([CoordinateClass.DYNAMIC if nodes[n].kind == WARPING
+                                     else CoordinateClass.DEPENDENT
+                                     for n in sorted(nodes) for _ in nodes[n].coordinates],
+                                    dtype=int).reshape(len(x0))
         deformation_class = np.array(default_class, dtype=int)
         laws: dict[str, Law] = {}
         self._classify(self._coordinate_requests, nodes, "node", self._coordinates_named,
@@ -739,10 +775,27 @@ class ModelBuilder:
             input_laws=MappingProxyType(laws),
             element_properties=MappingProxyType(element_properties),
             nodal_masses=MappingProxyType(dict(self._nodal_masses)),
+            warping_inertias=MappingProxyType(self._warping_masses(elements, nodes)),
             nodal_inertias=MappingProxyType(dict(self._nodal_inertias)),
             nodal_forces=MappingProxyType(dict(self._nodal_forces)),
             gravity=self._gravity or ((0.0,) * (3 if self._spatial() else 2)),
         )
+
+    def _warping_masses(self, elements, nodes) -> dict[int, float]:
+        """The lumped warping inertia ``(l0/2) Jw`` on warping nodes of the warping beams
+        with a section inertia, by node."""
+        masses: dict[int, float] = {}
+        for number, inertia in self._section_inertias.items():
+            element = elements.get(number)
+            if element is None or not element.type.takes_section_inertia or \
+                    len(inertia) < 5:
+                continue
+            for role, lumped in element.type.section_inertia_on_nodes(element.reference,
+                                                                      inertia):
+                node = element.nodes[role]
+                if lumped.shape == (1, 1) and nodes[node].kind == WARPING and lumped[0, 0]:
+                    masses[node] = masses.get(node, 0.0) + float(lumped[0, 0])
+        return masses
 
     def _spatial(self) -> bool:
         return any(t.is_spatial() for _, t, _, _ in self._elements) or any(
@@ -761,7 +814,8 @@ class ModelBuilder:
                 continue
             for role, lumped in element.type.section_inertia_on_nodes(element.reference,
                                                                       inertia):
-                tensors[element.nodes[role]] += lumped
+                if lumped.shape == (3, 3):
+                    tensors[element.nodes[role]] += lumped
         return {node: tuple(float(t[i, j]) for i, j in ((0, 0), (0, 1), (0, 2), (1, 1),
                                                         (1, 2), (2, 2)))
                 for node, t in tensors.items()}
@@ -810,6 +864,10 @@ class ModelBuilder:
                     problems.append(f"set_mass element {number}: a {etype.name} takes no "
                                     f"section inertia (a {' or '.join(takers)} does)")
                 fields["section_inertia"] = self._section_inertias[number]
+                if len(fields["section_inertia"]) == 5 and not etype.calculable:
+                    problems.append(f"set_mass element {number}: a {etype.name} takes four "
+                                    f"section inertias (Jxx, Jyy, Jzz, Jyz); Jw is a warping "
+                                    f"beam's")
             for what, declared in (("stiffness", etype.stiffness_values),
                                    ("damping", etype.damping_values)):
                 values = self._values.get((number, what), {})
@@ -912,17 +970,23 @@ class ModelBuilder:
             return (f"{req.command}: element {req.number} is the {element.type.name} of node "
                     f"{element.nodes[0]}, rigid always")
         nd = len(element.deformations)
+        calculable = element.type.calculable
         ks: Sequence[int]
         if req.k is None:
             if req.law is not None and nd > 1:
                 return (f"{req.command} element {req.number}: a law needs exactly one "
                         f"deformation of this {element.type.name}")
-            ks = range(1, nd + 1)
+            ks = [k for k in range(1, nd + 1) if k not in calculable]
         elif isinstance(req.k, (int, np.integer)) and 1 <= req.k <= nd:
             ks = [int(req.k)]
         else:
             return (f"{req.command} element {req.number}: deformation {req.k!r} does not "
                     f"exist; a {element.type.name} has deformations 1 to {nd}")
+        if any(k in calculable for k in ks) and req.what != DeformationClass.RELEASED:
+            return (f"{req.command} element {req.number}: deformations "
+                    f"{' and '.join(map(str, calculable))} of a {element.type.name} are always "
+                    f"computed from its nodes (released); they cannot be "
+                    f"{_CLASS_WORDS[req.what.name]}")
         return [element.deformations[k - 1] for k in ks]
 
 

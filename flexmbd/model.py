@@ -52,7 +52,8 @@ class DeformationClass(IntEnum):
 
 DIRECTION_NAMES = {"translational": ("x", "y"), "rotational": ("phi",),
                    "spatial translational": ("x", "y", "z"),
-                   "spatial rotational": ("lam0", "lam1", "lam2", "lam3")}
+                   "spatial rotational": ("lam0", "lam1", "lam2", "lam3"),
+                   "warping": ("psi",)}
 
 
 @dataclass(frozen=True)
@@ -136,6 +137,9 @@ class Model:
         element_properties: mass, stiffness, damping and pre-stress by element number.
         nodal_masses: point mass [kg] of a translational node or rotary inertia
             [kg m^2] of a planar rotational node, by node number.
+        warping_inertias: the warping beams' warping inertia ``(l0/2) Jw`` [kg m^3] lumped
+            on their warping nodes, by node number (the engine adds it to the point
+            masses; a ``.dat`` file gives it on the EM lines).
         nodal_inertias: inertia tensor ``(Ixx, Ixy, Ixz, Iyy, Iyz, Izz)`` [kg m^2] of a
             spatial rotational node as given (``XM``); the Euler elements carry it with
             the beams' rotary inertia.
@@ -161,6 +165,7 @@ class Model:
     nodal_forces: Mapping[int, tuple[float, ...]] = field(default_factory=dict)
     gravity: tuple[float, ...] = (0.0, 0.0)
     nodal_inertias: Mapping[int, tuple[float, ...]] = field(default_factory=dict)
+    warping_inertias: Mapping[int, float] = field(default_factory=dict)
 
     #: ``x(o)``
     fixed: np.ndarray = field(init=False, repr=False)
@@ -277,6 +282,15 @@ class Model:
     def is_spatial(self) -> bool:
         """Whether the model is spatial (its nodes have ``x, y, z`` and Euler parameters)."""
         return any(node.kind in SPATIAL_KINDS for node in self.nodes.values())
+
+    @property
+    def point_masses(self) -> dict[int, float]:
+        """The masses on single nodes the engine adds: ``nodal_masses`` and the
+        ``warping_inertias``, by node number [kg, kg m^2, kg m^3]."""
+        masses = dict(self.nodal_masses)
+        for node, value in self.warping_inertias.items():
+            masses[node] = masses.get(node, 0.0) + value
+        return masses
 
     @property
     def has_mass(self) -> bool:

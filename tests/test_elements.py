@@ -12,7 +12,12 @@ import pytest
 import sympy as sp
 
 from flexmbd.elements import ELEMENT_TYPES, Beam, RigidBeam
-from flexmbd.elements.base import COORDINATES_PER_NODE, ROTATIONAL, SPATIAL_ROTATIONAL
+from flexmbd.elements.base import (
+    COORDINATES_PER_NODE,
+    ROTATIONAL,
+    SPATIAL_ROTATIONAL,
+    WARPING,
+)
 from flexmbd.engine import _core, codegen
 
 TYPES = list(ELEMENT_TYPES.values())
@@ -37,8 +42,8 @@ def random_element(cls, rng):
     nc = cls.n_coordinates()
     c0 = rng.uniform(-2.0, 2.0, nc)
     at = 0
-    for role in cls.roles:  # rotational nodes start at 0, Euler parameters at (1, 0, 0, 0)
-        if role.kind == ROTATIONAL:
+    for role in cls.roles:  # rotational and warping nodes start at 0, Euler parameters at
+        if role.kind in (ROTATIONAL, WARPING):  # (1, 0, 0, 0)
             c0[at] = 0.0
         elif role.kind == SPATIAL_ROTATIONAL:
             c0[at:at + 4] = (1.0, 0.0, 0.0, 0.0)

@@ -145,8 +145,7 @@ def test_mode_3_frees_the_prescribed_directions():
                        [{"elems": 1, "flex": ALL}]), r"flexible elements \(flex\) need cshape"),
     (lambda: light.run(GUIDE_NODES, GUIDE_ELEMENTS, {1: {"fix": True}},
                        [{"elems": 1}, {"elems": [1, 2]}]), r"element 1 is already in eprops"),
-    (lambda: light.run(GUIDE_NODES, GUIDE_ELEMENTS, {1: {"fix": True}},
-                       [dict(LEAF, elems=1, warping=True)]), r"warping .* not supported yet"),
+    (lambda: _guide({"fix_warp": True, "fix": True}), r"fix is combined"),
 ])
 def test_what_spacar_light_refuses_is_refused_by_name(call, match):
     with pytest.raises(ArgumentError, match=match):

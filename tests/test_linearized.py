@@ -465,10 +465,12 @@ def test_the_assembled_arrays_equal_the_element_by_element_ones_in_space():
     b.add_spatial_beam(2, 3, 6, 5, 7, orientation=(0.2, 1, 0), bending_linked=False)
     b.add_spatial_truss(3, 1, 5).add_spatial_hinge(4, 4, 6, axis=(1, 1, 0))
     b.add_node(9, 2.5, 0.1, -0.2).add_element(5, "RBEAM", (5, 7, 9), orientation=(0, 0, 1))
-    b.release(1).release(2).release(3).release(4).release(5)
-    for node in (1, 2, 3, 4, 5, 6, 7, 9):
+    b.add_warping_beam(6, 1, 2, 10, 5, 7, 11, orientation=(0, 1, 1))
+    b.release(1).release(2).release(3).release(4).release(5).release(6)
+    for node in (1, 2, 3, 4, 5, 6, 7, 9, 10):
         b.fix(node)  # rotational nodes: lam1..3; the Euler elements solve for lam0
     b.set_stiffness(1, axial=5.0, torsion=0.7, bending_y=2.0, bending_z=3.0)
+    b.set_stiffness(6, torsion=0.9, warping=0.4)
     b.set_stiffness(3, axial=1.0).set_stiffness(4, hinge=0.5, tilt_y=1.0, tilt_z=2.0)
     model = b.build()
     assert {e.type for e in model.elements.values()} == {
@@ -483,6 +485,12 @@ def test_the_assembled_arrays_equal_the_element_by_element_ones_in_space():
     S_beam[0, 0], S_beam[1, 1] = 5.0 / l0, 0.7 / l0**3
     S_beam[2:4, 2:4], S_beam[4:6, 4:6] = 2.0 * pair, 3.0 * pair
     assert np.allclose(assembly.law_times("S", A)[rows], S_beam @ A[rows], rtol=1e-14)
+    # the warping beam's (e7, e8): ECw/l0^5 [[4, -2], [-2, 4]] + GIt/(30 l0^3) [[4, 1], [1, 4]]
+    warp = [model.deformation_index(f"e6.{k}") for k in (7, 8)]
+    l0 = float(np.linalg.norm([2, -0.1, 0.3]))
+    S_warp = 0.4 / l0**5 * np.array([[4, -2], [-2, 4]]) + 0.9 / (30 * l0**3) * np.array(
+        [[4, 1], [1, 4]])
+    assert np.allclose(assembly.law_times("S", A)[warp], S_warp @ A[warp], rtol=1e-14)
 
 
 def test_the_layers_of_a_scatter_hold_each_index_once():

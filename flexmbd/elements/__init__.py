@@ -5,7 +5,14 @@ A new type is a file defining an :class:`ElementType` and one entry in
 kernels.
 """
 
-from .base import ROTATIONAL, SPATIAL_ROTATIONAL, SPATIAL_TRANSLATIONAL, TRANSLATIONAL, ElementType
+from .base import (
+    ROTATIONAL,
+    SPATIAL_ROTATIONAL,
+    SPATIAL_TRANSLATIONAL,
+    TRANSLATIONAL,
+    WARPING,
+    ElementType,
+)
 from .beam import Beam
 from .euler import EulerNormalization
 from .hinge import Hinge
@@ -17,12 +24,13 @@ from .spatial_rigid_beam import SpatialRigidBeam
 from .spatial_truss import SpatialTruss
 from .spring_damper import SpringDamper
 from .truss import Truss
+from .warping_beam import WarpingBeam
 
 #: the element types by SPACAR keyword; the order is the compiled core's type numbers
 ELEMENT_TYPES: dict[str, type[ElementType]] = {
     cls.keyword: cls for cls in (Truss, Beam, RigidBeam, Hinge, SpringDamper,
                                 SecondOrderBeam, SpatialTruss, SpatialBeam, SpatialHinge,
-                                SpatialRigidBeam, EulerNormalization)
+                                SpatialRigidBeam, EulerNormalization, WarpingBeam)
 }
 
 __all__ = [
@@ -31,6 +39,7 @@ __all__ = [
     "SPATIAL_ROTATIONAL",
     "SPATIAL_TRANSLATIONAL",
     "TRANSLATIONAL",
+    "WARPING",
     "Beam",
     "ElementType",
     "EulerNormalization",
@@ -43,4 +52,5 @@ __all__ = [
     "SpatialTruss",
     "SpringDamper",
     "Truss",
+    "WarpingBeam",
 ]

@@ -38,12 +38,14 @@ TRANSLATIONAL = "translational"
 ROTATIONAL = "rotational"
 SPATIAL_TRANSLATIONAL = "spatial translational"
 SPATIAL_ROTATIONAL = "spatial rotational"
+WARPING = "warping"
 #: number of coordinates carried by a node of each kind: ``(x, y)``, ``phi``,
-#: ``(x, y, z)`` and the Euler parameters ``(lam0, lam1, lam2, lam3)``
+#: ``(x, y, z)``, the Euler parameters ``(lam0, lam1, lam2, lam3)`` and the rate of
+#: twist ``psi`` of a warping node
 COORDINATES_PER_NODE = {TRANSLATIONAL: 2, ROTATIONAL: 1, SPATIAL_TRANSLATIONAL: 3,
-                        SPATIAL_ROTATIONAL: 4}
+                        SPATIAL_ROTATIONAL: 4, WARPING: 1}
 #: the kinds of spatial models; a model holds kinds of one family only
-SPATIAL_KINDS = (SPATIAL_TRANSLATIONAL, SPATIAL_ROTATIONAL)
+SPATIAL_KINDS = (SPATIAL_TRANSLATIONAL, SPATIAL_ROTATIONAL, WARPING)
 
 
 def is_translational(kind: str) -> bool:
@@ -78,6 +80,12 @@ def spatial_rotational(name: str) -> Role:
     """A spatial rotational node: four Euler parameters ``lam`` [-] of its rotation from
     the reference configuration, where ``lam = (1, 0, 0, 0)``."""
     return Role(name, SPATIAL_ROTATIONAL)
+
+
+def warping(name: str) -> Role:
+    """A warping node: the rate of twist ``psi`` [rad/m] of the section there, 0 in the
+    reference; free (a degree of freedom) unless fixed or prescribed."""
+    return Role(name, WARPING)
 
 
 @dataclass(frozen=True)
@@ -123,6 +131,9 @@ class ElementType:
         has_mass: whether the type takes a distributed mass (``EM``).
         released_by_default: deformations are released, not rigid, unless classified
             (force elements such as springs).
+        calculable: deformations (1-based) that are always computed, never constrained
+            (SPACAR's calculable ones, the warping beam's ``e7``, ``e8``): released, and only
+            a release may name them.
     """
 
     name: ClassVar[str]
@@ -135,6 +146,7 @@ class ElementType:
     damping_values: ClassVar[tuple[Value, ...]] = ()
     has_mass: ClassVar[bool] = False
     released_by_default: ClassVar[bool] = False
+    calculable: ClassVar[tuple[int, ...]] = ()
     element_data: ClassVar[dict[str, tuple[float, ...] | None]] = {}
     optional_data: ClassVar[tuple[str, ...]] = ()
     periodic: ClassVar[tuple[int, ...]] = ()

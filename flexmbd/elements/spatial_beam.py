@@ -96,7 +96,7 @@ class SpatialBeam(ElementType):
                                  ) -> list[tuple[int, np.ndarray]]:
         """Half of ``l0 R0 Jsec R0^T`` on each rotational node (THEORY-SPATIAL 4), with
         ``Jsec`` of ``(Jxx, Jyy, Jzz, Jyz)`` [kg m] in the beam's reference frame ``R0``."""
-        jxx, jyy, jzz, jyz = section
+        jxx, jyy, jzz, jyz = section[:4]   # a fifth value is refused by the builder
         frame = np.array(p[1:10]).reshape(3, 3).T  # columns ex0, ey0, ez0
         local = np.array([[jxx, 0.0, 0.0], [0.0, jyy, jyz], [0.0, jyz, jzz]])
         lumped = 0.5 * p[0] * frame @ local @ frame.T

@@ -272,7 +272,7 @@ def compile_model(model: Model) -> CoreSpec:
     sa_src, sa_u, sa_v = (np.concatenate(a) if a else np.zeros(0, int) for a in sa)
 
     nodal_mass = np.zeros(nx)
-    for number, point_mass in model.nodal_masses.items():
+    for number, point_mass in model.point_masses.items():
         node = model.nodes[number]
         nodal_mass[list(node.coordinates)] += point_mass
         if is_translational(node.kind):

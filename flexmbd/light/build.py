@@ -1,8 +1,9 @@
 """A SPACAR Light model made an ordinary flexmbd model, numbered as SPACAR Light numbers it.
 
-User node ``j`` becomes translational node ``3j - 2`` and rotational node ``3j - 1``
-(``3j`` is kept for its warping node). User element ``i`` becomes ``nbeams`` spatial beams,
-numbered on from 1 over the elements in order; the nodes between them are numbered on from
+User node ``j`` becomes translational node ``3j - 2``, rotational node ``3j - 1`` and,
+where an element with ``warping`` uses it, warping node ``3j``. User element ``i``
+becomes ``nbeams`` spatial (or warping) beams, numbered on from 1 over the elements in
+order; the nodes between them are numbered on from
 ``3n + 1``, three numbers each. The flexible deformations (``flex``) of every beam are
 dynamic degrees of freedom; releases (``rls``) go on the last beam of an element, as
 SPACAR Light puts them.
@@ -95,18 +96,22 @@ def assemble(positions: np.ndarray, elements: np.ndarray, props: dict[int, NodeP
         notes.append(f"node{'s' if len(unused) > 1 else ''} "
                      f"{', '.join(map(str, unused))} not attached to an element")
     beams: dict[int, tuple[int, ...]] = {}
+    warped: set[int] = set()         # warping nodes in the model
+    held: set[int] = set()           # those of rigid warping elements, fixed
     next_beam, next_node = 1, 3 * n + 1
     for i, (p, q) in enumerate(elements, 1):
         s = owner.get(i)
         count = s.nbeams if s else 1
         section = section_of(s) if s else None
-        if s and s.warping:
-            raise ArgumentError(f"eprops({s.number}).warping",
-                                "warping (SPACAR's BEAMW) is not supported yet; leave it "
-                                "out to model the leaf without warping")
+        ends = _warping_ends(s, int(p), int(q), notes)
         builder.add_spatial_beams(next_beam, translational(p), rotational(p), translational(q),
                                   rotational(q), count, s.orien if s else (0.0, 1.0, 0.0),
-                                  new_nodes=next_node, dynamic=(), node_step=3)
+                                  new_nodes=next_node, dynamic=(), node_step=3, warping=ends)
+        if ends:
+            nodes = {*ends, *(next_node + 3 * k + 2 for k in range(count - 1))}
+            warped |= nodes
+            if s is not None and not s.flex:   # SPACAR Light fixes a rigid one's warping
+                held |= nodes
         beams[i] = tuple(range(next_beam, next_beam + count))
         if s is not None and section is not None:
             for beam in beams[i]:
@@ -115,6 +120,7 @@ def assemble(positions: np.ndarray, elements: np.ndarray, props: dict[int, NodeP
         next_node += 3 * (count - 1)
     _classify(builder, beams, owner, opt)
     increments = _nodes(builder, positions, props, connected, opt)
+    _fix_warping(builder, props, warped, held, notes)
     if opt.gravity is not None:
         builder.set_gravity(*opt.gravity)
     releases = [(e, k) for e, ks in sorted(_user_releases(beams, opt).items()) for k in ks]
@@ -129,6 +135,40 @@ def assemble(positions: np.ndarray, elements: np.ndarray, props: dict[int, NodeP
     return LightModel(model, positions, elements, beams, {i: owner.get(i) for i in beams},
                       connected, increments[0], increments[1], inputs, outputs, releases, opt,
                       notes)
+
+
+def warping_node(node: int) -> int:
+    """SPACAR Light's warping node of user node ``node``."""
+    return 3 * node
+
+
+def _warping_ends(s: ElementSet | None, p: int, q: int, notes: list[str]
+                  ) -> tuple[int, int] | None:
+    """The warping nodes of an element with ``warping`` (None: a beam without warping);
+    a circular section has no warping, so it stays a beam (SPACAR Light warns too)."""
+    if s is None or not s.warping:
+        return None
+    if s.cshape != "rect":
+        note = f"eprops({s.number}).warping: a circular section does not warp; its " \
+               f"elements are beams without warping"
+        if note not in notes:
+            notes.append(note)
+        return None
+    return warping_node(p), warping_node(q)
+
+
+def _fix_warping(builder: ModelBuilder, props: dict[int, NodeProps], warped: set[int],
+                 held: set[int], notes: list[str]) -> None:
+    """Restrain warping where SPACAR Light does: at nodes with ``fix`` or ``fix_warp``,
+    and on rigid warping elements (their warping would have no stiffness)."""
+    fixed = set(held)
+    for j, p in props.items():
+        if p.fix_warp and warping_node(j) not in warped:
+            notes.append(f"nprops({j}).fix_warp: no element with warping uses node {j}")
+        if (p.fix or p.fix_warp) and warping_node(j) in warped:
+            fixed.add(warping_node(j))
+    for node in sorted(fixed):
+        builder.fix(node)
 
 
 def _material(s: ElementSet) -> Material:

@@ -3,8 +3,8 @@
 #ifndef FLEXMBD_KERNELS_H
 #define FLEXMBD_KERNELS_H
 
-#define FM_MAX_NC 14
-#define FM_MAX_ND 6
+#define FM_MAX_NC 16
+#define FM_MAX_ND 8
 #define FM_MAX_NP 11
 #define FM_MAX_NG 3
 

@@ -128,8 +128,8 @@ DYNAMICS = {
     "EM": _syntax("element:int rhoA:float", rest="inertia:float",
                   meaning="mass per length [kg/m] of an element, consistent; a planar "
                           "element's rhoI must be 0, a spatial beam's section inertias "
-                          "Jxx Jyy Jzz Jyz [kg m] per length follow (Jw, warping, is "
-                          "ignored)"),
+                          "Jxx Jyy Jzz Jyz [kg m] per length follow, and a warping beam's "
+                          "Jw [kg m^3]"),
     "EMLUMP": _syntax("element:int rhoA:float", rest="inertia:float",
                       meaning="flexmbd's own: mass per length [kg/m], lumped at the nodes, "
                               "then as EM"),
@@ -137,8 +137,8 @@ DYNAMICS = {
                       meaning="stiffness values of an element in its type's order; none "
                               "given (as oopspa writes it) is as no line (a beam: "
                               "EA [N], EI [N m^2], optionally GA_s [N]; a spatial beam: EA "
-                              "GIt EIy EIz [sy sz] with sy, sz [m^2] and ECw, warping, "
-                              "ignored)"),
+                              "GIt EIy EIz [sy sz] with sy, sz [m^2]; a warping beam's "
+                              "ECw [N m^4] follows)"),
     "EDAMP": _syntax("element:int", rest="damping:float", min_rest=1,
                      meaning="damping values of an element in its type's order"),
     "ESIG": _syntax("element:int", rest="sigma0:float", min_rest=1,
@@ -217,7 +217,7 @@ INSTEAD = {
 }
 
 UNSUPPORTED = {"PINBAR", "CYLINDER", "PLATE", "SBEAM", "CONTACT", "WHEEL", "BELT",
-               "SPRING", "RNODE", "XSTIFF", "XDAMP", "BEAMW", "PINBODY", "PLPINBODY", "TUBE",
+               "SPRING", "RNODE", "XSTIFF", "XDAMP", "PINBODY", "PLPINBODY", "TUBE",
                "PLTUBE", "SCREW"} - set(KINEMATICS)
 
 
