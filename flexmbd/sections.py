@@ -103,7 +103,8 @@ class Section:
 
     def stress_points(self, resultants) -> list[tuple[str, float, float]]:
         """``(point, sigma, tau)`` [Pa] at the points where the largest stress can be, for
-        the resultants ``(N, Qy, Qz, T, My, Mz)`` [N, N m] in the beam's local axes."""
+        the resultants ``(N, Qy, Qz, T, My, Mz)`` [N, N m] in the beam's local axes, and a
+        warping beam's bimoment ``B`` [N m^2] after them."""
         raise NotImplementedError
 
     def largest_stress(self, resultants) -> tuple[float, str]:
@@ -163,12 +164,13 @@ class Rectangle(Section):
         """The four corners (normal stress only), the middles of the long sides and of the
         short sides: bending and normal stress, St Venant torsion (Timoshenko and Goodier's
         series) and the parabolic shear ``1.5 |Q| / A`` along the side."""
-        N, Qy, Qz, T, My, Mz = (float(v) for v in resultants)
+        N, Qy, Qz, T, My, Mz = (float(v) for v in resultants[:6])
+        bimoment = float(resultants[6]) if len(resultants) > 6 else 0.0
         s = self.properties()
         w, t = self.w, self.t
 
-        def normal(y, z):
-            return N / s.A + My * z / s.Iy - Mz * y / s.Iz
+        def normal(y, z):   # with restrained warping B omega / Cw, omega = y z (FLEXURES 4)
+            return N / s.A + My * z / s.Iy - Mz * y / s.Iz + bimoment * y * z / s.Cw
 
         long_, short = _rectangle_torsion_shear(max(w, t), min(w, t), s.It)
         # the long sides run along the larger dimension: along y when w > t
@@ -259,7 +261,7 @@ def _round_stress_points(s: SectionProperties, resultants, outer: float, inner: 
                          ) -> list[tuple[str, float, float]]:
     """The outer fibre and the neutral axis of a circle or tube of radii ``outer``,
     ``inner``."""
-    N, Qy, Qz, T, My, Mz = (float(v) for v in resultants)
+    N, Qy, Qz, T, My, Mz = (float(v) for v in resultants[:6])
     moment, force = math.hypot(My, Mz), math.hypot(Qy, Qz)
     torsion = abs(T) * outer / s.It
     shear = 4.0 / 3.0 * (outer**2 + outer * inner + inner**2) / (outer**2 + inner**2)

@@ -171,3 +171,28 @@ def test_the_front_door_restrains_warping_where_spacar_light_does():
         model.coordinate_class[model.nodes[w].coordinates[0]] == fm.CoordinateClass.FIXED
         for w in (3, 6, 9, 12))
     assert hinge.ndof == 30 + 4    # the leaves' inner warping nodes are free
+
+
+def test_restrained_warping_adds_the_bimoment_s_normal_stress():
+    """A strip with warping restrained at both ends, twisted by T at its tip: the torque
+    is T in every beam; at the clamp the bimoment is T tanh(lam L / 2) / lam (Vlasov's
+    solution, -ECw phi'' there, negative) and the corners carry its normal stress
+    36 B / (w^2 t^2)."""
+    L, T, n = 0.02, 1e-3, 8
+    b = fm.ModelBuilder("strip")
+    b.add_node(1, 0.0, 0.0, 0.0).add_node(4, L, 0.0, 0.0)
+    b.add_spatial_beams(1, 1, 2, 4, 5, n, (0, 1, 0), new_nodes=10, node_step=3,
+                        warping=(3, 6), section=STRIP, material=STEEL)
+    b.fix(1).fix(2).fix(3).fix(6)
+    statics = fm.static_equilibrium(b.build(), load_increment={"x5.2": T}, steps=1)
+    stresses = fm.beam_stresses(statics.model, statics.x[-1], statics.sigma[-1])
+    for beam in stresses.values():
+        assert beam.resultants.shape == (2, 7)
+        np.testing.assert_allclose(beam.resultants[:, 3], T, rtol=1e-6)
+    clamp = stresses[1]
+    bimoment = T * math.tanh(LAMBDA * L / 2) / LAMBDA
+    assert clamp.resultants[0, 6] == pytest.approx(-bimoment, rel=1e-4)   # 4.8e-5 off
+    w, t = 0.02, 0.0005
+    assert clamp.von_mises == pytest.approx(36 * abs(clamp.resultants[0, 6]) / (w * t)**2,
+                                            rel=1e-9)
+    assert clamp.where.startswith("p, corner")

@@ -8,7 +8,10 @@ nodes, at p the negatives of p's, each in the local axes ``R(lam) R0`` of its en
 the normal force ``N``, the shear forces ``Qy``, ``Qz``, the torque ``T`` and the bending
 moments ``My``, ``Mz`` of the q side acting on the p side of a section. Moments vary
 linearly and forces are constant along a beam, so the largest stress is at an end; the
-section gives it (:meth:`flexmbd.sections.Section.largest_stress`).
+section gives it (:meth:`flexmbd.sections.Section.largest_stress`). A warping beam's
+torque is the whole (St Venant's and the warping's), and its bimoments ``B_p = -l0^2
+sigma_7``, ``B_q = -l0^2 sigma_8`` add the warping's normal stress ``B omega / Cw``
+(FLEXURES 4).
 """
 
 from __future__ import annotations
@@ -18,6 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..elements.base import SPATIAL_ROTATIONAL
+from ..elements.warping_beam import BEAM_COLUMNS
 from ..errors import ArgumentError
 from ..model import Model
 from ..orientation import moment_of, rotation_matrix
@@ -34,7 +38,8 @@ class BeamStress:
     Attributes:
         element: the beam's number.
         resultants: ``(2, 6)``: at p and at q, ``(N, Qy, Qz, T, My, Mz)`` [N, N m] in the end
-            node's local axes.
+            node's local axes; a warping beam's ``(2, 7)``, its bimoment ``B`` [N m^2]
+            after them.
         von_mises: the largest von Mises stress over the beam [Pa].
         where: the end (``"p"`` or ``"q"``) and the point of the section where it is.
     """
@@ -47,8 +52,9 @@ class BeamStress:
 
 def _sectioned(model: Model) -> list[int]:
     return [k for k, element in model.elements.items()
-            if element.type.keyword == "BEAM" and (props := model.element_properties.get(k))
-            is not None and props.section is not None]
+            if element.type.keyword in ("BEAM", "BEAMW")
+            and (props := model.element_properties.get(k)) is not None
+            and props.section is not None]
 
 
 def beam_stresses(model: Model, x, sigma) -> dict[int, BeamStress]:
@@ -74,7 +80,11 @@ def beam_stresses(model: Model, x, sigma) -> dict[int, BeamStress]:
     for k in beams:
         element = model.elements[k]
         coords, defs = list(element.coordinates), list(element.deformations)
-        loads = D[np.ix_(defs, coords)].T @ sigma[defs]   # (14,): p, lam_p, q, lam_q
+        loads = D[np.ix_(defs, coords)].T @ sigma[defs]
+        warping = element.type.keyword == "BEAMW"
+        if warping:   # the beam's columns; the warping nodes' loads are the bimoments
+            coords, loads = [coords[j] for j in BEAM_COLUMNS], loads[list(BEAM_COLUMNS)]
+        # loads (14,): p, lam_p, q, lam_q
         frame0 = np.array(element.reference[1:10]).reshape(3, 3).T   # columns ex0, ey0, ez0
         ends = []
         for sign, at in ((-1.0, 0), (1.0, 7)):
@@ -83,6 +93,10 @@ def beam_stresses(model: Model, x, sigma) -> dict[int, BeamStress]:
             force = sign * loads[at:at + 3]
             moment = sign * moment_of(lam, loads[at + 3:at + 7])
             ends.append(np.concatenate([axes.T @ force, axes.T @ moment]))
+        if warping:
+            l0 = element.reference[0]
+            bimoments = -l0**2 * sigma[defs[6:8]]
+            ends = [np.append(end, b) for end, b in zip(ends, bimoments, strict=True)]
         resultants = np.array(ends)
         section = model.element_properties[k].section
         assert section is not None and model.nodes[element.nodes[1]].kind == SPATIAL_ROTATIONAL
