@@ -61,4 +61,9 @@ EXAMPLES: dict[str, tuple[str, list[str], str]] = {
         "a spatial flexure: cross-spring pivot, stiffness in all directions, frequencies, "
         "30-degree rotation in load steps",
     ),
+    "flexures": (
+        "flexures", [],
+        "SPACAR Light's examples through flexmbd.light: the cross hinge with warping, a "
+        "parallel guide's transfer function, a wire flexure's buckling",
+    ),
 }

@@ -46,7 +46,7 @@ def test_slider_crank_example_checks_and_revolution():
 
 #: arguments that keep each example's run short in the tests
 QUICK = {"slider-crank-flex": ["--revolutions", "0.1"], "parallel-guide": ["--nbeams", "4"],
-         "cross-spring-pivot": ["--nbeams", "2"],
+         "cross-spring-pivot": ["--nbeams", "2"], "flexures": [],
          "rotating-beam": ["--nbeams", "3", "--points", "20"],
          "slider-crank-dyn": ["--revolutions", "0.5", "--points", "40"]}
 
@@ -177,3 +177,21 @@ def test_cross_spring_pivot_checks_and_its_rotation():
     bending = [np.abs(statics[f"e{element}.3"][-1]) + np.abs(statics[f"e{element}.4"][-1])
                for element in (1 + 1, pivot.SECOND + 3)]   # mirror images in the two leaves
     assert bending[0] == pytest.approx(bending[1], rel=1e-6)
+
+
+def test_flexures_through_the_front_door(capsys):
+    """SPACAR Light's examples ported (their checks: 2EI/L, the guide's gain and
+    stiffness, Rayleigh's frequency, four wires' buckling), and the guide study's
+    support stiffness 2EA/L at zero stroke and FLEXURES 7's 7.877e7 N/m at 1 mm, its
+    stress 3Etu/L^2 to 2 % at a small stroke."""
+    from flexmbd.examples import flexures
+
+    assert flexures.main([]) == 0
+    assert "all 5 checks passed" in capsys.readouterr().out
+    data = flexures.guide_study([0.0, 1e-4, 1e-3], [0.5e-3], client="serial", progress=False)
+    assert list(data["status"]) == ["ok"] * 3
+    stiffness, stress = data["support_stiffness"].to_numpy(), data["peak_stress"].to_numpy()
+    E, L, t = flexures.STEEL_E, flexures.LENGTH, 0.5e-3
+    assert stiffness[0] == pytest.approx(2 * E * flexures.WIDTH * t / L, rel=1e-9)
+    assert stiffness[2] == pytest.approx(7.877e7, rel=1e-3)
+    assert stress[1] == pytest.approx(3 * E * t * 1e-4 / L**2, rel=2e-2)
