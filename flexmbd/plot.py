@@ -17,6 +17,7 @@ from .elements.base import SPATIAL_ROTATIONAL, is_translational
 from .engine import workspace_of
 from .errors import OptionalDependencyError, OutputError
 from .model import CoordinateClass, Model
+from .ribbons import quads, ribbon, ribbon_beams
 
 
 class Motion(Protocol):
@@ -65,6 +66,109 @@ def element_polylines(model: Model, x: np.ndarray, exaggeration: float = 1.0,
         lines += element.type.outline(xe, np.array([element.reference]),
                                       e[list(element.deformations)][None], exaggeration)
     return lines
+
+
+class Stresses(Protocol):
+    """What a figure takes of a stress history (:class:`flexmbd.StressHistory`): the
+    sectioned beams and the largest von Mises stress at both ends of each, per row."""
+
+    elements: tuple[int, ...]
+    ends: np.ndarray   # (n, n_beams, 2) [Pa]
+
+
+class Sections:
+    """Spatial beams with rectangular sections drawn as ribbons (:mod:`flexmbd.ribbons`)
+    on 3D axes, coloured by von Mises stress when a :class:`Stresses` is given (one colour
+    scale over all rows, with a colour bar), else by ``styles``."""
+
+    def __init__(self, ax, model: Model, stresses: Stresses | None = None,
+                 styles: dict[int, dict] | None = None, exaggeration: float = 1.0):
+        from matplotlib import colormaps
+        from matplotlib.colors import Normalize
+        from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+        self.model, self.stresses, self.exaggeration = model, stresses, exaggeration
+        styles = styles or {}
+        self.beams = [k for k in ribbon_beams(model) if not styles.get(k, {}).get("hide")]
+        self.columns = ({k: stresses.elements.index(k) for k in self.beams
+                         if k in stresses.elements} if stresses is not None else {})
+        top = float(np.nanmax(stresses.ends, initial=0.0)) if stresses is not None else 0.0
+        self.norm = Normalize(0.0, top / 1e6 if top > 0 else 1.0)
+        self.cmap = colormaps["viridis"]
+        self.base = [styles.get(k, {}).get("color", "0.6") for k in self.beams]
+        self.alpha = [styles.get(k, {}).get("alpha", 0.9) for k in self.beams]
+        self.collection = Poly3DCollection([], edgecolor="0.25", linewidths=0.2)
+        ax.add_collection3d(self.collection)
+        if stresses is not None and self.columns:
+            from matplotlib.cm import ScalarMappable
+
+            mappable = ScalarMappable(self.norm, self.cmap)
+            ax.figure.colorbar(mappable, ax=ax, shrink=0.7, label="von Mises stress [MPa]")
+
+    def draw(self, x: np.ndarray, e: np.ndarray, row: int | None = None) -> None:
+        """The ribbons at coordinates ``x`` and deformations ``e``, coloured by the
+        stresses of ``row``."""
+        from matplotlib.colors import to_rgba
+
+        faces, colors = [], []
+        for beam, base, alpha in zip(self.beams, self.base, self.alpha, strict=True):
+            cells = quads(ribbon(self.model, beam, x, e, self.exaggeration))
+            faces += list(cells)
+            if row is not None and beam in self.columns:
+                assert self.stresses is not None
+                p_end, q_end = self.stresses.ends[row, self.columns[beam]] / 1e6
+                xi = (np.arange(len(cells)) + 0.5) / len(cells)
+                colors += [self.cmap(self.norm(v)) for v in (1 - xi) * p_end + xi * q_end]
+            else:
+                colors += [to_rgba(base, alpha)] * len(cells)
+        self.collection.set_verts(faces)
+        self.collection.set_facecolor(colors)
+
+
+def plot_sections(result: Motion, row: int = -1, *, stresses: Stresses | None = None,
+                  styles: dict[int, dict] | None = None, exaggeration: float = 1.0,
+                  title: str | None = None, filename: str | Path | None = None,
+                  window: bool = False):
+    """A spatial mechanism at one row of a result (a load step, a time) with its leaf
+    springs drawn as ribbons of their width, coloured by von Mises stress with a colour
+    bar when ``stresses`` (:func:`flexmbd.stress_history` of the result) is given; the
+    other elements as lines.
+
+    Args:
+        result: a spatial model's result that recorded its deformations.
+        row: the row (default the last).
+        stresses: the stresses of every row; one colour scale for all rows.
+        styles: per beam ``{"color": .., "alpha": .., "hide": bool}`` without stresses.
+        exaggeration: factor on the beams' deflections.
+
+    Returns the ``matplotlib.figure.Figure``; saved to ``filename`` when given.
+    """
+    model = result.model
+    if not model.is_spatial:
+        raise ValueError("sections are drawn for spatial models; plot a planar one with "
+                         "animate or plot_shapes")
+    if result.e is None or not len(result.t):
+        raise ValueError("the result holds no rows with deformations to draw")
+    row = range(len(result.t))[row]
+    _, index, _ = _translational_nodes(model)
+    lo, hi, _ = _limits(result, index)
+    fig = _new_figure(window, figsize=(7.5, 6))
+    ax = _axes(fig, model, lo, hi)
+    x, e = result.x[row], result.e[row]
+    sections = Sections(ax, model, stresses, styles, exaggeration)
+    sections.draw(x, e, row if stresses is not None else None)
+    drawn = set(ribbon_beams(model))
+    for number, element in model.elements.items():
+        if number in drawn:
+            continue
+        for line in element.type.outline(x[list(element.coordinates)][None],
+                                         np.array([element.reference]),
+                                         e[list(element.deformations)][None], exaggeration):
+            ax.plot(*line.T, "-", color="0.2", lw=2)
+    label = "load factor" if result.xd is None or not np.any(result.xd) else "t ="
+    ax.set_title(title or f"{model.name}, {label} {result.t[row]:.4g}")
+    save_figure(fig, filename)
+    return fig
 
 
 def _translational_nodes(model: Model):
@@ -116,7 +220,8 @@ def _set_line(line, points: np.ndarray) -> None:
 
 def animate(result: Motion, filename: str | Path | None = None, *,
             arrows: bool = True, max_frames: int = 200, fps: int = 25,
-            exaggeration: float = 1.0, title: str | None = None, window: bool = False):
+            exaggeration: float = 1.0, title: str | None = None, window: bool = False,
+            sections: bool = False, stresses: Stresses | None = None):
     """Animate the mechanism with velocity (blue) and acceleration (red) arrows at the nodes.
 
     Args:
@@ -130,6 +235,10 @@ def animate(result: Motion, filename: str | Path | None = None, *,
         exaggeration: factor on beam deflections.
         title: figure title (default: the model name).
         window: draw in a pyplot window (shown by :func:`show`) instead of off-screen.
+        sections: draw a spatial model's leaf springs as ribbons of their width
+            (:func:`plot_sections`).
+        stresses: colour them by von Mises stress (:func:`flexmbd.stress_history` of the
+            result), one colour scale for the whole run.
 
     Returns:
         ``matplotlib.animation.FuncAnimation`` (keep a reference while it plays).
@@ -148,6 +257,9 @@ def animate(result: Motion, filename: str | Path | None = None, *,
     ax.set_title(title or model.name)
     empty: list[list[float]] = [[]] * index.shape[1]
 
+    ribbons = None
+    if (sections or stresses is not None) and model.is_spatial and result.e is not None:
+        ribbons = Sections(ax, model, stresses, exaggeration=exaggeration)
     n_lines = len(element_polylines(model, result.x[0],
                                     e=None if result.e is None else result.e[0]))
     lines = [ax.plot(*empty, "-", color="0.2", lw=2.5)[0] for _ in range(n_lines)]
@@ -181,6 +293,8 @@ def animate(result: Motion, filename: str | Path | None = None, *,
         for line, poly in zip(lines, element_polylines(model, x, exaggeration, result.e[k]),
                               strict=True):
             _set_line(line, poly)
+        if ribbons is not None:
+            ribbons.draw(x, result.e[k], k if stresses is not None else None)
         pts = x[index]
         _set_line(moving, pts[~fixed])
         _set_line(anchored, pts[fixed])
@@ -443,10 +557,11 @@ def show() -> None:
 
 def plot_shapes(model: Model, x: np.ndarray, motions: np.ndarray, labels: list[str], *,
                 title: str | None = None, filename: str | Path | None = None,
-                window: bool = False):
+                window: bool = False, sections: bool = False):
     """Mode or buckled shapes drawn on the mechanism: one panel per column of ``motions``
     ``(nx, k)`` [m, rad], the configuration ``x`` grey and ``x + a motion`` on top, ``a``
-    chosen so that the largest nodal translation is a tenth of the model size.
+    chosen so that the largest nodal translation is a tenth of the model size. With
+    ``sections``, a spatial model's leaf springs are ribbons of their width in the shape.
 
     Returns the ``matplotlib.figure.Figure``; saved to ``filename`` when given.
     """
@@ -467,6 +582,9 @@ def plot_shapes(model: Model, x: np.ndarray, motions: np.ndarray, labels: list[s
             for line in lines:
                 ax.plot(*line.T, **style)
                 drawn.append(line)
+        if sections and model.is_spatial:
+            moved = displaced(model, x, scale * motion)
+            Sections(ax, model).draw(moved, workspace_of(model).assembly.deformations(moved))
         ax.set_title(label, fontsize=10)
         if model.is_spatial and drawn:  # equal scales: a cube around what is drawn
             points = np.concatenate(drawn)

@@ -42,12 +42,14 @@ class BeamStress:
             after them.
         von_mises: the largest von Mises stress over the beam [Pa].
         where: the end (``"p"`` or ``"q"``) and the point of the section where it is.
+        ends: the largest von Mises stress over the section at p and at q [Pa].
     """
 
     element: int
     resultants: np.ndarray
     von_mises: float
     where: str
+    ends: tuple[float, float] = (0.0, 0.0)
 
 
 def _sectioned(model: Model) -> list[int]:
@@ -103,7 +105,7 @@ def beam_stresses(model: Model, x, sigma) -> dict[int, BeamStress]:
         (stress_p, point_p), (stress_q, point_q) = (section.largest_stress(r)
                                                     for r in resultants)
         von_mises, where = max((stress_p, f"p, {point_p}"), (stress_q, f"q, {point_q}"))
-        out[k] = BeamStress(k, resultants, von_mises, where)
+        out[k] = BeamStress(k, resultants, von_mises, where, (stress_p, stress_q))
     return out
 
 
@@ -116,12 +118,15 @@ class StressHistory:
         elements: the beams with a section, in order.
         von_mises: ``(nt, n_beams)``: each beam's largest von Mises stress [Pa].
         maximum: ``(nt,)``: the model's largest [Pa].
+        ends: ``(nt, n_beams, 2)``: each beam's largest at p and at q [Pa] (for pictures,
+            :func:`flexmbd.plot.plot_sections`).
     """
 
     t: np.ndarray
     elements: tuple[int, ...]
     von_mises: np.ndarray
     maximum: np.ndarray
+    ends: np.ndarray
 
 
 def stress_history(result: KinematicResult) -> StressHistory:
@@ -135,5 +140,7 @@ def stress_history(result: KinematicResult) -> StressHistory:
     elements = tuple(_sectioned(result.model))
     values = np.array([[row[k].von_mises for k in elements] for row in rows]).reshape(
         len(rows), len(elements))
+    ends = np.array([[row[k].ends for k in elements] for row in rows]).reshape(
+        len(rows), len(elements), 2)
     return StressHistory(np.asarray(result.t).copy(), elements, values,
-                         values.max(axis=1) if len(elements) else np.zeros(len(rows)))
+                         values.max(axis=1) if len(elements) else np.zeros(len(rows)), ends)

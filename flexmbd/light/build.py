@@ -47,6 +47,8 @@ class LightModel:
         releases: the released deformations ``(beam, k)``.
         options: the checked ``opt``.
         notes: what was read in a way worth saying.
+        styles: per beam its set's ``color``, ``opacity`` and ``hide`` for pictures
+            (:func:`flexmbd.plot.plot_sections`).
     """
 
     model: Model
@@ -62,6 +64,7 @@ class LightModel:
     releases: list[tuple[int, int]]
     options: Options
     notes: list[str] = field(default_factory=list)
+    styles: dict[int, dict] = field(default_factory=dict)
 
 
 def translational(node: int) -> int:
@@ -134,7 +137,37 @@ def assemble(positions: np.ndarray, elements: np.ndarray, props: dict[int, NodeP
     inputs, outputs = _transfer(props, opt)
     return LightModel(model, positions, elements, beams, {i: owner.get(i) for i in beams},
                       connected, increments[0], increments[1], inputs, outputs, releases, opt,
-                      notes)
+                      notes, _styles(beams, owner, notes))
+
+
+def _styles(beams: dict[int, tuple[int, ...]], owner: dict[int, ElementSet],
+            notes: list[str]) -> dict[int, dict]:
+    """The sets' ``color`` (a colour name, RGB in 0..1 or 0..255), ``opacity`` and
+    ``hide`` by beam; a colour flexmbd cannot read (SPACAR Light's numbered palette) is
+    noted and left grey."""
+    from matplotlib.colors import is_color_like  # matplotlib is a dependency
+
+    styles = {}
+    for i, numbers in beams.items():
+        s = owner.get(i)
+        if s is None:
+            continue
+        style: dict = {"hide": s.hide}
+        if s.opacity is not None:
+            style["alpha"] = s.opacity
+        color = s.color
+        if isinstance(color, (list, tuple, np.ndarray)) and len(color) == 3:
+            rgb = np.asarray(color, dtype=float)
+            color = tuple(rgb / 255.0) if np.any(rgb > 1) else tuple(rgb)
+        if color is not None and is_color_like(color):
+            style["color"] = color
+        elif color is not None:
+            note = f"eprops({s.number}).color {color!r} is drawn grey (not a colour name or RGB)"
+            if note not in notes:
+                notes.append(note)
+        for beam in numbers:
+            styles[beam] = style
+    return styles
 
 
 def warping_node(node: int) -> int:

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
-from typing import Generic, TypeVar
+from typing import Any, Generic, TypeVar
 
 import numpy as np
 
@@ -146,9 +146,10 @@ class LightResult:
     ndof: int
     releases: list[tuple[int, int]]
     notes: list[str]
-    model: object
-    statics: object
+    model: Any
+    statics: Any
     statespace: object = None
+    styles: dict = field(default_factory=dict)
     step: OneBased[StepResult] = field(init=False)
 
     def __post_init__(self):
@@ -160,6 +161,41 @@ class LightResult:
                 self.freq[:, i], None if self.buck is None else self.buck[:, i],
                 float(self.stressmax[i]), float(self.load[i])))
         self.step = OneBased(steps, "step")
+
+    def plot(self, step: int | None = None, *, stress: bool = True, exaggeration: float = 1.0,
+             filename=None, window: bool = False):
+        """The model at load step ``step`` (1-based, default the last), its leaf springs as
+        ribbons coloured by von Mises stress (``stress``, one scale over all steps) or in
+        their sets' colours, as SPACAR Light draws them. Returns the figure; saved to
+        ``filename`` (.png, .pdf, .svg) when given."""
+        from .. import plot
+
+        row = len(self.load) - 1 if step is None else self._row(step)
+        return plot.plot_sections(self.statics, row, stresses=self._stresses(stress),
+                                  styles=self.styles, exaggeration=exaggeration,
+                                  filename=filename, window=window)
+
+    def animate(self, filename=None, *, stress: bool = True, exaggeration: float = 1.0,
+                window: bool = False):
+        """The load steps as a movie (``.gif``, or ``.mp4`` with the movie extra), the leaf
+        springs as ribbons coloured by von Mises stress."""
+        from .. import plot
+
+        return plot.animate(self.statics, filename, sections=True,
+                            stresses=self._stresses(stress), exaggeration=exaggeration,
+                            window=window)
+
+    def _row(self, step: int) -> int:
+        self.step[step]   # a step that does not exist is refused by name
+        return step - 1
+
+    def _stresses(self, wanted: bool):
+        from ..analysis.stresses import stress_history
+        from ..ribbons import ribbon_beams
+
+        if not wanted or not ribbon_beams(self.model):
+            return None
+        return stress_history(self.statics)
 
     def __repr__(self) -> str:
         return (f"<flexmbd.light result: {len(self.node)} nodes, {len(self.element)} "

@@ -182,7 +182,7 @@ def _results(lm: LightModel, statics: StaticResult, show: bool) -> LightResult:
         print(f"flexmbd.light: {statics.message}")
     return LightResult(OneBased(nodes, "node"), OneBased(elements, "element"), freq, buck,
                        stress, np.asarray(statics.t, dtype=float), ndof, lm.releases,
-                       lm.notes, model, statics, space)
+                       lm.notes, model, statics, space, lm.styles)
 
 
 def _fill(table: np.ndarray, row: int, values, notes: list[str], what: str) -> None:
