@@ -120,7 +120,11 @@ class Sections:
                 xi = (np.arange(len(cells)) + 0.5) / len(cells)
                 colors += [self.cmap(self.norm(v)) for v in (1 - xi) * p_end + xi * q_end]
             else:
-                colors += [to_rgba(base, alpha)] * len(cells)
+                try:
+                    colour = to_rgba(base, alpha)
+                except ValueError:   # a name matplotlib does not know
+                    colour = to_rgba("0.6", alpha)
+                colors += [colour] * len(cells)
         self.collection.set_verts(faces)
         self.collection.set_facecolor(colors)
 

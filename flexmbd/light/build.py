@@ -143,10 +143,8 @@ def assemble(positions: np.ndarray, elements: np.ndarray, props: dict[int, NodeP
 def _styles(beams: dict[int, tuple[int, ...]], owner: dict[int, ElementSet],
             notes: list[str]) -> dict[int, dict]:
     """The sets' ``color`` (a colour name, RGB in 0..1 or 0..255), ``opacity`` and
-    ``hide`` by beam; a colour flexmbd cannot read (SPACAR Light's numbered palette) is
-    noted and left grey."""
-    from matplotlib.colors import is_color_like  # matplotlib is a dependency
-
+    ``hide`` by beam; SPACAR Light's numbered palette is not flexmbd's, so a number is
+    noted and drawn grey (as is a name matplotlib does not know, when drawn)."""
     styles = {}
     for i, numbers in beams.items():
         s = owner.get(i)
@@ -158,11 +156,12 @@ def _styles(beams: dict[int, tuple[int, ...]], owner: dict[int, ElementSet],
         color = s.color
         if isinstance(color, (list, tuple, np.ndarray)) and len(color) == 3:
             rgb = np.asarray(color, dtype=float)
-            color = tuple(rgb / 255.0) if np.any(rgb > 1) else tuple(rgb)
-        if color is not None and is_color_like(color):
+            style["color"] = tuple(rgb / 255.0) if np.any(rgb > 1) else tuple(rgb)
+        elif isinstance(color, str):
             style["color"] = color
         elif color is not None:
-            note = f"eprops({s.number}).color {color!r} is drawn grey (not a colour name or RGB)"
+            note = f"eprops({s.number}).color {color!r} is drawn grey (give a colour name " \
+                   f"or RGB)"
             if note not in notes:
                 notes.append(note)
         for beam in numbers:
