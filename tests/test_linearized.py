@@ -501,3 +501,37 @@ def test_the_layers_of_a_scatter_hold_each_index_once():
     assert sorted(np.concatenate(layers)) == list(range(40))
     assert all(len(set(indices[layer])) == len(layer) for layer in layers)
     assert len(layers) == np.bincount(indices).max()
+
+
+def test_a_few_lowest_modes_by_iteration_are_the_whole_spectrum_s():
+    """A few modes of a large model come from ARPACK on the factored stiffness: the same
+    frequencies and shapes as the whole spectrum, for a symmetric stiffness (at rest) with
+    pairs of equal frequencies (four round wires) and an unsymmetric one (a pivot turned
+    by a moment of fixed direction, whose load stiffness is not symmetric)."""
+    from flexmbd.examples import flexures
+
+    from flexmbd.analysis import modes as modes_module
+
+    wires = flexures.wire_buckling().statics.linearization(0)
+    from flexmbd import light
+
+    hinge = light.run(flexures.HINGE_NODES, flexures.HINGE_ELEMENTS,
+                      {1: {"fix": True}, 4: {"fix": True}, 3: {"moment": [0, 0, 0.02]}},
+                      [dict(flexures.HINGE_LEAF, nbeams=8), flexures.HINGE_BODY],
+                      {"loadsteps": 2, "silent": True}).statics.linearization()
+    for lin, pairs in ((wires, True), (hinge, False)):
+        nd = len(lin.dynamic)
+        assert nd >= modes_module.FEW_MODES_FROM
+        K = lin.block("K")
+        symmetric = np.abs(K - K.T).max() <= modes_module.SYMMETRIC * np.abs(K).max()
+        assert symmetric == pairs
+        few, every = fm.vibration_modes(lin, 6), fm.vibration_modes(lin)
+        np.testing.assert_allclose(few.frequencies, every.frequencies[:6], rtol=1e-10)
+        overlap = np.abs(np.einsum("ik,ij,jk->k", few.shapes, lin.block("M0"),
+                                   every.shapes[:, :6]))
+        distinct = np.r_[True, np.diff(every.frequencies[:6]) > 1e-6 * every.frequencies[5]]
+        distinct[:-1] &= distinct[1:]
+        np.testing.assert_allclose(overlap[distinct], 1.0, atol=1e-8)
+    assert abs(few.frequencies[0] - few.frequencies[1]) > 0   # the hinge has no pair
+    pair = fm.vibration_modes(wires, 6).frequencies
+    assert pair[1] == pytest.approx(pair[0], rel=1e-9)      # the wires' sway pair, whole

@@ -42,6 +42,13 @@ SYMMETRIC = 1e-9
 #: never reads as an unstable direction whatever the CPU's BLAS kernels
 ROUNDING_MARGIN = 100.0
 
+#: a few lowest modes of a model this large take ARPACK's iterations on the factored
+#: stiffness (O(n^2) per step) instead of the whole spectrum (O(n^3)): at most this share
+#: of the degrees of freedom, from this many on
+FEW_MODES_SHARE, FEW_MODES_FROM = 0.25, 60
+#: the extra modes ARPACK iterates for, so that a multiple eigenvalue is found whole
+FEW_MODES_EXTRA = 4
+
 
 @dataclass(frozen=True, eq=False)
 class Modes:
@@ -119,9 +126,12 @@ def _eigen(lin: Linearization, K: np.ndarray, M: np.ndarray, count: int, vectors
     (mechanisms, unstable states) or a singular one takes SciPy's generalized solvers."""
     _check_mass(lin, M)
     asymmetry = np.abs(K - K.T).max() / max(np.abs(K).max(), np.finfo(float).tiny)
+    few = len(K) >= FEW_MODES_FROM and count <= FEW_MODES_SHARE * len(K)
     if asymmetry <= SYMMETRIC:
         K = 0.5 * (K + K.T)
         factor = _cholesky(K)
+        if factor is not None and _well_posed(factor, K) and few:
+            return _few_symmetric(factor, M, count, vectors)
         if factor is not None and _well_posed(factor, K):
             reduced, inverse = _reduced(factor, M)
             if not vectors:
@@ -131,6 +141,10 @@ def _eigen(lin: Linearization, K: np.ndarray, M: np.ndarray, count: int, vectors
             # phi = L^-T y has phi^T K phi = 1 and phi^T M phi = mu
             return 1.0 / mu, inverse.T @ y / np.sqrt(mu)
     else:
+        if few:
+            found = _few_unsymmetric(K, M, count)
+            if found is not None:
+                return found if vectors else (found[0], None)
         try:  # K regular: the eigenvalues mu = 1/omega^2 of K^-1 M, as above
             inverse = np.linalg.solve(K, M)
         except np.linalg.LinAlgError:
@@ -153,6 +167,55 @@ def _eigen(lin: Linearization, K: np.ndarray, M: np.ndarray, count: int, vectors
     values, right = linalg.eig(K, M)
     omega2, shapes = _lowest(values, right, M, count)
     return _rounded_to_zero(omega2, len(K), linalg.eigvals(K, M).real), shapes
+
+
+def _start(n: int) -> np.ndarray:
+    """ARPACK's start vector: fixed, so runs repeat, and with every mode in it (a vector
+    of ones misses the antisymmetric modes of a symmetric structure)."""
+    return np.random.default_rng(0).standard_normal(n)
+
+
+def _few_symmetric(factor: np.ndarray, M: np.ndarray, count: int, vectors: bool
+                   ) -> tuple[np.ndarray, np.ndarray | None]:
+    """The ``count`` largest ``mu = 1/omega^2`` of ``L^-1 M L^-T`` by Lanczos (ARPACK's
+    ``eigsh``), the operator applied with two triangular solves: the lowest modes of a
+    symmetric positive definite ``K = L L^T`` to machine precision."""
+    from scipy.linalg import solve_triangular
+    from scipy.sparse.linalg import LinearOperator, eigsh
+
+    n = len(M)
+
+    def apply(v):
+        return solve_triangular(factor, M @ solve_triangular(factor, v, trans="T",
+                                                             lower=True), lower=True)
+
+    k = min(count + FEW_MODES_EXTRA, n - 1)
+    mu, y = eigsh(LinearOperator((n, n), matvec=apply, dtype=float), k=k, which="LA",
+                  tol=0.0, v0=_start(n))
+    order = np.argsort(mu)[::-1][:count]
+    mu, y = mu[order], y[:, order]
+    if not vectors:
+        return 1.0 / mu, None
+    return 1.0 / mu, solve_triangular(factor, y, trans="T", lower=True) / np.sqrt(mu)
+
+
+def _few_unsymmetric(K: np.ndarray, M: np.ndarray, count: int
+                     ) -> tuple[np.ndarray, np.ndarray] | None:
+    """The ``count`` largest ``mu = 1/omega^2`` of ``K^-1 M`` by Arnoldi (ARPACK's
+    ``eigs``) on the LU factors of ``K``; None for a singular ``K``."""
+    from scipy.linalg import lu_factor, lu_solve
+    from scipy.sparse.linalg import LinearOperator, eigs
+
+    n = len(K)
+    with np.errstate(all="ignore"):
+        lu = lu_factor(K, check_finite=False)
+    if not np.all(np.isfinite(lu[0])) or np.any(np.abs(np.diag(lu[0])) <= n * np.finfo(
+            float).eps * np.abs(K).max()):
+        return None
+    k = min(count + FEW_MODES_EXTRA, n - 2)
+    mu, right = eigs(LinearOperator((n, n), matvec=lambda v: lu_solve(lu, M @ v),
+                                    dtype=float), k=k, which="LM", tol=0.0, v0=_start(n))
+    return _lowest(1.0 / mu, right, M, count)
 
 
 def _rounded_to_zero(omega2: np.ndarray, n: int, spectrum: np.ndarray | None = None
