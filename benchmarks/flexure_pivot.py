@@ -1,0 +1,101 @@
+"""Benchmark: issue 37's flexure job, flexmbd's side.
+
+A spatial cross-spring pivot turned to 0.3 rad in 20 load steps, and at every step the
+equilibrium, the first six frequencies with the stage's mass and the stage's 6x6
+compliance. Two steel leaves, L = 0.1 m, 30 x 0.5 mm, cross at their middles at 90
+degrees, side by side along the pivot axis (y), clamped below; a rigid 0.25 kg stage
+across their tops is turned by a moment about the axis (``2 EI/L`` times 0.3 rad).
+Over-constraints are released as SPACAR Light does.
+
+Each configuration runs in a fresh process with one BLAS thread, ``--repeat`` times; the
+table gives the medians of the whole process and of its parts: building (with the
+releases), the static equilibrium over the steps, and the per-step table
+(:func:`flexmbd.load_step_table`). Exudyn's side of the pairing (geometrically exact
+beams on ``NodeRigidBodyRxyz``, its tangent by central differences) is not written yet.
+
+Run: ``python benchmarks/flexure_pivot.py [--beams 8 16 32] [--repeat 3]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import platform
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+LENGTH, WIDTH, THICKNESS, GAP = 0.1, 0.03, 0.5e-3, 0.04   #: [m]
+STAGE_MASS, ROTATION, STEPS = 0.25, 0.3, 20
+
+
+def job(nbeams: int) -> dict[str, float]:
+    """The job at ``nbeams`` beams per leaf; wall times [s] of its parts."""
+    start = time.perf_counter()
+    import flexmbd as fm
+
+    steel = fm.Material.from_poisson(210e9, 0.3, 7800.0)
+    leaf = fm.Rectangle(WIDTH, THICKNESS)
+    imported = time.perf_counter()
+    b = fm.ModelBuilder("cross-spring pivot")
+    h = LENGTH / math.sqrt(2)
+    b.add_node(1, -h / 2, 0, 0).add_node(3, h / 2, 0, h)
+    b.add_node(5, h / 2, GAP, 0).add_node(7, -h / 2, GAP, h)
+    b.add_spatial_beams(1, 1, 2, 3, 4, nbeams, (0, 1, 0), new_nodes=1000, section=leaf,
+                        material=steel)
+    b.add_spatial_beams(201, 5, 6, 7, 8, nbeams, (0, 1, 0), new_nodes=2000, section=leaf,
+                        material=steel)
+    b.add_node(9, 0, GAP / 2, h)
+    b.add_spatial_beam(401, 3, 4, 9, 10, (0, 0, 1)).add_spatial_beam(402, 9, 10, 7, 8,
+                                                                     (0, 0, 1))
+    b.fix(1).fix(2).fix(5).fix(6)
+    b.add_point_mass(9, STAGE_MASS).add_rotary_inertia(10, 1e-4, 0, 0, 1e-4, 0, 1e-4)
+    b.release_overconstraints()
+    model = b.build()
+    built = time.perf_counter()
+    stiffness = 2 * steel.E * WIDTH * THICKNESS**3 / 12 / LENGTH
+    statics = fm.static_equilibrium(model, load_increment={"x10.3": ROTATION * stiffness},
+                                    steps=STEPS, progress=False)
+    solved = time.perf_counter()
+    table = fm.load_step_table(statics, modes=6, compliance=[(9, 10)], progress=False)
+    done = time.perf_counter()
+    return {"import": imported - start, "build": built - imported, "statics": solved - built,
+            "table": done - solved, "compute": done - imported, "dof": model.n_dof,
+            "f1": float(table["f1"][-1]), "angle": 2 * math.asin(statics["x10.3"][-1])}
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--beams", type=int, nargs="+", default=[8, 16, 32])
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--child", type=int, help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    if args.child:
+        print(json.dumps(job(args.child)))
+        return
+    env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1",
+               MKL_NUM_THREADS="1")
+    print(f"CPU: {platform.processor() or platform.machine()}, Python "
+          f"{platform.python_version()}, one BLAS thread, median of {args.repeat}")
+    print("| beams per leaf | dof | process [s] | build [s] | statics [s] | table [s] | f1 [Hz] |")
+    print("|---|---|---|---|---|---|---|")
+    for n in args.beams:
+        runs = []
+        for _ in range(args.repeat):
+            start = time.perf_counter()
+            out = subprocess.run([sys.executable, __file__, "--child", str(n)], env=env,
+                                 capture_output=True, text=True, check=True)
+            found = json.loads(out.stdout)
+            found["process"] = time.perf_counter() - start
+            runs.append(found)
+        med = {key: float(np.median([r[key] for r in runs])) for key in runs[0]}
+        print(f"| {n} | {int(med['dof'])} | {med['process']:.3f} | {med['build']:.3f} | "
+              f"{med['statics']:.3f} | {med['table']:.3f} | {med['f1']:.4f} |")
+
+
+if __name__ == "__main__":
+    main()
