@@ -199,3 +199,16 @@ def test_spacar_s_own_numbers_for_a_spacar_light_model():
         omega2 = np.sort(scipy.linalg.eigvals(K, sbm["M0"][step]).real)
         np.testing.assert_allclose(res.freq[:, step], np.sqrt(omega2) / (2 * np.pi),
                                    rtol=1e-10)
+
+
+def test_each_step_keeps_its_mode_shapes():
+    """res.step[i].freqmodes: mass-normalized shapes over the degrees of freedom, one per
+    frequency (SPACAR Light's field), and the buckled shapes with calcbuck."""
+    res = _guide({"force": [0, 0, -1.0]}, {"calcbuck": True, "loadsteps": 2})
+    step = res.step[2]
+    lin = res.statics.linearization(1)
+    M = lin.block("M0")
+    assert step.freqmodes.shape == (res.ndof, res.ndof)
+    np.testing.assert_allclose(step.freqmodes.T @ M @ step.freqmodes, np.eye(res.ndof),
+                               atol=1e-8)
+    assert step.buckmodes.shape[0] == res.ndof and res.step[1].buckmodes is None

@@ -112,6 +112,8 @@ class StepResult:
     buck: np.ndarray | None
     stressmax: float
     load: float
+    freqmodes: np.ndarray | None = None
+    buckmodes: np.ndarray | None = None
 
 
 @dataclass
@@ -121,7 +123,9 @@ class LightResult:
     Attributes:
         node: per user node (1-based), :class:`NodeResult`.
         element: per user element (1-based), :class:`ElementResult`.
-        step: per load step (1-based), :class:`StepResult`.
+        step: per load step (1-based), :class:`StepResult`; ``res.step[i].freqmodes``
+            and ``.buckmodes`` are the mass-normalized mode shapes and the buckled shapes
+            over the degrees of freedom ``(ndof, k)``, as SPACAR Light gives them.
         freq: eigenfrequencies ``(ndof, nsteps)`` [Hz], lowest first.
         buck: buckling load factors ``(ndof, nsteps)`` (with ``opt.calcbuck``), smallest
             magnitude first, with their sign (negative: it buckles with the loads reversed).
@@ -150,6 +154,7 @@ class LightResult:
     statics: Any
     statespace: object = None
     styles: dict = field(default_factory=dict)
+    shapes: list = field(default_factory=list, repr=False)
     step: OneBased[StepResult] = field(init=False)
 
     def __post_init__(self):
@@ -159,7 +164,9 @@ class LightResult:
                 OneBased([n.at(i) for n in self.node], "node"),
                 OneBased([e.at(i) for e in self.element], "element"),
                 self.freq[:, i], None if self.buck is None else self.buck[:, i],
-                float(self.stressmax[i]), float(self.load[i])))
+                float(self.stressmax[i]), float(self.load[i]),
+                *(self.shapes[i].get(name) if i < len(self.shapes) else None
+                  for name in ("freqmodes", "buckmodes"))))
         self.step = OneBased(steps, "step")
 
     def plot(self, step: int | None = None, *, stress: bool = True, exaggeration: float = 1.0,

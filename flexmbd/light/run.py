@@ -160,11 +160,15 @@ def _results(lm: LightModel, statics: StaticResult, show: bool) -> LightResult:
             and not any(model.gravity):
         lm.notes.append("opt.calcbuck: no loads are applied, so there are no buckling load "
                         "factors")
+    shapes: list[dict] = [{} for _ in lins]
     for row, lin in enumerate(lins):
-        _fill(freq, row, lambda lin=lin: vibration_modes(lin).frequencies, lm.notes,
-              "eigenfrequencies")
+        _fill(freq, row, lambda lin=lin, row=row: _kept(shapes[row], "freqmodes",
+                                                        vibration_modes(lin)),
+              lm.notes, "eigenfrequencies")
         if buck is not None:
-            _fill(buck, row, lambda lin=lin: buckling(lin).factors, lm.notes, "buckling")
+            _fill(buck, row, lambda lin=lin, row=row: _kept(shapes[row], "buckmodes",
+                                                            buckling(lin)),
+                  lm.notes, "buckling")
     stress, per_beam = _stresses(lm, lins)
     nodes = [_node(lm, j, statics, lins) for j in range(1, len(lm.positions) + 1)]
     elements = []
@@ -182,7 +186,14 @@ def _results(lm: LightModel, statics: StaticResult, show: bool) -> LightResult:
         print(f"flexmbd.light: {statics.message}")
     return LightResult(OneBased(nodes, "node"), OneBased(elements, "element"), freq, buck,
                        stress, np.asarray(statics.t, dtype=float), ndof, lm.releases,
-                       lm.notes, model, statics, space, lm.styles)
+                       lm.notes, model, statics, space, lm.styles, shapes)
+
+
+def _kept(shapes: dict, name: str, found) -> np.ndarray:
+    """Keep the shapes (over the degrees of freedom) of modes or buckling under ``name``;
+    return their frequencies or factors."""
+    shapes[name] = found.shapes
+    return found.frequencies if name == "freqmodes" else found.factors
 
 
 def _fill(table: np.ndarray, row: int, values, notes: list[str], what: str) -> None:
