@@ -232,7 +232,7 @@ def _elastic_state(engine: Engine, x: np.ndarray, qd: np.ndarray, qdd: np.ndarra
     assembly, x = engine.assembly, state["x"]
     F_q = engine.transfer(x, assembly.deformations_and_jacobian(x)[1])
     G0 = F_q.T @ (assembly.stress_hessian_times(x, state["sigma"], F_q)
-                  - load_stiffness(engine, loads) @ F_q)
+                  - load_stiffness_times(engine, loads, F_q))
     return state, F_q, assembly.jacobian_times(x, F_q), G0
 
 
@@ -250,6 +250,18 @@ def load_stiffness(engine: Engine, loads: np.ndarray) -> np.ndarray:
         if np.any(moment):
             slopes[np.ix_(at, at)] = euler_forces(np.eye(4), moment).T
     return slopes
+
+
+def load_stiffness_times(engine: Engine, loads: np.ndarray, A: np.ndarray) -> np.ndarray:
+    """``(df/dx) A`` ``(nx, k)`` for ``A`` ``(nx, k)``: :func:`load_stiffness` applied block
+    by block, on the rotational nodes that carry a moment only."""
+    product = np.zeros((engine.model.n_coordinates, A.shape[1]))
+    total = engine.constant_loads + loads
+    for at in engine.rotation_coordinates:
+        moment = total[at[1:]]
+        if np.any(moment):
+            product[at] = euler_forces(np.eye(4), moment).T @ A[at]
+    return product
 
 
 def equilibrium_state(engine: Engine, x: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
