@@ -180,12 +180,14 @@ def linearize(model: Model, x=None, qd=None, qdd=None, *, loads=None,
     M = engine.mass(x, state["xd"])[0]
     N0, C0 = inertia_derivatives(engine, state, F_q, E_q)
     law = engine.assembly.law_times
+    damped = law("C", E_q)   # an undamped model (most) skips its product
     return Linearization(
         model=model, x=x, xd=state["xd"], xdd=state["xdd"], e=state["e"], q=state["q"],
         qd=qd, qdd=qdd, sigma=state["sigma"], driving=state["driving"],
         reactions=state["reactions"], F_q=F_q, E_q=E_q,
-        M0=F_q.T @ M @ F_q, C0=C0, D0=E_q.T @ law("C", E_q), K0=E_q.T @ law("S", E_q),
-        N0=N0, G0=G0)
+        M0=F_q.T @ M @ F_q, C0=C0,
+        D0=E_q.T @ damped if np.any(damped) else np.zeros((model.n_dof, model.n_dof)),
+        K0=E_q.T @ law("S", E_q), N0=N0, G0=G0)
 
 
 def linearize_free(model: Model, x, qd=None, *, loads=None, engine: Engine | None = None,
