@@ -212,3 +212,24 @@ def test_each_step_keeps_its_mode_shapes():
     np.testing.assert_allclose(step.freqmodes.T @ M @ step.freqmodes, np.eye(res.ndof),
                                atol=1e-8)
     assert step.buckmodes.shape[0] == res.ndof and res.step[1].buckmodes is None
+
+
+def test_an_older_script_with_its_releases_fifth_runs():
+    """SPACAR Light's wire-flexure example (a 1 mm wire, 40 mm, clamped, 1 N along it)
+    in its pre-2019 call spacarlight(nodes, elements, nprops, eprops, rls, opt) with
+    rls = []: the buckling factor is the clamped-free column's pi^2 EI/(4 L^2) with shear,
+    to 1e-3."""
+    nodes = [[0, 0, 0], [6e-3, 0, 0], [34e-3, 0, 0], [40e-3, 0, 0]]
+    wire = {"emod": 210e9, "smod": 79e9, "dens": 7800, "cshape": "circ", "dim": [1e-3],
+            "orien": [0, 0, 1], "flex": ALL, "nbeams": 2}
+    res = light.run(nodes, [[1, 2], [2, 3], [3, 4]],
+                    {1: {"fix": True}, 4: {"force_initial": [-1, 1e-6, 0]}},
+                    [dict(wire, elems=[1, 3]), dict(wire, elems=[2])], [],
+                    {"calcbuck": True, "filename": "wireflexure", "silent": True})
+    E, G, d, L = 210e9, 79e9, 1e-3, 0.04
+    euler = math.pi**2 * E * math.pi * d**4 / 64 / (4 * L**2)
+    kga = 6 * (1 + E / (2 * G) - 1) / (7 + 6 * (E / (2 * G) - 1)) * G * math.pi * d**2 / 4
+    assert res.buck[0, 0] == pytest.approx(euler / (1 + euler / kga), rel=1e-3)
+    with pytest.raises(ArgumentError, match="given twice"):
+        light.run(nodes, [[1, 2], [2, 3], [3, 4]], {1: {"fix": True}}, [],
+                  [{"def": [1]}], {"rls": [{"def": [1]}]})

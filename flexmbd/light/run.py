@@ -22,7 +22,28 @@ from .results import ElementResult, LightResult, NodeResult, OneBased
 LENGTH_RATIO = 1000.0
 
 
-def build(nodes, elements, nprops=None, eprops=None, opt=None) -> LightModel:
+def _older(opt, more: tuple):
+    """``opt`` of a call in the form of SPACAR Light before its 2019 versions,
+    ``spacarlight(nodes, elements, nprops, eprops, rls, opt)``: the releases as a fifth
+    argument (empty for automatic ones), the options sixth."""
+    if not more:
+        return opt
+    if len(more) > 1:
+        raise ArgumentError("run", f"takes nodes, elements, nprops, eprops, opt (or, as SPACAR "
+                                   f"Light before 2019, rls then opt); got {5 + len(more)} "
+                                   f"arguments")
+    rls, opt = opt, more[0]
+    if opt is not None and not isinstance(opt, dict):
+        raise ArgumentError("opt", f"must be a dict of options, got {type(opt).__name__}")
+    if opt is not None and "rls" in opt and rls not in (None, [], ()):
+        raise ArgumentError("rls", "given twice: as the fifth argument and as opt['rls']")
+    merged = dict(opt or {})
+    if rls not in (None, [], ()):
+        merged["rls"] = rls
+    return merged
+
+
+def build(nodes, elements, nprops=None, eprops=None, opt=None, *more) -> LightModel:
     """The flexmbd model of a SPACAR Light description, without running it (SPACAR
     Light's ``opt.showinputonly``). Arguments as :func:`run`.
 
@@ -33,6 +54,7 @@ def build(nodes, elements, nprops=None, eprops=None, opt=None) -> LightModel:
         ArgumentError: a field, value or combination SPACAR Light refuses, named.
         ModelError: the model cannot be built (e.g. a mechanism), with every problem.
     """
+    opt = _older(opt, more)
     notes: list[str] = []
     positions, pairs = _geometry(nodes, elements, notes)
     props = node_props(nprops, len(positions))
@@ -51,7 +73,7 @@ def build(nodes, elements, nprops=None, eprops=None, opt=None) -> LightModel:
     return assemble(positions, pairs, props, sets, opt, notes)
 
 
-def run(nodes, elements, nprops=None, eprops=None, opt=None) -> LightResult:
+def run(nodes, elements, nprops=None, eprops=None, opt=None, *more) -> LightResult:
     """Run a SPACAR Light model: static equilibrium over the load steps and, at every
     step's equilibrium, the eigenfrequencies, buckling load factors, compliance of every
     node and largest stresses.
@@ -67,6 +89,9 @@ def run(nodes, elements, nprops=None, eprops=None, opt=None) -> LightResult:
         opt: options, a dict with SPACAR Light's fields (``gravity``, ``loadsteps``,
             ``rls``, ``transfer``, ``calcbuck``, ``calccompl``, ``silent``, ...). Without
             ``rls`` the over-constraints are released automatically and printed.
+        more: SPACAR Light before 2019 took the releases fifth and the options sixth,
+            ``spacarlight(nodes, elements, nprops, eprops, rls, opt)``; that call is read
+            too (``rls = []``: automatic releases).
 
     Returns:
         :class:`~flexmbd.light.results.LightResult`, read as SPACAR Light's output:
@@ -90,7 +115,7 @@ def run(nodes, elements, nprops=None, eprops=None, opt=None) -> LightResult:
         >>> res.node[2].p.shape
         (3, 3)
     """
-    lm = build(nodes, elements, nprops, eprops, opt)
+    lm = build(nodes, elements, nprops, eprops, _older(opt, more))
     opt_ = lm.options
     show = not opt_.silent
     if show:
