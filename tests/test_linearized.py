@@ -535,3 +535,28 @@ def test_a_few_lowest_modes_by_iteration_are_the_whole_spectrum_s():
     assert abs(few.frequencies[0] - few.frequencies[1]) > 0   # the hinge has no pair
     pair = fm.vibration_modes(wires, 6).frequencies
     assert pair[1] == pytest.approx(pair[0], rel=1e-9)      # the wires' sway pair, whole
+
+
+def test_modes_too_stiff_for_the_reduction_stay_positive():
+    """A cross hinge of 0.1 x 0.1 mm leaves of 10 beams spans 1e8 in frequency: the
+    stiffest modes fall below the rounding of 1/omega^2. They come from the generalized
+    solver instead, never as negative omega^2 of a stable structure: all frequencies
+    positive and ascending, the lowest as before, the highest those of eigh(K, M)."""
+    import scipy.linalg
+    from flexmbd.examples import flexures
+
+    from flexmbd import light
+
+    leaf = dict(flexures.HINGE_LEAF, dim=[0.1e-3, 0.1e-3], nbeams=10, warping=False)
+    body = dict(flexures.HINGE_BODY, warping=False)
+    res = light.run(flexures.HINGE_NODES, flexures.HINGE_ELEMENTS,
+                    {1: {"fix": True}, 4: {"fix": True}, 3: {"mass": 10}}, [leaf, body],
+                    {"silent": True})
+    lin = res.statics.linearization(0)
+    modes = fm.vibration_modes(lin)
+    f = modes.frequencies
+    assert np.all(f > 0) and np.all(np.diff(f) >= -1e-9 * f.max())
+    K, M = lin.block("K"), lin.block("M0")
+    generalized = np.sqrt(scipy.linalg.eigh(K, M, eigvals_only=True)) / (2 * np.pi)
+    np.testing.assert_allclose(f[-5:], generalized[-5:], rtol=1e-9)
+    np.testing.assert_allclose(f[:3], fm.vibration_modes(lin, 3).frequencies, rtol=1e-12)

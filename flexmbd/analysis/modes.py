@@ -134,12 +134,14 @@ def _eigen(lin: Linearization, K: np.ndarray, M: np.ndarray, count: int, vectors
             return _few_symmetric(factor, M, count, vectors)
         if factor is not None and _well_posed(factor, K):
             reduced, inverse = _reduced(factor, M)
-            if not vectors:
-                return 1.0 / np.linalg.eigvalsh(reduced)[::-1][:count], None
             mu, y = np.linalg.eigh(reduced)
             mu, y = mu[::-1][:count], y[:, ::-1][:, :count]
+            resolved = mu > ROUNDING_MARGIN * len(K) * np.finfo(float).eps * mu[0]
+            if not np.all(resolved):   # modes too stiff for this reduction: see below
+                return _stiffest(K, M, mu[resolved], inverse.T @ y[:, resolved], count,
+                                 vectors)
             # phi = L^-T y has phi^T K phi = 1 and phi^T M phi = mu
-            return 1.0 / mu, inverse.T @ y / np.sqrt(mu)
+            return 1.0 / mu, (inverse.T @ y / np.sqrt(mu) if vectors else None)
     else:
         if few:
             found = _few_unsymmetric(K, M, count)
@@ -167,6 +169,23 @@ def _eigen(lin: Linearization, K: np.ndarray, M: np.ndarray, count: int, vectors
     values, right = linalg.eig(K, M)
     omega2, shapes = _lowest(values, right, M, count)
     return _rounded_to_zero(omega2, len(K), linalg.eigvals(K, M).real), shapes
+
+
+def _stiffest(K: np.ndarray, M: np.ndarray, mu: np.ndarray, phi: np.ndarray, count: int,
+              vectors: bool) -> tuple[np.ndarray, np.ndarray | None]:
+    """The ``count`` lowest modes when the highest lie below the rounding of ``mu =
+    1/omega^2`` (stiff axial modes of thin leaves, ``omega`` ratios beyond 1e7): the
+    resolved ones ``mu`` (shapes ``phi = L^-T y``) as they are, the rest from SciPy's
+    generalized solver, whose rounding scales with the highest frequency instead; never
+    a stable structure's mode turned into a negative ``omega^2`` by rounding."""
+    import scipy.linalg as linalg
+
+    omega2, shapes = linalg.eigh(K, M)
+    kept = len(mu)
+    values = np.concatenate([1.0 / mu, omega2[kept:count]])
+    if not vectors:
+        return values, None
+    return values, np.hstack([phi / np.sqrt(mu), shapes[:, kept:count]])
 
 
 def _start(n: int) -> np.ndarray:
