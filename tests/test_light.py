@@ -157,6 +157,8 @@ def test_numbers_are_one_based():
     with pytest.raises(IndexError, match="numbered 1 to 5"):
         res.node[0]
     assert res.step[1].node[5].p.shape == (3,)
+    assert res.step[1].node[5].x is res.step[1].node[5].p   # the names before 2019
+    assert res.node[5].rx_quat is res.node[5].r_quat
     assert "5 nodes" in repr(res) and len(repr(res)) < 300
 
 

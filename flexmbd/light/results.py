@@ -71,6 +71,22 @@ class NodeResult:
     spa_nrs: tuple[int, int] = (0, 0)
     attached: bool = True
 
+    # SPACAR Light's names before 2019, for older scripts
+    @property
+    def x(self) -> np.ndarray:
+        """``p``, by SPACAR Light's name before 2019."""
+        return self.p
+
+    @property
+    def rx_eulzyx(self) -> np.ndarray | None:
+        """``r_eulzyx``, by SPACAR Light's name before 2019."""
+        return self.r_eulzyx
+
+    @property
+    def rx_quat(self) -> np.ndarray | None:
+        """``r_quat``, by SPACAR Light's name before 2019."""
+        return self.r_quat
+
     def at(self, step: int) -> NodeResult:
         """The node at one load step (0-based column)."""
         def column(a):
