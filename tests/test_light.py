@@ -235,3 +235,24 @@ def test_an_older_script_with_its_releases_fifth_runs():
     with pytest.raises(ArgumentError, match="given twice"):
         light.run(nodes, [[1, 2], [2, 3], [3, 4]], {1: {"fix": True}}, [],
                   [{"def": [1]}], {"rls": [{"def": [1]}]})
+
+
+def test_spacar_light_s_parallel_guide_transfer_example(capsys):
+    """SPACAR Light's own transfer-function example (a guide of 0.2 mm leaves with a
+    sensor arm, cw = true, 1 % damping): the static gain is 1 / (24 EI / L^3) to 1e-4, and
+    the deprecated cw is noted, not used (as SPACAR Light does now)."""
+    nodes = [[0, 0, 0], [0, 0.1, 0], [0.1, 0.1, 0], [0.1, 0, 0], [0.1, 0.2, 0]]
+    nprops = {1: {"fix": True}, 4: {"fix": True},
+              3: {"transfer_in": ["force_x"], "transfer_out": ["displ_x"]}}
+    leaves = {"elems": [1, 3], "emod": 210e9, "smod": 70e9, "dens": 7800, "cshape": "rect",
+              "dim": [50e-3, 0.2e-3], "orien": [0, 0, 1], "nbeams": 2, "flex": ALL,
+              "color": "grey", "opacity": 0.7, "cw": True}
+    rigid = {"elems": [2, 4], "dens": 7800, "cshape": "rect", "dim": [50e-3, 25e-3],
+             "orien": [0, 0, 1], "nbeams": 1, "color": "darkblue"}
+    res = light.run(nodes, [[1, 2], [2, 3], [3, 4], [3, 5]], nprops, [leaves, rigid],
+                    {"transfer": [True, 0.01], "filename": "test1"})
+    ss = res.statespace
+    gain = (ss.D - ss.C @ np.linalg.solve(ss.A, ss.B))[0, 0]
+    EI = 210e9 * 50e-3 * 0.2e-3**3 / 12
+    assert 1 / gain == pytest.approx(24 * EI / 0.1**3, rel=1e-4)
+    assert "cw is deprecated" in capsys.readouterr().out
