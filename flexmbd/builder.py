@@ -39,7 +39,7 @@ from .elements import (
 )
 from .elements.base import is_translational
 from .engine import deformations_and_jacobian, workspace_of
-from .engine.diagnosis import diagnose_rank, negative_mass_problem
+from .engine.diagnosis import clearly_regular, diagnose_rank, negative_mass_problem
 from .errors import ArgumentError, ModelError, Problem
 from .model import (
     DIRECTION_NAMES,
@@ -554,14 +554,13 @@ class ModelBuilder:
         D_c = D_x[np.ix_(rows, model.dependent)]
         element_of = {i: (number, k + 1) for number, element in model.elements.items()
                       for k, i in enumerate(element.deformations)}
-        over, under = _constraint_counts(D_c)
+        over, under, null = _over_constraints(D_c)
         if under:
             raise ModelError([f"the model is under-constrained ({under} coordinate(s) free): "
                               f"check the connections, the supports and the releases"])
         releases: list[tuple[int, int]] = []
         while over:
-            U = np.linalg.svd(D_c)[0]
-            u = U[:, len(rows) - over]
+            u = null[:, 0]
             order = np.argsort(-u**2)
             needed = int(np.searchsorted(np.cumsum(u[order] ** 2), np.sqrt(1 - 1e-6))) + 1
             chosen = None
@@ -580,7 +579,7 @@ class ModelBuilder:
                                   f"involve {involved}); release deformations yourself"])
             releases.append(element_of[rows[chosen]])
             del rows[chosen]
-            D_c = np.delete(D_c, chosen, axis=0)
+            null = _without_row(null, int(chosen))
             over -= 1
         for number, k in releases:
             self._reclassify(number, k)
@@ -1007,14 +1006,46 @@ def _assign(i, label, req, classes, assigned, problems):
     classes[i] = req.what
 
 
-def _constraint_counts(D_c: np.ndarray) -> tuple[int, int]:
+def _over_constraints(D_c: np.ndarray) -> tuple[int, int, np.ndarray]:
+    """Over- and under-constraints of ``D_c`` ``(m, n)`` (:func:`_constraint_counts`) and an
+    orthonormal basis of its left null space ``(m, over)``, from one factorisation:
+    releasing a row keeps the null vectors that vanish on it (:func:`_without_row`; a
+    factorisation per release would cost the cube of the rows each time). With full
+    column rank (the usual case, shown by ``R`` clearly regular) the complete QR gives
+    the basis at a quarter of the SVD's cost; otherwise the SVD decides."""
+    rows, cols = D_c.shape
+    if rows >= cols > 0:
+        Q, R = np.linalg.qr(D_c, mode="complete")
+        if clearly_regular(R[:cols], float(np.sqrt(np.finfo(float).eps))):
+            return rows - cols, 0, Q[:, cols:]
+    if not D_c.size:
+        return *_constraint_counts(D_c), np.eye(rows)[:, :max(rows - cols, 0)]
+    U, values = np.linalg.svd(D_c)[:2]
+    over, under = _constraint_counts(D_c, values)
+    return over, under, U[:, rows - over:]
+
+
+def _without_row(null: np.ndarray, row: int) -> np.ndarray:
+    """An orthonormal basis ``(m - 1, k - 1)`` of the left null space of ``D_c`` without
+    ``row``, from one of ``D_c``'s ``(m, k)``: the combinations of ``null`` that vanish on
+    ``row``, that entry dropped. The column largest on ``row`` eliminates it from the
+    others."""
+    pivot = int(np.argmax(np.abs(null[row])))
+    rest = np.delete(null, pivot, axis=1)
+    rest = rest - np.outer(null[:, pivot], rest[row] / null[row, pivot])
+    return np.linalg.qr(np.delete(rest, row, axis=0))[0]
+
+
+def _constraint_counts(D_c: np.ndarray, values: np.ndarray | None = None
+                       ) -> tuple[int, int]:
     """Over- and under-constraints of ``D_c`` (FLEXURES 5): singular values below
-    ``sqrt(eps)`` of the largest count in both, and a surplus of rows (columns) adds to
-    the over- (under-) constraints."""
+    ``sqrt(eps)`` of the largest count in both (``values``, when the caller has them),
+    and a surplus of rows (columns) adds to the over- (under-) constraints."""
     rows, cols = D_c.shape
     if not rows or not cols:
         return rows, cols
-    values = np.linalg.svd(D_c, compute_uv=False)
+    if values is None:
+        values = np.linalg.svd(D_c, compute_uv=False)
     singular = int(np.sum(values < np.sqrt(np.finfo(float).eps) * values[0])) + \
         (min(rows, cols) - len(values))
     return max(rows - cols, 0) + singular, max(cols - rows, 0) + singular

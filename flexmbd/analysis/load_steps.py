@@ -2,6 +2,13 @@
 designer follows them: frequencies, buckling load factors and support compliance, each
 linearized at that step's equilibrium (never at the unloaded state: a loaded structure's
 buckling load and frequencies are those of its loaded state).
+
+From :data:`~flexmbd.analysis.statics.BANDED_FROM` degrees of freedom the frequencies and
+the compliance with the drives held come from the banded tangent in all coordinates
+(:mod:`flexmbd.analysis.banded`; the lowest modes by subspace iteration, each step
+starting from the last step's shapes), whose cost grows linearly with the elements;
+buckling, free drives and whatever the banded path cannot tell take the dense
+linearization of the reduced equations.
 """
 
 from __future__ import annotations
@@ -11,10 +18,12 @@ from typing import Literal
 
 import numpy as np
 
+from ..engine import workspace_of
 from ..errors import ArgumentError
 from ..progress import progress_bar
-from .modes import buckling, node_compliance, vibration_modes
-from .statics import StaticResult
+from .banded import BandedStatics
+from .modes import buckling, compliance_labels, in_frame, node_compliance, vibration_modes
+from .statics import BANDED_FROM, StaticResult
 
 __all__ = ["load_step_table"]
 
@@ -48,22 +57,23 @@ def load_step_table(statics: StaticResult, *, modes: int = 0, buckle: int = 0,
         columns[f"buckling{k + 1}"] = np.full(rows, np.nan)
     sizes = {}
     for node, rotational in compliance:
-        probe = statics.linearization(0) if rows else None
-        size = 0 if probe is None else len(node_compliance(probe, node, rotational))
+        labels = compliance_labels(statics.model, node, rotational, frame, drive)
+        size = len(labels) if rows else 0
         sizes[node] = size
         for i in range(size):
             for j in range(size):
                 columns[f"C{node}.{i + 1}{j + 1}"] = np.full(rows, np.nan)
+    steps = _Steps(statics, banded=drive == "held" and (modes > 0 or bool(compliance)))
     with progress_bar(statics.t, "linearized load steps", progress) as advance:
         for row in range(rows):
-            lin = statics.linearization(row)
+            steps.go_to(row)
             if modes:
-                _fill(columns, "f", row, lambda lin=lin: vibration_modes(lin, modes).frequencies)
+                _fill(columns, "f", row, lambda: steps.frequencies(modes))
             if buckle:
-                _fill(columns, "buckling", row, lambda lin=lin: buckling(lin, buckle).factors)
+                _fill(columns, "buckling", row, lambda: buckling(steps.dense(), buckle).factors)
             for node, rotational in compliance:
                 try:
-                    C = node_compliance(lin, node, rotational, frame=frame, drive=drive)
+                    C = steps.compliance(node, rotational, frame, drive)
                 except (ArithmeticError, ValueError, RuntimeError):
                     continue
                 for i in range(sizes[node]):
@@ -72,6 +82,57 @@ def load_step_table(statics: StaticResult, *, modes: int = 0, buckle: int = 0,
             if advance is not None:
                 advance(statics.t[row])
     return columns
+
+
+class _Steps:
+    """The linearizations of a static result's rows, one row at a time: the banded tangent
+    when the model is large enough and the row has its stresses (``banded``), the dense
+    reduced linearization when asked or needed."""
+
+    def __init__(self, statics: StaticResult, banded: bool):
+        model = statics.model
+        self.statics, self.row = statics, 0
+        self.banded = (BandedStatics(model, workspace_of(model)) if banded
+                       and model.n_dof >= BANDED_FROM and statics.sigma is not None
+                       and statics.applied is not None else None)
+        self.factored = False
+        self.shapes: np.ndarray | None = None   # the last step's modes: the next one's start
+        self._dense = None
+
+    def go_to(self, row: int) -> None:
+        self.row, self._dense, self.factored = row, None, False
+        if self.banded is not None:
+            s = self.statics
+            assert s.sigma is not None and s.applied is not None  # checked in __init__
+            try:
+                self.banded.factor(s.x[row], s.q[row], s.sigma[row][self.banded.constrained],
+                                   s.applied[row])
+                self.factored = True
+            except np.linalg.LinAlgError:
+                self.shapes = None
+
+    def dense(self):
+        if self._dense is None:
+            self._dense = self.statics.linearization(self.row)
+        return self._dense
+
+    def frequencies(self, count: int) -> np.ndarray:
+        if self.factored:
+            assert self.banded is not None
+            found = self.banded.lowest_modes(count, self.shapes)
+            if found is not None:
+                omega2, self.shapes = found
+                return np.sqrt(omega2) / (2 * np.pi)
+            self.shapes = None
+        return vibration_modes(self.dense(), count).frequencies
+
+    def compliance(self, node: int, rotational: int | None, frame, drive) -> np.ndarray:
+        if not self.factored or drive != "held":
+            return node_compliance(self.dense(), node, rotational, frame=frame, drive=drive)
+        assert self.banded is not None
+        model, x = self.statics.model, self.statics.x[self.row]
+        labels = compliance_labels(model, node, rotational, frame, drive)
+        return in_frame(model, x, rotational, self.banded.compliance(x, labels), frame)
 
 
 def _fill(columns: dict, prefix: str, row: int, values) -> None:

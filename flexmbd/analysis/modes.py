@@ -386,7 +386,9 @@ def buckling(linearization: Linearization, count: int | None = None) -> Buckling
 def compliance(linearization: Linearization, labels) -> np.ndarray:
     """The compliance ``F_sel (K0 + G0)^-1 F_sel^T`` ``(k, k)`` [m/N, rad/(N m), ...] seen at
     the coordinates ``labels`` (``["x5.1", "x5.2"]``): entry ``(i, j)`` is the static
-    displacement of coordinate ``i`` per unit load on coordinate ``j``. On a spatial
+    displacement of coordinate ``i`` per unit load on coordinate ``j``. It is symmetric
+    but under a global moment on a spatial rotational node, whose load stiffness is not
+    (the moment keeps its axis while the node turns). On a spatial
     rotational node the labels of ``lam1..lam3`` stand for its global rotations about x,
     y and z and the moments about them (``T = diag(I, 2 E)``, the spatial theory,
     section 6). The prescribed entries of ``q`` are held.
@@ -404,7 +406,7 @@ def _compliance(lin: Linearization, labels, held: bool) -> np.ndarray:
     lin.transfer(labels)   # refuses the lam0 of a rotational node, by label
     F = lin.motion_transfer[np.ix_(np.asarray(rows, dtype=int), columns)]
     K = (lin.K0 + lin.G0)[np.ix_(columns, columns)]
-    K = 0.5 * (K + K.T)
+    symmetric = 0.5 * (K + K.T)
     if not held:   # a free drive that nothing resists: name it (its pivot may round > 0)
         scale = np.abs(K).max(initial=0.0)
         for j in np.flatnonzero(lin.model.q_is_input):
@@ -413,16 +415,21 @@ def _compliance(lin: Linearization, labels, held: bool) -> np.ndarray:
                     f"with the drives free, the drive of {lin.model.q_labels[j]} has no "
                     f"stiffness: a drive without stiffness is a mechanism (its compliance "
                     f"is infinite)")
-    factor = _cholesky(K)
-    if factor is None or not _well_posed(factor, K):
+    factor = _cholesky(symmetric)
+    if factor is None or not _well_posed(factor, symmetric):
         what = ("the dynamic degrees of freedom include a mechanism (no stiffness) or the "
                 "loads buckle the structure" if held else
                 "with the drives free, a drive without stiffness is a mechanism (its "
                 "compliance is infinite), or the loads buckle the structure")
         raise SingularConfigurationError(f"the stiffness K0 + G0 is not positive definite: "
                                          f"{what}")
-    half = np.linalg.solve(factor, F.T)  # L^-1 F^T: F K^-1 F^T = half^T half
-    return half.T @ half
+    if np.array_equal(K, K.T):
+        half = np.linalg.solve(factor, F.T)  # L^-1 F^T: F K^-1 F^T = half^T half
+        return half.T @ half
+    # a global moment's load stiffness makes K unsymmetric (the moment keeps its axis while
+    # the node turns): the response to a small load is K^-1 of that K, not of its
+    # symmetric part (which would differ by about 1e-6 of a loaded flexure's compliance)
+    return F @ np.linalg.solve(K, F.T)
 
 
 def node_compliance(linearization: Linearization, node: int, rotational: int | None = None,
@@ -447,11 +454,19 @@ def node_compliance(linearization: Linearization, node: int, rotational: int | N
         SingularConfigurationError: a mechanism, buckling, or a free drive without
             stiffness (infinite compliance).
     """
+    labels = compliance_labels(linearization.model, node, rotational, frame, drive)
+    C = _compliance(linearization, labels, held=drive == "held")
+    return in_frame(linearization.model, linearization.x, rotational, C, frame)
+
+
+def compliance_labels(model, node: int, rotational: int | None, frame: str, drive: str
+                      ) -> list[str]:
+    """The coordinate labels of :func:`node_compliance` (``node``'s translations, then
+    ``rotational``'s rotations), its arguments checked."""
     if frame not in ("global", "body"):
         raise ArgumentError("frame", f"must be 'global' or 'body', got {frame!r}")
     if drive not in ("held", "free"):
         raise ArgumentError("drive", f"must be 'held' or 'free', got {drive!r}")
-    model = linearization.model
     for number, kind in ((node, "translational"), (rotational, "rotational")):
         if number is not None and (number not in model.nodes or
                                    kind not in model.nodes[number].kind):
@@ -464,18 +479,25 @@ def node_compliance(linearization: Linearization, node: int, rotational: int | N
     if rotational is not None:
         spatial = model.nodes[rotational].kind == SPATIAL_ROTATIONAL
         labels += [f"x{rotational}.{k}" for k in ((2, 3, 4) if spatial else (1,))]
-    C = _compliance(linearization, labels, held=drive == "held")
-    if frame == "body" and rotational is not None:
-        at = list(model.nodes[rotational].coordinates)
-        lam = linearization.x[at]
-        if model.nodes[rotational].kind == SPATIAL_ROTATIONAL:
-            R = rotation_matrix(lam)
-            turn = np.block([[R, np.zeros((3, 3))], [np.zeros((3, 3)), R]])
-        else:
-            c, s = np.cos(lam[0]), np.sin(lam[0])
-            turn = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-        C = turn.T @ C @ turn
-    return C
+    return labels
+
+
+def in_frame(model, x: np.ndarray, rotational: int | None, C: np.ndarray, frame: str
+             ) -> np.ndarray:
+    """A node's compliance ``C`` (global axes) in ``frame``: unchanged for ``"global"``,
+    ``diag(R^T, R^T) C diag(R, R)`` with ``R`` the rotation of ``rotational`` at ``x`` for
+    ``"body"``."""
+    if frame != "body" or rotational is None:
+        return C
+    at = list(model.nodes[rotational].coordinates)
+    lam = x[at]
+    if model.nodes[rotational].kind == SPATIAL_ROTATIONAL:
+        R = rotation_matrix(lam)
+        turn = np.block([[R, np.zeros((3, 3))], [np.zeros((3, 3)), R]])
+    else:
+        c, s = np.cos(lam[0]), np.sin(lam[0])
+        turn = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    return turn.T @ C @ turn
 
 
 def _count(count: int | None, available: int) -> int:

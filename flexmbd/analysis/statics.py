@@ -36,12 +36,18 @@ from ..model import Model
 from ..progress import progress_bar
 from ..results import SimulationResult, check_on_failure, conclude, first_rows
 from ..settings import RunSettings
+from .banded import BandedStatics
 from .linearization import Linearization, equilibrium_state, linearize, static_tangent
 
 __all__ = ["StaticResult", "static_equilibrium"]
 
 #: halvings of a load step before a static analysis gives up
 MAX_HALVINGS = 12
+
+#: degrees of freedom from which ``method="auto"`` solves in all coordinates on the banded
+#: saddle-point system: the reduced tangent is dense, and its cost grows with the cube of
+#: the degrees of freedom (at 90, a flexure pivot of 16 beams, already 7 times the banded)
+BANDED_FROM = 40
 
 
 @dataclass(eq=False)
@@ -86,6 +92,7 @@ def static_equilibrium(
     max_iterations: int = MAX_ITERATIONS,
     on_failure: Literal["raise", "return"] = "raise",
     progress: bool | None = None,
+    method: Literal["auto", "reduced", "banded"] = "auto",
 ) -> StaticResult:
     """Static equilibria under the model's loads and load steps.
 
@@ -104,6 +111,11 @@ def static_equilibrium(
         on_failure: ``"raise"`` (with the converged rows as ``error.partial_result``) or
             ``"return"`` them with ``success=False``.
         progress: progress bar over the load steps (default: many steps on a terminal).
+        method: ``"reduced"``: Newton on the degrees of freedom with the tangent ``K0 +
+            G0``; ``"banded"``: Newton in all coordinates and the constraint stresses on
+            the banded saddle-point system (:mod:`flexmbd.analysis.banded`), whose cost
+            grows linearly with the number of elements; ``"auto"``: banded from
+            :data:`BANDED_FROM` degrees of freedom. Both reach the same equilibria.
 
     Returns:
         :class:`StaticResult`, one row per load step.
@@ -113,6 +125,8 @@ def static_equilibrium(
             converged load factor and the degree of freedom with the largest residual.
     """
     check_on_failure(on_failure)
+    if method not in ("auto", "reduced", "banded"):
+        raise ArgumentError("method", f"must be 'auto', 'reduced' or 'banded', got {method!r}")
     base = np.zeros(model.n_coordinates) if loads is None else load_vector(model, loads)
     increment = (np.zeros(model.n_coordinates) if load_increment is None
                  else load_vector(model, load_increment))
@@ -130,8 +144,9 @@ def static_equilibrium(
     # the applied loads are one more row of nx values
     checks.output_memory(rows, output_bytes(model, integrated=False) +
                          8 * model.n_coordinates, "steps")
-    solver = _Solver(model, workspace_of(model), tolerance,
-                     checks.iteration_limit(max_iterations))
+    banded = method == "banded" or (method == "auto" and model.n_dof >= BANDED_FROM)
+    solver = (_BandedSolver if banded else _Solver)(model, workspace_of(model), tolerance,
+                                                   checks.iteration_limit(max_iterations))
     own = solver.engine.constant_loads
     sizes = output_sizes(model)
     arrays = {name: np.empty((rows, sizes[name])) for name in OUTPUTS}
@@ -271,6 +286,30 @@ class _Solver:
                                f"(residual {residual:.3g} largest on "
                                f"{model.describe_q(worst)})",
                                iterations=self.max_iterations, residual=residual)
+
+
+class _BandedSolver(_Solver):
+    """Newton's method in all coordinates and the constraint stresses
+    (:class:`~flexmbd.analysis.banded.BandedStatics`), each solve from the last converged
+    coordinates and stresses; a converged state is the reduced solver's (the engine's
+    equilibrium at its ``q``)."""
+
+    def __init__(self, model: Model, engine: Engine, tolerance: float | None,
+                 max_iterations: int):
+        super().__init__(model, engine, tolerance, max_iterations)
+        self.banded = BandedStatics(model, engine)
+        self.mu = np.zeros(len(self.banded.constrained))
+
+    def solve(self, loads: np.ndarray, q_target: np.ndarray) -> None:
+        model = self.model
+        q = self.state["q"].copy() if self.state else q_target.copy()
+        inputs = np.asarray(model.q_is_input, dtype=bool)
+        q[inputs] = q_target[inputs]
+        x, mu = self.banded.equilibrium(self.x, q, self.mu, loads, self.tolerance,
+                                        self.max_iterations)
+        zero = np.zeros(model.n_dof)
+        self.state = _row(equilibrium_state(self.engine, x, zero, zero, loads, near=q))
+        self.x, self.mu = self.state["x"], mu
 
 
 def _row(state: dict[str, np.ndarray]) -> dict[str, np.ndarray]:

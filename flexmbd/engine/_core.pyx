@@ -39,7 +39,7 @@ cdef extern from "core.h":
         double time, residual, conditioning, limit, step
         int iterations, worst
     ctypedef struct FmModel:
-        int nx, ne, nq, nr, ns, nd_dyn, dc_kl, dc_ku, sd_kl, sd_ku, max_iterations
+        int nx, ne, nq, nr, ns, nfree, nmult, nd_dyn, dc_kl, dc_ku, sd_kl, sd_ku, max_iterations
         double tolerance, regularity_limit, reference_conditioning
     size_t fm_element_values(const FmModel *m, int hessian, const double *x, double *out)
 
@@ -99,6 +99,10 @@ cdef extern from "runs.h":
                                const double *qdd, const double *step, int rates, double *out)
     double fm_core_factor(FmCore *c, const double *x)
     int fm_core_solve(FmCore *c, double *rhs, int count, int transposed)
+    int fm_core_static_saddle(FmCore *c, const double *x, const double *q, const double *mu,
+                              const double *loads, double *r)
+    int fm_core_static_solve(FmCore *c, double *rhs, int count)
+    int fm_core_free_mass_times(FmCore *c, const double *v, int count, double *out)
     void fm_core_configuration(const FmCore *c, double *x)
 
 cdef extern from "text.h":
@@ -442,6 +446,45 @@ cdef class Core:
             raise RuntimeError("D_c is not factorised")
         if code:
             raise MemoryError("D_c's solve")
+
+    def static_saddle(self, const double[::1] x not None, const double[::1] q not None,
+                      const double[::1] mu not None, const double[::1] loads not None,
+                      double[::1] r not None):
+        """The static equilibrium in all coordinates at ``x`` ``(nx,)``: its residual into
+        ``r`` ``(ns,)`` (free coordinates, then constrained deformations) at the constraint
+        stresses ``mu`` ``(nmult,)`` under ``loads`` ``(nx,)``, ``q`` ``(nq,)`` holding the
+        input targets; the factorised tangent is kept for :meth:`static_solve`."""
+        cdef FmModel *m = &self.c.m
+        need(x.shape[0], m.nx, "x")
+        need(q.shape[0], m.nq, "q")
+        need(mu.shape[0], m.nmult, "mu")
+        need(loads.shape[0], m.nx, "loads")
+        need(r.shape[0], m.ns, "r")
+        cdef double z = 0.0
+        self.check(fm_core_static_saddle(&self.c, &x[0], &q[0] if m.nq else &z,
+                                         &mu[0] if m.nmult else &z, &loads[0],
+                                         &r[0] if m.ns else &z))
+
+    def static_solve(self, double[:, ::1] rhs not None):
+        """The kept static tangent's solutions of the rows of ``rhs`` ``(k, ns)``, in place."""
+        need(rhs.shape[1], self.c.m.ns, "rhs")
+        if rhs.shape[0] == 0 or rhs.shape[1] == 0:
+            return
+        code = fm_core_static_solve(&self.c, &rhs[0, 0], rhs.shape[0])
+        if code == FM_SINGULAR:
+            raise RuntimeError("no static tangent is factorised")
+        if code:
+            raise MemoryError("the static tangent's solve")
+
+    def free_mass_times(self, const double[:, ::1] v not None, double[:, ::1] out not None):
+        """``M v`` over the free coordinates for the rows of ``v`` ``(k, nfree)``, at the
+        configuration of the kept static tangent."""
+        need(v.shape[1], self.c.m.nfree, "v")
+        need(out.shape[0] * out.shape[1], v.shape[0] * v.shape[1], "out")
+        if v.shape[0] == 0 or v.shape[1] == 0:
+            return
+        if fm_core_free_mass_times(&self.c, &v[0, 0], v.shape[0], &out[0, 0]):
+            raise RuntimeError("no static tangent is factorised")
 
     def configuration(self, double[::1] x not None):
         """The configuration of the last failure (or of the last evaluation) into ``x``."""

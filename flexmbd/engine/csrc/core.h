@@ -189,6 +189,10 @@ int fm_inertia_slopes(const FmModel *m, FmState *s, const double *x, const doubl
                       double *out, FmError *err);
 void fm_nodal_force(const FmModel *m, FmState *s, const double *user);
 int fm_saddle(const FmModel *m, FmState *s, Band *sd, double c_q, double c_v, FmError *err);
+int fm_static_saddle(const FmModel *m, FmState *s, Band *sd, const double *user,
+                     const double *mu, double *r, double *scale, FmError *err);
+void fm_free_mass_times(const FmModel *m, const FmState *s, const double *v, int count,
+                        double *out);
 void fm_saddle_apply(const FmModel *m, FmState *s, const Band *sd, const double *J,
                      const double *rhs, double *dq);
 int fm_accelerations(const FmModel *m, FmState *s, Band *sd, const double *user, FmError *err);

@@ -218,7 +218,8 @@ int fm_core_init(FmCore *c)
         || !m->varying || !m->mconst || !m->dc_rowscale || !c->op_J || !c->law_kind
         || !c->law_coef || missing || fm_state_init(&c->eval, m) || fm_state_init(&c->out, m)
         || band_init(&c->sd, m->ns, m->sd_kl, m->sd_ku)
-        || band_init(&c->sd_acc, m->ns, m->sd_kl, m->sd_ku))
+        || band_init(&c->sd_acc, m->ns, m->sd_kl, m->sd_ku) || fm_state_init(&c->stat, m)
+        || band_init(&c->sd_static, m->ns, m->sd_kl, m->sd_ku))
         return FM_NO_MEMORY;          /* fm_core_free takes back what was allocated */
     reference_terms(c);
     for (int k = 0; k < m->ndc_map; k++)
@@ -254,6 +255,8 @@ void fm_core_free(FmCore *c)
     fm_state_free(&c->out);
     band_free(&c->sd);
     band_free(&c->sd_acc);
+    fm_state_free(&c->stat);
+    band_free(&c->sd_static);
     memset(c, 0, sizeof(*c));
 }
 
@@ -889,6 +892,53 @@ int fm_core_solve(FmCore *c, double *rhs, int count, int transposed)
         return fm_solve_dc_many(&c->m, &c->out, rhs, count) ? FM_NO_MEMORY : FM_OK;
     for (int k = 0; k < count; k++)
         fm_solve_dc(&c->m, &c->out, rhs + (size_t)k * c->m.nr, transposed);
+    return FM_OK;
+}
+
+int fm_core_static_saddle(FmCore *c, const double *x, const double *q, const double *mu,
+                          const double *loads, double *r)
+{
+    FmState *s = &c->stat;
+    fm_reset_error(c);
+    c->has_static = 0;
+    memcpy(s->x, x, sizeof(double) * c->m.nx);
+    memcpy(s->q, q, sizeof(double) * c->m.nq);
+    const int code = fm_static_saddle(&c->m, s, &c->sd_static, loads, mu, r, &c->static_scale,
+                                      &c->error);
+    if (code) {
+        c->failed = s;
+        return code;
+    }
+    c->has_static = 1;
+    return FM_OK;
+}
+
+int fm_core_static_solve(FmCore *c, double *rhs, int count)
+{
+    const FmModel *m = &c->m;
+    if (!c->has_static)
+        return FM_SINGULAR;
+    double *u = malloc(sizeof(double) * (size_t)(m->ns > 0 ? m->ns : 1));
+    if (!u)
+        return FM_NO_MEMORY;
+    const double scale = c->static_scale;
+    for (int k = 0; k < count; k++) {
+        double *v = rhs + (size_t)k * m->ns;
+        for (int a = 0; a < m->ns; a++)
+            u[m->sd_band[a]] = a < m->nfree ? v[a] : scale * v[a];
+        band_solve(&c->sd_static, u);
+        for (int a = 0; a < m->ns; a++)
+            v[a] = a < m->nfree ? u[m->sd_band[a]] : scale * u[m->sd_band[a]];
+    }
+    free(u);
+    return FM_OK;
+}
+
+int fm_core_free_mass_times(FmCore *c, const double *v, int count, double *out)
+{
+    if (!c->has_static)
+        return FM_SINGULAR;
+    fm_free_mass_times(&c->m, &c->stat, v, count, out);
     return FM_OK;
 }
 

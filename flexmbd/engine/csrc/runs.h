@@ -39,6 +39,10 @@ typedef struct {
     double *op_J;                  /* the element Jacobians of the operator's state */
     Band sd_acc;                   /* and of the accelerations (an output between two steps
                                       must not replace the operator) */
+    FmState stat;                  /* the static equilibrium in all coordinates: its state, */
+    Band sd_static;                /* its factorised tangent [[K, C^T], [C, 0]] */
+    double static_scale;           /* and the scale of that matrix's constraint rows */
+    int has_static;
     FmError error;
     int trial;
     /* the prepared run */
@@ -104,6 +108,16 @@ void fm_core_mass_matrix(FmCore *c, const double *x, const double *xd, double *M
 int fm_core_inertia_slopes(FmCore *c, const double *x, const double *q, const double *qd,
                            const double *qdd, const double *step, int rates, double *out);
 double fm_core_factor(FmCore *c, const double *x);  /* scaled conditioning, 0 singular */
+/* Static equilibrium in all coordinates (fm_static_saddle) at x (nx) with q (nq: targets of
+ * the inputs, references of periodic deformations), constraint stresses mu (nmult) and
+ * applied loads (nx): its residual r (ns) and factorised tangent, kept for the next two. */
+int fm_core_static_saddle(FmCore *c, const double *x, const double *q, const double *mu,
+                          const double *loads, double *r);
+/* The kept tangent's solution of `count` right-hand sides (count, ns) in place: over the
+ * free coordinates, then the multipliers (constraint stresses); FM_SINGULAR without one. */
+int fm_core_static_solve(FmCore *c, double *rhs, int count);
+/* M v over the free coordinates at the kept tangent's configuration, v (count, nfree). */
+int fm_core_free_mass_times(FmCore *c, const double *v, int count, double *out);
 int fm_core_solve(FmCore *c, double *rhs, int count, int transposed);
 /* The configuration x (nx) of the last failure, or of the last evaluation. */
 void fm_core_configuration(const FmCore *c, double *x);

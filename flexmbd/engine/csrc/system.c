@@ -647,26 +647,30 @@ void fm_nodal_force(const FmModel *m, FmState *s, const double *user)
 }
 
 /* --- the saddle-point system (THEORY 7, 8) ---------------------------------------------------- */
-/* [[A, C^T], [C, 0]] over the free coordinates and the multipliers. A is the mass matrix, and
- * for a Newton matrix (c_q, c_v not both zero) A = M + c_q (D^T S D + sum_i sigma_i D_xx,i)
- * + c_v D^T C D: the element stiffness and damping, and the geometric stiffness of every
- * stress of the state, elastic and of the constraints (sigma = sigma_el - w, with w the
- * multipliers of its reduced residual). This is the derivative of the reduced residual but
- * for the velocity terms of the inertia, which are of order h relative to the rest. */
-int fm_saddle(const FmModel *m, FmState *s, Band *sd, double c_q, double c_v, FmError *err)
+static int band_index(const Band *b, int row, int col)   /* band.c's layout */
+{
+    return b->kl + b->ku + row - col + col * b->ldab;
+}
+
+/* A of [[A, C^T], [C, 0]] into sd (zeroed first): A = c_m M + c_q (D^T S D + sum_i sigma_i
+ * D_xx,i) + c_v D^T C D, with the stresses sigma = sigma_el - w of the state (w the
+ * multipliers of its reduced residual, or minus the constraint stresses of a static one). */
+static void saddle_matrix(const FmModel *m, FmState *s, Band *sd, double c_m, double c_q,
+                          double c_v)
 {
     double H[FM_MAX_ND * FM_MAX_NC * FM_MAX_NC], c[FM_MAX_NC];
-    const int stiff = c_q != 0.0 || c_v != 0.0;
+    const int stiff = c_q != 0.0 || c_v != 0.0 || c_m != 1.0;
     const double *blocks = s->blocks;
     if (stiff) {
-        memcpy(s->ablocks, s->blocks, sizeof(double) * m->total_b);
+        for (int a = 0; a < m->total_b; a++)
+            s->ablocks[a] = c_m * s->blocks[a];
         blocks = s->ablocks;
         for (int k = 0; k < m->nel; k++) {
             const int nc = m->c_off[k + 1] - m->c_off[k], nd = m->d_off[k + 1] - m->d_off[k];
             const int *di = m->d_idx + m->d_off[k];
             double *A = s->ablocks + m->b_off[k];
             const double *J = s->J + m->j_off[k];
-            if (m->elastic[k]) {
+            if (m->elastic[k] && (c_q != 0.0 || c_v != 0.0)) {
                 const double *S = m->S + m->law_off[k], *C = m->C + m->law_off[k];
                 double LJ[FM_MAX_ND * FM_MAX_NC];
                 for (int i = 0; i < nd; i++)          /* (c_q S + c_v C) D */
@@ -702,32 +706,152 @@ int fm_saddle(const FmModel *m, FmState *s, Band *sd, double c_q, double c_v, Fm
     for (int e = 0; e < m->nsd_a; e++)
         sd->ab[m->sd_a_dst[e]] += blocks[m->sd_a_src[e]];
     for (int e = 0; e < m->nsd_m; e++)
-        sd->ab[m->sd_m_dst[e]] += m->nodal_mass[m->sd_m_coord[e]];
-    /* The constraint rows C are scaled to the size of A: only z is used, so the scale of the
-     * multipliers does not matter, and the pivot test below then judges the system in the
-     * same way whatever the units of mass (kg or tonnes) and length. */
-    double biggest = 0.0, biggest_c = 0.0;
+        sd->ab[m->sd_m_dst[e]] += c_m * m->nodal_mass[m->sd_m_coord[e]];
+}
+
+/* The constraint rows C of sd, scaled to the size of A; returns the scale, and the size
+ * of the matrix that its pivots are judged against in *biggest. The scale makes the
+ * pivot test judge the system in the same way whatever the units of mass (kg or tonnes)
+ * and length; a multiplier solved is the scale times its unknown. */
+static double saddle_constraints(const FmModel *m, const FmState *s, Band *sd, double *biggest)
+{
+    double big = 0.0, biggest_c = 0.0;
     for (size_t a = 0; a < (size_t)sd->ldab * sd->n; a++)
-        if (fabs(sd->ab[a]) > biggest)
-            biggest = fabs(sd->ab[a]);
+        if (fabs(sd->ab[a]) > big)
+            big = fabs(sd->ab[a]);
     for (int e = 0; e < m->nsd_c; e++)
         if (fabs(s->J[m->sd_c_src[e]]) > biggest_c)
             biggest_c = fabs(s->J[m->sd_c_src[e]]);
-    const double scale = biggest > 0.0 && biggest_c > 0.0 && isfinite(biggest / biggest_c)
-                         ? biggest / biggest_c : 1.0;
+    const double scale = big > 0.0 && biggest_c > 0.0 && isfinite(big / biggest_c)
+                         ? big / biggest_c : 1.0;
     for (int e = 0; e < m->nsd_c; e++) {
         const double v = scale * s->J[m->sd_c_src[e]];
         sd->ab[m->sd_c_dst[e]] = v;
         sd->ab[m->sd_c_dstt[e]] = v;
     }
-    if (!(biggest > 0.0))
-        biggest = scale * biggest_c;
+    *biggest = big > 0.0 ? big : scale * biggest_c;
+    return scale;
+}
+
+/* [[A, C^T], [C, 0]] over the free coordinates and the multipliers, factorised in sd. A is
+ * the mass matrix, and for a Newton matrix (c_q, c_v not both zero) A = M + c_q (D^T S D
+ * + sum_i sigma_i D_xx,i) + c_v D^T C D: the element stiffness and damping, and the
+ * geometric stiffness of every stress of the state, elastic and of the constraints (sigma
+ * = sigma_el - w, with w the multipliers of its reduced residual). This is the derivative
+ * of the reduced residual but for the velocity terms of the inertia, which are of order h
+ * relative to the rest. */
+int fm_saddle(const FmModel *m, FmState *s, Band *sd, double c_q, double c_v, FmError *err)
+{
+    double biggest;
+    saddle_matrix(m, s, sd, 1.0, c_q, c_v);
+    saddle_constraints(m, s, sd, &biggest);
     if (band_factor(sd) || !(band_min_pivot(sd) > 1e-14 * biggest)) {
         /* where D_c is nearly singular the constraints are dependent, not the mass missing */
         const int dependent = s->has_factor && fm_nearly_singular(m, s);
         return fail(err, dependent ? FM_SINGULAR : FM_MASSLESS, s->t, 0, 0.0, -1);
     }
     return FM_OK;
+}
+
+/* --- static equilibrium in all coordinates ------------------------------------------------ */
+/* At the configuration s->x with the constraint stresses mu (nmult) under the applied loads
+ * `user` (nx, or NULL), with s->q holding the targets of the input deformations and the
+ * references of the periodic ones: the residual of the static equilibrium over the
+ * saddle-point unknowns into r (ns): D^T (sigma_el + mu) - f on the free coordinates, then
+ * e - target on the multipliers' deformations; and its tangent [[K, C^T], [C, 0]],
+ * factorised in sd, with K = D^T S D + sum_i (sigma_el,i + mu_i) D_xx,i - df/dx (df/dx: the
+ * turning generalized force 2 E(lam)^T M of a global moment). The scale of sd's constraint
+ * rows goes to *scale. FM_OK, or FM_MASSLESS when the tangent is singular (a mechanism,
+ * buckling) or FM_NOT_FINITE. */
+int fm_static_saddle(const FmModel *m, FmState *s, Band *sd, const double *user,
+                     const double *mu, double *r, double *scale, FmError *err)
+{
+    double *stress = s->w1, *pulled = s->w2;
+    memset(s->xd, 0, sizeof(double) * m->nx);
+    memset(s->xdd, 0, sizeof(double) * m->nx);
+    memset(s->ed, 0, sizeof(double) * m->ne);
+    memset(s->edd, 0, sizeof(double) * m->ne);
+    element_pass(m, s, 1);
+    fm_stresses(m, s);
+    fm_inertia(m, s);
+    fm_nodal_force(m, s, user);
+    for (int d = 0; d < m->ne; d++) {
+        const int j = m->mult_of_def[d];
+        stress[d] = j >= 0 ? mu[j] : 0.0;
+        s->w[d] = -stress[d];
+    }
+    fm_jacobian_t_times(m, s->J, stress, pulled);
+    int finite = 1;
+    for (int i = 0; i < m->nx; i++)
+        if (m->free_of[i] >= 0) {
+            r[m->free_of[i]] = s->y[i] + pulled[i];
+            finite &= isfinite(r[m->free_of[i]]);
+        }
+    for (int d = 0; d < m->ne; d++) {
+        const int j = m->mult_of_def[d], row = m->row_of_def[d];
+        if (j < 0)
+            continue;
+        const double target = row < m->nrigid ? 0.0 : s->q[m->nxm + row - m->nrigid];
+        r[m->nfree + j] = s->e[d] - target;
+        finite &= isfinite(r[m->nfree + j]);
+    }
+    if (!finite)
+        return fail(err, FM_NOT_FINITE, s->t, 0, 0.0, -1);
+    saddle_matrix(m, s, sd, 0.0, 1.0, 0.0);
+    for (int k = 0; k < m->nrot; k++) {
+        const int *at = m->rot + 4 * k;
+        double moment[3], unit[4] = {0.0, 0.0, 0.0, 0.0}, force[4];
+        int loaded = 0;
+        for (int a = 0; a < 3; a++) {
+            moment[a] = m->f_const[at[a + 1]] + (user ? user[at[a + 1]] : 0.0);
+            loaded |= moment[a] != 0.0;
+        }
+        for (int b = 0; loaded && b < 4; b++) {
+            const int col = m->free_of[at[b]];
+            unit[b] = 1.0;
+            fm_moment_load(unit, moment, force);   /* linear in lam: column b of df/dlam */
+            unit[b] = 0.0;
+            for (int a = 0; col >= 0 && a < 4; a++)
+                if (m->free_of[at[a]] >= 0)
+                    sd->ab[band_index(sd, m->sd_band[m->free_of[at[a]]], m->sd_band[col])]
+                        -= force[a];
+        }
+    }
+    double biggest;
+    *scale = saddle_constraints(m, s, sd, &biggest);
+    if (band_factor(sd) || !(band_min_pivot(sd) > 1e-14 * biggest))
+        return fail(err, FM_MASSLESS, s->t, 0, 0.0, -1);
+    return FM_OK;
+}
+
+/* out = M v over the free coordinates (nfree each), for `count` vectors v (row-major), with
+ * the element masses of the state's last fm_inertia. */
+void fm_free_mass_times(const FmModel *m, const FmState *s, const double *v, int count,
+                        double *out)
+{
+    memset(out, 0, sizeof(double) * (size_t)m->nfree * count);
+    for (int k = 0; k < m->nel; k++) {
+        const int nc = m->c_off[k + 1] - m->c_off[k], *ci = m->c_idx + m->c_off[k];
+        const double *M = s->blocks + m->b_off[k];
+        for (int a = 0; a < nc; a++) {
+            const int ia = m->free_of[ci[a]];
+            if (ia < 0)
+                continue;
+            for (int b = 0; b < nc; b++) {
+                const int ib = m->free_of[ci[b]];
+                const double mab = M[a * nc + b];
+                if (ib < 0 || mab == 0.0)
+                    continue;
+                for (int j = 0; j < count; j++)
+                    out[(size_t)j * m->nfree + ia] += mab * v[(size_t)j * m->nfree + ib];
+            }
+        }
+    }
+    for (int i = 0; i < m->nx; i++)
+        if (m->free_of[i] >= 0 && m->nodal_mass[i] != 0.0)
+            for (int j = 0; j < count; j++)
+                out[(size_t)j * m->nfree + m->free_of[i]] +=
+                    m->nodal_mass[i] * v[(size_t)j * m->nfree + m->free_of[i]];
 }
 
 /* dq = -Q z with [[A, C^T], [C, 0]] [z; lambda] = [Q^T rhs; 0]: the change of the dynamic

@@ -1,0 +1,231 @@
+"""Static equilibrium and its linearization in all coordinates, on the banded
+saddle-point system of the core (THEORY 9).
+
+The reduced static solver forms the tangent ``K0 + G0`` over the degrees of freedom,
+which is dense (``F_q`` is): on a flexure of many beams its cost grows with the cube of
+their number. Here the unknowns are the free coordinates ``x`` (calculable and dynamic)
+and the stresses ``mu`` of the constrained deformations (rigid and prescribed):
+
+    D^T (sigma(e) + mu) - f(x) = 0      on the free coordinates,
+    e_c(x) - e_c,target = 0             on the constrained deformations,
+
+with ``sigma`` the elastic law's stresses (and pre-stress) and ``f`` the applied loads (a
+global moment's generalized force ``2 E(lam)^T M`` turning with its node). Newton's
+matrix is ``[[K, D_c^T], [D_c, 0]]`` with ``K = D^T S D + sum_i (sigma_i + mu_i) D_xx,i -
+df/dx``: every term element by element, banded in the core's ordering, so one
+factorisation costs ``O(n b^2)`` for ``n`` unknowns and band ``b``.
+
+On the null space of ``D_c`` this ``K`` is the reduced tangent ``K0 + G0`` (``T^T K T``
+with ``T = F_q`` restricted to the dynamic entries), so the same factorisation gives the
+linearized analyses at an equilibrium: the compliance solves it for unit loads, and the
+vibration modes ``K z = omega^2 M z`` with ``D_c z = 0`` are the largest ``1/omega^2`` of
+its inverse times ``M``, found by subspace iteration. Both agree with the reduced path
+to rounding.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..elements.base import SPATIAL_ROTATIONAL
+from ..engine import Engine
+from ..engine._core import CoreError
+from ..errors import ArgumentError, ConvergenceError, SingularConfigurationError
+from ..model import CoordinateClass, DeformationClass, Model
+from ..orientation import angular_velocity
+
+__all__ = ["BandedStatics"]
+
+#: subspace iteration: relative change of the wanted ``1/omega^2`` between sweeps that
+#: counts as converged (the banded solves' rounding moves them by about 1e-11 from sweep to
+#: sweep on thin leaves, whose axial stiffness is 1e6 times their bending stiffness), and
+#: the sweeps before it gives up (the caller then takes the dense path)
+MODES_TOLERANCE, MODES_SWEEPS = 1e-9, 300
+
+
+class BandedStatics:
+    """The static equilibrium of ``model`` in all coordinates on the core's banded
+    saddle-point system (module docstring). Its last factorised tangent is kept for
+    :meth:`solve` and :meth:`mass_times`.
+
+    Attributes:
+        free: the free coordinates (calculable and dynamic), the first unknowns ``(nf,)``.
+        constrained: the constrained deformations (rigid and prescribed), whose stresses
+            ``mu`` are the other unknowns ``(nc,)``.
+    """
+
+    def __init__(self, model: Model, engine: Engine):
+        self.model, self.engine, self.core = model, engine, engine.core
+        classes = np.asarray(model.coordinate_class)
+        self.free = np.flatnonzero((classes == CoordinateClass.DEPENDENT)
+                                   | (classes == CoordinateClass.DYNAMIC))
+        kinds = np.asarray(model.deformation_class)
+        self.constrained = np.flatnonzero((kinds == DeformationClass.RIGID)
+                                          | (kinds == DeformationClass.INPUT))
+        #: per free coordinate: metres per unit (1 for lengths, the model size for angles
+        #: and Euler parameters), to judge a Newton step against a tolerance in metres
+        self.metres = 1.0 / np.asarray(model.coordinate_scale, dtype=float)[self.free]
+        nxm = len(model.independent_coordinates)
+        inputs = np.asarray(model.q_is_input, dtype=bool)
+        self._input_slots = np.flatnonzero(inputs[:nxm])
+        self._input_coordinates = np.asarray(model.independent_coordinates)[self._input_slots]
+
+    @property
+    def size(self) -> int:
+        """Unknowns of the saddle-point system: free coordinates and constraint stresses."""
+        return len(self.free) + len(self.constrained)
+
+    def factor(self, x: np.ndarray, q: np.ndarray, mu: np.ndarray, loads: np.ndarray
+               ) -> np.ndarray:
+        """Factorise the tangent at ``x`` ``(nx,)`` with the constraint stresses ``mu``
+        ``(nc,)`` [N, N m] under the applied ``loads`` ``(nx,)`` (besides the model's),
+        ``q`` ``(nq,)`` holding the targets of the inputs; returns the residual ``(n,)``
+        (out-of-balance loads on the free coordinates, then the constraint errors).
+
+        Raises:
+            numpy.linalg.LinAlgError: the tangent is singular (a mechanism, buckling) or
+                not finite.
+        """
+        residual = np.empty(self.size)
+        try:
+            self.core.static_saddle(np.ascontiguousarray(x, dtype=float),
+                                    np.ascontiguousarray(q, dtype=float),
+                                    np.ascontiguousarray(mu, dtype=float),
+                                    np.ascontiguousarray(loads, dtype=float), residual)
+        except CoreError:
+            raise np.linalg.LinAlgError("the static tangent [[K, D_c^T], [D_c, 0]] is "
+                                        "singular or not finite") from None
+        return residual
+
+    def solve(self, rhs: np.ndarray) -> np.ndarray:
+        """The factorised tangent's solution for the columns of ``rhs`` ``(n, k)`` (loads on
+        the free coordinates, then constraint changes): ``(n, k)`` (coordinate changes,
+        then stress changes)."""
+        rows = np.array(np.asarray(rhs, dtype=float).reshape(self.size, -1).T, order="C")
+        self.core.static_solve(rows)
+        return rows.T.reshape(np.shape(rhs))
+
+    def mass_times(self, V: np.ndarray) -> np.ndarray:
+        """``M V`` over the free coordinates, ``V`` ``(nf, k)``, at the factorised state."""
+        rows = np.ascontiguousarray(np.asarray(V, dtype=float).T)
+        out = np.empty_like(rows)
+        self.core.free_mass_times(rows, out)
+        return out.T
+
+    def equilibrium(self, x: np.ndarray, q: np.ndarray, mu: np.ndarray, loads: np.ndarray,
+                    tolerance: float, max_iterations: int) -> tuple[np.ndarray, np.ndarray]:
+        """Newton's method from ``x``, ``mu`` to the equilibrium under ``loads`` with the
+        inputs at their targets in ``q`` (module docstring); returns ``(x, mu)``.
+
+        Raises:
+            ConvergenceError: no convergence to ``tolerance`` [m] (a change of the free
+                coordinates, angles times the model size) in ``max_iterations``.
+            numpy.linalg.LinAlgError: a singular tangent on the way.
+        """
+        x, mu = np.array(x, dtype=float), np.array(mu, dtype=float)
+        x[self._input_coordinates] = q[self._input_slots]
+        nf, residual = len(self.free), np.inf
+        for _ in range(max_iterations):
+            r = self.factor(x, q, mu, loads)
+            residual = float(np.max(np.abs(r[:nf]), initial=0.0))
+            step = -self.solve(r)
+            if not np.all(np.isfinite(step)):
+                raise np.linalg.LinAlgError("the static tangent is singular")
+            x[self.free] += step[:nf]
+            mu += step[nf:]
+            if np.max(np.abs(step[:nf]) * self.metres, initial=0.0) <= tolerance:
+                return x, mu
+        raise ConvergenceError(f"Newton did not converge in {max_iterations} iterations "
+                               f"(largest out-of-balance load {residual:.3g})",
+                               iterations=max_iterations, residual=residual)
+
+    def compliance(self, x: np.ndarray, labels) -> np.ndarray:
+        """The compliance ``(k, k)`` seen at the coordinates ``labels`` at the factorised
+        state ``x`` (:func:`flexmbd.analysis.modes.compliance`'s meaning: on a spatial
+        rotational node the labels of ``lam1..lam3`` stand for its global rotations and
+        the moments about x, y and z; the prescribed inputs held): ``P K^-1 P^T`` with
+        ``P`` the rows that read those motions from the free coordinates (``2 E(lam)``
+        for a rotation), whose transposes are the loads of unit forces and moments. Like
+        ``K``, it is unsymmetric under a global moment's load stiffness.
+
+        Raises:
+            SingularConfigurationError: the compliance is not positive definite (the loads
+                buckle the structure).
+        """
+        model, nf = self.model, len(self.free)
+        rows = np.zeros((len(labels), model.n_coordinates))
+        for k, label in enumerate(labels):
+            i = model.coordinate_index(label)
+            node = next(n for n in model.nodes.values() if i in n.coordinates)
+            if node.kind != SPATIAL_ROTATIONAL:
+                rows[k, i] = 1.0
+                continue
+            at = list(node.coordinates)
+            if i == at[0]:
+                raise ArgumentError("labels", f"{label} is lam0 of a spatial rotational "
+                                              f"node; its rotations are lam1 to lam3")
+            rows[k, at] = angular_velocity(x[at], np.eye(4))[:, at.index(i) - 1]
+        rhs = np.zeros((self.size, len(labels)))
+        rhs[:nf] = rows[:, self.free].T
+        C = rhs[:nf].T @ self.solve(rhs)[:nf]
+        try:
+            np.linalg.cholesky(0.5 * (C + C.T))
+        except np.linalg.LinAlgError:
+            raise SingularConfigurationError(
+                "the compliance is not positive definite: the dynamic degrees of freedom "
+                "include a mechanism (no stiffness) or the loads buckle the structure"
+            ) from None
+        return C
+
+    def lowest_modes(self, count: int, start: np.ndarray | None = None
+                     ) -> tuple[np.ndarray, np.ndarray] | None:
+        """The ``count`` lowest ``omega^2`` [rad^2/s^2] of ``K z = omega^2 M z`` with ``D_c
+        z = 0`` at the factorised state, and their shapes ``z`` over the free coordinates
+        ``(nf, count)``, mass-normalized.
+
+        Subspace iteration on ``A = K^-1 M`` from the columns of ``start`` (the last load
+        step's shapes) and random ones: each sweep solves ``Y = A X`` for an
+        ``M``-orthonormal block ``X``, takes the eigenvalues ``mu = 1/omega^2`` of ``X^T M
+        A X`` (Rayleigh-Ritz, unsymmetric: a global moment's load stiffness makes ``K``
+        so, and symmetrizing it would shift the modes) and goes on with ``Y``
+        orthonormalized. ``None`` when it cannot tell them (an unstable, massless or
+        complex mode among them, or no convergence): the dense path decides then."""
+        nf = len(self.free)
+        width = min(nf, max(2 * count, count + 8))
+        if count < 1 or width < count:
+            return None
+        guess = np.random.default_rng(0).standard_normal((nf, width))
+        if start is not None:
+            guess[:, :start.shape[1]] = start[:, :width]
+        X = self._orthonormal(guess)
+        rhs = np.zeros((self.size, width))
+        last = None
+        for _ in range(MODES_SWEEPS):
+            if X is None:
+                return None
+            MX = self.mass_times(X)
+            rhs[:nf], rhs[nf:] = MX, 0.0
+            Y = self.solve(rhs)[:nf]
+            mu, V = np.linalg.eig(MX.T @ Y)
+            order = np.argsort(-np.abs(mu))[:count]
+            mu, V = mu[order], V[:, order]
+            if last is not None and np.all(np.abs(mu - last) <= MODES_TOLERANCE * np.abs(mu)):
+                if np.any(np.abs(mu.imag) > 1e-9 * np.abs(mu)) or not np.all(mu.real > 0.0):
+                    return None
+                shapes = X @ V.real
+                norms = np.sqrt(np.einsum("ik,ik->k", shapes, self.mass_times(shapes)))
+                return 1.0 / mu.real, shapes / norms
+            last = mu
+            X = self._orthonormal(Y)
+        return None
+
+    def _orthonormal(self, Y: np.ndarray) -> np.ndarray | None:
+        """An ``M``-orthonormal basis of the columns of ``Y`` (``None`` when they are
+        dependent or massless)."""
+        Y = np.linalg.qr(Y)[0]   # first a well-conditioned basis of the same span
+        gram = Y.T @ self.mass_times(Y)
+        try:
+            factor = np.linalg.cholesky(0.5 * (gram + gram.T))
+        except np.linalg.LinAlgError:
+            return None
+        return np.linalg.solve(factor, Y.T).T
