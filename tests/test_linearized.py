@@ -560,25 +560,3 @@ def test_modes_too_stiff_for_the_reduction_stay_positive():
     generalized = np.sqrt(scipy.linalg.eigh(K, M, eigvals_only=True)) / (2 * np.pi)
     np.testing.assert_allclose(f[-5:], generalized[-5:], rtol=1e-9)
     np.testing.assert_allclose(f[:3], fm.vibration_modes(lin, 3).frequencies, rtol=1e-12)
-
-
-def test_the_sparse_tangent_over_all_coordinates_is_the_dense_one():
-    """The element-by-element entries of D_x^T S D_x + sum sigma_i D_xx,i equal the dense
-    product of D_x, the law S and the Hessians of a loaded flexure (spatial beams, Euler
-    elements, released deformations), summed where elements share coordinates."""
-    import scipy.sparse
-    from flexmbd.examples import flexures
-
-    from flexmbd.engine import workspace_of
-
-    res = flexures.wire_buckling()
-    model, x, sigma = res.model, res.statics.x[-1], res.statics.sigma[-1]
-    assembly = workspace_of(model).assembly
-    rows, columns, values = assembly.stiffness_entries(x, sigma)
-    nx = model.n_coordinates
-    sparse = scipy.sparse.coo_matrix((values, (rows, columns)), shape=(nx, nx)).toarray()
-    D_x = assembly.deformations_and_jacobian(x)[1]
-    dense = D_x.T @ assembly.law_times("S", D_x) + np.einsum(
-        "i,iab->ab", sigma, assembly.hessian(x))
-    np.testing.assert_allclose(sparse, dense, rtol=1e-12, atol=1e-12 * np.abs(dense).max())
-    assert len(values) < 0.2 * nx * nx     # entries per element, not nx^2

@@ -153,32 +153,6 @@ class Assembly:
                 group.add_rows(product, hessian @ A[group.coords])
         return product
 
-    def stiffness_entries(self, x: np.ndarray, sigma: np.ndarray
-                          ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """The tangent stiffness over all coordinates, ``D_x^T S D_x + sum_i sigma_i
-        D_xx,i`` ``(nx, nx)`` at ``x`` with stresses ``sigma`` ``(ne,)``, as sparse
-        ``(rows, columns, values)`` (repeated entries add up): element by element, so its
-        cost and size grow with the number of elements, not with ``nx^2``. The building
-        block of a static solve in all coordinates on the sparse saddle-point system
-        with ``D_c``."""
-        jac_out = self._evaluate("deform_jac", x).copy()
-        hess_out = self._evaluate("hessian", x)
-        rows, columns, values = [], [], []
-        for group in self.groups:
-            _, jacobians = group.jacobian(jac_out)               # (n, nd, nc)
-            block = np.einsum("nia,nij,njb->nab", jacobians, group.law["S"], jacobians)
-            weights = sigma[group.defs]
-            if np.any(weights):
-                block = block + np.einsum("ni,niab->nab", weights, group.hessians(hess_out))
-            n, nc = group.coords.shape
-            rows.append(np.repeat(group.coords, nc, axis=1).ravel())
-            columns.append(np.tile(group.coords, (1, nc)).ravel())
-            values.append(block.reshape(n, nc * nc).ravel())
-        if not rows:
-            empty = np.zeros(0)
-            return empty.astype(np.intp), empty.astype(np.intp), empty
-        return np.concatenate(rows), np.concatenate(columns), np.concatenate(values)
-
     def law_times(self, name: str, A: np.ndarray) -> np.ndarray:
         """``S @ A`` (``name="S"``) or ``C @ A`` for ``A`` ``(ne, k)``: the elastic law's
         stiffness or damping over all deformations, nonzero on those that carry elastic
