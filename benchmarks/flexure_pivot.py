@@ -7,13 +7,17 @@ degrees, side by side along the pivot axis (y), clamped below; a rigid 0.25 kg s
 across their tops is turned by a moment about the axis (``2 EI/L`` times 0.3 rad).
 Over-constraints are released as SPACAR Light does.
 
-Each configuration runs in a fresh process with one BLAS thread, ``--repeat`` times; the
-table gives the medians of the whole process and of its parts: building (with the
-releases), the static equilibrium over the steps, and the per-step table
-(:func:`flexmbd.load_step_table`). Exudyn's side of the pairing (geometrically exact
-beams on ``NodeRigidBodyRxyz``, its tangent by central differences) is not written yet.
+Each configuration runs in a fresh process with one BLAS thread, ``--repeat`` times,
+paired with Exudyn's side of the same job (``exudyn_pivot.py``: geometrically exact beams
+on ``NodeRigidBodyRxyz``, its tangent by central differences of its static residual, and
+for reference with its own, inexact, Jacobian), the runs alternating. The table gives the
+medians of the whole processes and of flexmbd's parts: building (with the releases), the
+static equilibrium over the steps, and the per-step table
+(:func:`flexmbd.load_step_table`); ``--alone`` sizes run flexmbd only (the growth with the
+beams).
 
-Run: ``python benchmarks/flexure_pivot.py [--beams 8 16 32] [--repeat 3]``.
+Run: ``python benchmarks/flexure_pivot.py [--beams 8 16 32] [--alone 64 128]
+[--repeat 3]``.
 """
 
 from __future__ import annotations
@@ -68,9 +72,34 @@ def job(nbeams: int) -> dict[str, float]:
             "f1": float(table["f1"][-1]), "angle": 2 * math.asin(statics["x10.3"][-1])}
 
 
+def _cpu() -> str:
+    """The CPU's model name, family and model (``/proc/cpuinfo``), else the platform's."""
+    try:
+        with open("/proc/cpuinfo") as info:
+            fields = dict(line.split(":", 1) for line in info if ":" in line)
+    except OSError:
+        return platform.processor() or platform.machine()
+    get = {key.strip(): value.strip() for key, value in fields.items()}.get
+    return f"{get('model name', '?')} (family {get('cpu family', '?')}, model {get('model', '?')})"
+
+
+def _process(command: list[str], env: dict[str, str]) -> dict[str, float]:
+    """One fresh process's JSON report and its wall time [s]."""
+    start = time.perf_counter()
+    out = subprocess.run(command, env=env, capture_output=True, text=True, check=True)
+    found = json.loads(out.stdout)
+    found["process"] = time.perf_counter() - start
+    return found
+
+
+def _median(runs: list[dict[str, float]]) -> dict[str, float]:
+    return {key: float(np.median([r[key] for r in runs])) for key in runs[0]}
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--beams", type=int, nargs="+", default=[8, 16, 32])
+    parser.add_argument("--beams", type=int, nargs="*", default=[8, 16, 32])
+    parser.add_argument("--alone", type=int, nargs="*", default=[64, 128])
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--child", type=int, help=argparse.SUPPRESS)
     args = parser.parse_args()
@@ -79,22 +108,37 @@ def main() -> None:
         return
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1",
                MKL_NUM_THREADS="1")
-    print(f"CPU: {platform.processor() or platform.machine()}, Python "
+    peer = os.path.join(os.path.dirname(os.path.abspath(__file__)), "exudyn_pivot.py")
+    print(f"CPU: {_cpu()}, Python "
           f"{platform.python_version()}, one BLAS thread, median of {args.repeat}")
-    print("| beams per leaf | dof | process [s] | build [s] | statics [s] | table [s] | f1 [Hz] |")
+    print("| beams per leaf | flexmbd [s] | Exudyn [s] | ratio (run by run; of medians) | "
+          "Exudyn, own Jacobian [s] | flexmbd build / statics / table [s] | "
+          "f1 flexmbd / Exudyn [Hz] |")
     print("|---|---|---|---|---|---|---|")
     for n in args.beams:
-        runs = []
+        ours, theirs, own = [], [], []
         for _ in range(args.repeat):
-            start = time.perf_counter()
-            out = subprocess.run([sys.executable, __file__, "--child", str(n)], env=env,
-                                 capture_output=True, text=True, check=True)
-            found = json.loads(out.stdout)
-            found["process"] = time.perf_counter() - start
-            runs.append(found)
-        med = {key: float(np.median([r[key] for r in runs])) for key in runs[0]}
-        print(f"| {n} | {int(med['dof'])} | {med['process']:.3f} | {med['build']:.3f} | "
-              f"{med['statics']:.3f} | {med['table']:.3f} | {med['f1']:.4f} |")
+            ours.append(_process([sys.executable, __file__, "--child", str(n)], env))
+            theirs.append(_process([sys.executable, peer, "--beams", str(n)], env))
+            own.append(_process([sys.executable, peer, "--beams", str(n), "--own-tangent"],
+                                env))
+        a, b, c = _median(ours), _median(theirs), _median(own)
+        paired = np.median([o["process"] / t["process"] for o, t in zip(ours, theirs,
+                                                                          strict=True)])
+        print(f"| {n} | {a['process']:.3f} | {b['process']:.3f} | "
+              f"{paired:.2f}; {a['process'] / b['process']:.2f} | {c['process']:.3f} | "
+              f"{a['build']:.3f} / "
+              f"{a['statics']:.3f} / {a['table']:.3f} | {a['f1']:.4f} / {b['f1']:.4f} |")
+    if args.alone:
+        print()
+        print("| beams per leaf | dof | process [s] | build [s] | statics [s] | table [s] | "
+              "f1 [Hz] |")
+        print("|---|---|---|---|---|---|---|")
+    for n in args.alone:
+        a = _median([_process([sys.executable, __file__, "--child", str(n)], env)
+                     for _ in range(args.repeat)])
+        print(f"| {n} | {int(a['dof'])} | {a['process']:.3f} | {a['build']:.3f} | "
+              f"{a['statics']:.3f} | {a['table']:.3f} | {a['f1']:.4f} |")
 
 
 if __name__ == "__main__":

@@ -28,7 +28,8 @@ def kernel(cls, name, c, p, v=None, g=None):
     """One generated kernel of ``cls`` at one element."""
     nc, nd = cls.n_coordinates(), cls.n_deformations()
     size = {"deform": nd, "deform_jac": nd * (1 + nc), "quadratic": nd,
-            "hessian": nd * nc * nc, "mass": nc * nc, "inertia": nc, "gravity": nc}[name]
+            "hessian": nd * nc * nc, "mass": nc * nc, "inertia": nc, "gravity": nc,
+            "gravity_jac": nc * nc}[name]
     out = np.empty(size)
     _core.kernel(NUMBER[cls], name, np.asarray(c, float), np.asarray(p, float),
                  None if v is None else np.asarray(v, float),
@@ -135,6 +136,22 @@ def test_kernels_match_symbolic_derivatives_of_the_definition(cls):
     np.testing.assert_allclose(jac @ v, slope, rtol=1e-12, atol=1e-12)
     np.testing.assert_allclose(np.einsum("dij,i,j->d", hess, v, w), cross, rtol=1e-11,
                                atol=1e-11)
+
+
+WEIGHTED = [cls for cls in TYPES if cls.has_mass and cls.body_angular_velocity(
+    list(sp.symbols(f"c0:{cls.n_coordinates()}")), sp) is None]
+
+
+@pytest.mark.parametrize("cls", WEIGHTED, ids=lambda c: c.name)
+def test_the_gravity_slope_is_the_derivative_of_the_gravity_load(cls):
+    """``d(int N^T g)/dc``, the load stiffness of an element's weight, against central
+    differences of its gravity kernel at a random state."""
+    _, p, c, _ = random_element(cls, np.random.default_rng(3))
+    nc = cls.n_coordinates()
+    g = np.random.default_rng(4).normal(size=cls.dimension())
+    slope = kernel(cls, "gravity_jac", c, p, g=g).reshape(nc, nc)
+    np.testing.assert_allclose(slope, central(lambda z: kernel(cls, "gravity", z, p, g=g), c),
+                               rtol=1e-7, atol=1e-8)
 
 
 def test_beam_bending_signs_follow_theory():

@@ -19,7 +19,9 @@ over all entries of ``q = [x(m); e(m)]`` (dynamic and prescribed):
   stresses' ``D_xx``. Away from an equilibrium (the undeformed column under its
   buckling load) these stresses balance the loads, which keeps the tangent exact.
   A global moment on a spatial rotational node adds ``- F_q^T (df/dx) F_q``: its
-  generalized force ``2 E(lam)^T M`` turns with the node (:func:`load_stiffness`);
+  generalized force ``2 E(lam)^T M`` turns with the node (:func:`load_stiffness`); so does
+  the weight of an element whose consistent mass turns with its rotations (a beam's
+  weight has moments on its rotational nodes);
 * ``N0`` and ``C0``, the derivatives of the reduced inertia forces ``F_q^T (M xddot + h)``
   with respect to ``q`` and ``qdot`` (``N0`` also holds the damping stresses' change
   ``E_q^T C dedot/dq``). They vanish at rest; in motion they are taken by central
@@ -233,8 +235,11 @@ def _elastic_state(engine: Engine, x: np.ndarray, qd: np.ndarray, qdd: np.ndarra
     state = equilibrium_state(engine, x, qd, qdd, loads, near)
     assembly, x = engine.assembly, state["x"]
     F_q = engine.transfer(x, assembly.deformations_and_jacobian(x)[1])
-    G0 = F_q.T @ (assembly.stress_hessian_times(x, state["sigma"], F_q)
-                  - load_stiffness_times(engine, loads, F_q))
+    slopes = load_stiffness_times(engine, loads, F_q)
+    weight = assembly.gravity_slopes_times(x, F_q)
+    if weight is not None:
+        slopes += weight
+    G0 = F_q.T @ (assembly.stress_hessian_times(x, state["sigma"], F_q) - slopes)
     return state, F_q, assembly.jacobian_times(x, F_q), G0
 
 

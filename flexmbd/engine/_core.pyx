@@ -31,7 +31,7 @@ cdef extern from "core.h":
         int nc, nd, np, ng
         FmDeform deform, deform_jac, hessian, mass
         FmRates quadratic, inertia
-        FmLoad gravity
+        FmLoad gravity, gravity_jac
     const FmKernels FM_KERNELS[]
     const int FM_N_TYPES
     const char FM_DEFINITIONS_HASH[]
@@ -42,6 +42,7 @@ cdef extern from "core.h":
         int nx, ne, nq, nr, ns, nfree, nmult, nd_dyn, dc_kl, dc_ku, sd_kl, sd_ku, max_iterations
         double tolerance, regularity_limit, reference_conditioning
     size_t fm_element_values(const FmModel *m, int hessian, const double *x, double *out)
+    size_t fm_gravity_slopes(const FmModel *m, const double *x, double *out)
 
 cdef extern from "alpha.h":
     ctypedef struct AlphaOptions:
@@ -418,6 +419,13 @@ cdef class Core:
         need(out.shape[0], fm_element_values(&self.c.m, hessian, NULL, NULL), "out")
         fm_element_values(&self.c.m, hessian, &x[0], &out[0])
 
+    def gravity_slopes(self, const double[::1] x not None, double[::1] out not None):
+        """Per element, element after element, ``m d(int N^T g)/dc`` ``(nc, nc)`` at ``x``
+        ``(nx,)`` where an element's gravity turns with it, else zeros, into ``out``."""
+        need(x.shape[0], self.c.m.nx, "x")
+        need(out.shape[0], fm_gravity_slopes(&self.c.m, NULL, NULL), "out")
+        fm_gravity_slopes(&self.c.m, &x[0], &out[0])
+
     def inertia_slopes(self, const double[::1] x not None, const double[::1] q not None,
                        const double[::1] qd not None, const double[::1] qdd not None,
                        const double[::1] step not None, bint rates,
@@ -527,7 +535,7 @@ def format_17g(double x):
 def kernel(int type, str name, const double[::1] c not None, const double[::1] p not None,
            const double[::1] v, const double[::1] g, double[::1] out not None):
     """One generated kernel (``name``: deform, deform_jac, quadratic, hessian, mass,
-    inertia, gravity) of element type ``type`` at coordinates ``c`` ``(nc,)``, reference
+    inertia, gravity, gravity_jac) of element type ``type`` at coordinates ``c`` ``(nc,)``, reference
     parameters ``p``, rates ``v`` ``(nc,)`` and gravity ``g`` ``(2,)`` or ``(3,)``."""
     if not 0 <= type < FM_N_TYPES:
         raise ValueError("unknown element type")
@@ -540,10 +548,11 @@ def kernel(int type, str name, const double[::1] c not None, const double[::1] p
         need(g.shape[0], k.ng, "g")
     sizes = {"deform": k.nd, "deform_jac": k.nd * (1 + k.nc), "quadratic": k.nd,
              "hessian": k.nd * k.nc * k.nc, "mass": k.nc * k.nc, "inertia": k.nc,
-             "gravity": k.nc}
+             "gravity": k.nc, "gravity_jac": k.nc * k.nc}
     defined = {"deform": True, "deform_jac": True, "quadratic": v is not None,
                "hessian": True, "mass": k.mass != NULL, "inertia": k.inertia != NULL
-               and v is not None, "gravity": k.gravity != NULL and g is not None}
+               and v is not None, "gravity": k.gravity != NULL and g is not None,
+               "gravity_jac": k.gravity_jac != NULL and g is not None}
     if not defined.get(name) or out.shape[0] < sizes[name]:
         raise ValueError(f"kernel {name}: not defined for {k.keyword.decode()}, or wrong "
                          f"arguments")
@@ -560,5 +569,7 @@ def kernel(int type, str name, const double[::1] c not None, const double[::1] p
         k.mass(&c[0], pp, &out[0])
     elif name == "inertia":
         k.inertia(&c[0], &v[0], pp, &out[0])
-    else:
+    elif name == "gravity":
         k.gravity(&c[0], pp, &g[0], &out[0])
+    else:
+        k.gravity_jac(&c[0], pp, &g[0], &out[0])

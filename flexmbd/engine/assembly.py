@@ -35,6 +35,7 @@ class _Group:
     defs: np.ndarray
     jac_at: np.ndarray
     hess_at: np.ndarray
+    slope_at: np.ndarray
     law: dict[str, np.ndarray]
 
     layers: list[np.ndarray]
@@ -73,7 +74,9 @@ class Assembly:
         # where each element's values start in the kernels' outputs (element after element)
         jac_at = np.concatenate([[0], np.cumsum(nd * (1 + nc))])
         hess_at = np.concatenate([[0], np.cumsum(nd * nc * nc)])
+        slope_at = np.concatenate([[0], np.cumsum(nc * nc)])
         self.jac_out, self.hess_out = np.empty(jac_at[-1]), np.empty(hess_at[-1])
+        self.slope_out = np.empty(slope_at[-1])
         etype = elements.etype
         self.groups = []
         for kind in np.unique(etype):
@@ -83,7 +86,7 @@ class Assembly:
             coords = c_idx[c_off[ks][:, None] + np.arange(n_c)]
             self.groups.append(_Group(
                 coords=coords, defs=d_idx[d_off[ks][:, None] + np.arange(n_d)],
-                jac_at=jac_at[ks], hess_at=hess_at[ks],
+                jac_at=jac_at[ks], hess_at=hess_at[ks], slope_at=slope_at[ks],
                 law={"S": elements.S[at].reshape(len(ks), n_d, n_d),
                      "C": elements.C[at].reshape(len(ks), n_d, n_d)},
                 layers=_layers(coords.ravel())))
@@ -151,6 +154,21 @@ class Assembly:
             if np.any(weights):
                 hessian = np.einsum("ni,niab->nab", weights, group.hessians(out))
                 group.add_rows(product, hessian @ A[group.coords])
+        return product
+
+    def gravity_slopes_times(self, x: np.ndarray, A: np.ndarray) -> np.ndarray | None:
+        """``(df/dx) A`` ``(nx, k)`` for ``A`` ``(nx, k)``, ``f`` the gravity loads of the
+        elements whose gravity turns with them (a consistent mass that varies with the
+        configuration: a beam's weight has moments on its rotations), at ``x``; ``None``
+        when no element's gravity turns (no gravity, or constant masses)."""
+        self.core.gravity_slopes(np.ascontiguousarray(x, dtype=float), self.slope_out)
+        if not np.any(self.slope_out):
+            return None
+        product = np.zeros((self.nx, A.shape[1]))
+        for group in self.groups:
+            n, nc = group.coords.shape
+            blocks = self.slope_out[group.slope_at[:, None] + np.arange(nc * nc)]
+            group.add_rows(product, blocks.reshape(n, nc, nc) @ A[group.coords])
         return product
 
     def law_times(self, name: str, A: np.ndarray) -> np.ndarray:

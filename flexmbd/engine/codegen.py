@@ -242,6 +242,11 @@ def derive(cls: type[ElementType], sp) -> dict[str, tuple[list, list]]:
         kernels["mass"] = (["c", "p"], list(mass))
         kernels["inertia"] = (["c", "v", "p"], list(inertia))
         kernels["gravity"] = (["c", "p", "g"], list(gravity))
+        # its slope: a load that turns with the element's rotations stiffens or softens
+        # it (the linearization's load stiffness, THEORY 9)
+        slope = gravity.jacobian(c)
+        kernels["gravity_jac"] = (["c", "p", "g"], [slope[a, b] for a in range(nc)
+                                                    for b in range(nc)])
     return kernels
 
 
@@ -332,7 +337,7 @@ def generate() -> str:
             s.name.startswith("c") for x in kernels["mass"][1] for s in sp.sympify(x).free_symbols)
         pointers = ", ".join(f"{prefix}_{k}" if k in kernels else "NULL" for k in
                              ("deform", "deform_jac", "quadratic", "hessian", "mass",
-                              "inertia", "gravity"))
+                              "inertia", "gravity", "gravity_jac"))
         table.append(f'    {{"{cls.keyword}", {cls.n_coordinates()}, {cls.n_deformations()}, '
                      f"{cls.reference}, {cls.dimension()}, {pointers}, {int(constant)}}},")
     parts += [_function("fm_moment_load", ["c", "m"], moment_load(sp), sp, storage=""), "",

@@ -29,6 +29,7 @@ typedef struct {
     FmDeform mass;             /* per unit mass: int N^T N (nc x nc), or NULL */
     FmRates inertia;           /* per unit mass: int N^T Ndot xdot (nc) */
     FmLoad gravity;            /* per unit mass: int N^T g (nc) */
+    FmLoad gravity_jac;        /* its derivative d(int N^T g)/dc (nc x nc), or NULL */
     int mass_constant;         /* the mass matrix does not depend on c */
 } FmKernels;
 
@@ -177,6 +178,11 @@ void fm_element_rates(const FmModel *m, FmState *s, const double *rates, double 
 /* One kernel of every element at x, element after element: e then D_x (nd (1 + nc) values)
  * or, with `hessian`, D_xx (nd nc nc); returns the count, and only counts when out is NULL */
 size_t fm_element_values(const FmModel *m, int hessian, const double *x, double *out);
+/* Per element, element after element (nc x nc each): the slope of its gravity load, its mass
+ * times d(int N^T g)/dc at x, for the elements whose gravity turns with them (a consistent
+ * mass that varies with the configuration), zero for the others; returns the count, and
+ * only counts when out is NULL */
+size_t fm_gravity_slopes(const FmModel *m, const double *x, double *out);
 int fm_kinematics(const FmModel *m, FmState *s, double t, const double *guess, double near,
                   int use_factor, int refresh, FmError *err);
 void fm_stresses(const FmModel *m, FmState *s);

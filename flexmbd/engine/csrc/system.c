@@ -646,6 +646,34 @@ void fm_nodal_force(const FmModel *m, FmState *s, const double *user)
     add_element_inertia(m, s, 1, s->y);
 }
 
+/* --- gravity that turns with an element ------------------------------------------------------ */
+/* Whether element k's gravity load depends on its coordinates (a consistent mass that
+ * varies with the configuration, under gravity). */
+static int turning_gravity(const FmModel *m, int k)
+{
+    return m->gravity_on && m->varying[k] && FM_KERNELS[m->etype[k]].gravity_jac != NULL;
+}
+
+size_t fm_gravity_slopes(const FmModel *m, const double *x, double *out)
+{
+    double c[FM_MAX_NC];
+    size_t at = 0;
+    for (int k = 0; k < m->nel; k++) {
+        const size_t nc = (size_t)(m->c_off[k + 1] - m->c_off[k]);
+        if (out && turning_gravity(m, k)) {
+            gather(m, k, x, c);
+            FM_KERNELS[m->etype[k]].gravity_jac(c, m->param + m->p_off[k], m->gravity,
+                                                out + at);
+            for (size_t a = 0; a < nc * nc; a++)
+                out[at + a] *= m->emass[k];
+        } else if (out) {
+            memset(out + at, 0, sizeof(double) * nc * nc);
+        }
+        at += nc * nc;
+    }
+    return at;
+}
+
 /* --- the saddle-point system (THEORY 7, 8) ---------------------------------------------------- */
 static int band_index(const Band *b, int row, int col)   /* band.c's layout */
 {
@@ -653,13 +681,14 @@ static int band_index(const Band *b, int row, int col)   /* band.c's layout */
 }
 
 /* A of [[A, C^T], [C, 0]] into sd (zeroed first): A = c_m M + c_q (D^T S D + sum_i sigma_i
- * D_xx,i) + c_v D^T C D, with the stresses sigma = sigma_el - w of the state (w the
- * multipliers of its reduced residual, or minus the constraint stresses of a static one). */
+ * D_xx,i) + c_v D^T C D - c_g dg/dx, with the stresses sigma = sigma_el - w of the state (w
+ * the multipliers of its reduced residual, or minus the constraint stresses of a static
+ * one) and g the gravity loads of the elements whose gravity turns with them. */
 static void saddle_matrix(const FmModel *m, FmState *s, Band *sd, double c_m, double c_q,
-                          double c_v)
+                          double c_v, double c_g)
 {
     double H[FM_MAX_ND * FM_MAX_NC * FM_MAX_NC], c[FM_MAX_NC];
-    const int stiff = c_q != 0.0 || c_v != 0.0 || c_m != 1.0;
+    const int stiff = c_q != 0.0 || c_v != 0.0 || c_m != 1.0 || c_g != 0.0;
     const double *blocks = s->blocks;
     if (stiff) {
         for (int a = 0; a < m->total_b; a++)
@@ -699,6 +728,12 @@ static void saddle_matrix(const FmModel *m, FmState *s, Band *sd, double c_m, do
                     for (int a = 0; a < nc * nc; a++)
                         A[a] += weight * H[i * nc * nc + a];
                 }
+            }
+            if (c_g != 0.0 && turning_gravity(m, k)) {     /* - dg/dx */
+                gather(m, k, s->x, c);
+                FM_KERNELS[m->etype[k]].gravity_jac(c, m->param + m->p_off[k], m->gravity, H);
+                for (int a = 0; a < nc * nc; a++)
+                    A[a] -= c_g * m->emass[k] * H[a];
             }
         }
     }
@@ -743,7 +778,7 @@ static double saddle_constraints(const FmModel *m, const FmState *s, Band *sd, d
 int fm_saddle(const FmModel *m, FmState *s, Band *sd, double c_q, double c_v, FmError *err)
 {
     double biggest;
-    saddle_matrix(m, s, sd, 1.0, c_q, c_v);
+    saddle_matrix(m, s, sd, 1.0, c_q, c_v, 0.0);
     saddle_constraints(m, s, sd, &biggest);
     if (band_factor(sd) || !(band_min_pivot(sd) > 1e-14 * biggest)) {
         /* where D_c is nearly singular the constraints are dependent, not the mass missing */
@@ -760,7 +795,8 @@ int fm_saddle(const FmModel *m, FmState *s, Band *sd, double c_q, double c_v, Fm
  * saddle-point unknowns into r (ns): D^T (sigma_el + mu) - f on the free coordinates, then
  * e - target on the multipliers' deformations; and its tangent [[K, C^T], [C, 0]],
  * factorised in sd, with K = D^T S D + sum_i (sigma_el,i + mu_i) D_xx,i - df/dx (df/dx: the
- * turning generalized force 2 E(lam)^T M of a global moment). The scale of sd's constraint
+ * turning generalized force 2 E(lam)^T M of a global moment, and the gravity of elements
+ * whose mass turns with them). The scale of sd's constraint
  * rows goes to *scale. FM_OK, or FM_MASSLESS when the tangent is singular (a mechanism,
  * buckling) or FM_NOT_FINITE. */
 int fm_static_saddle(const FmModel *m, FmState *s, Band *sd, const double *user,
@@ -797,7 +833,7 @@ int fm_static_saddle(const FmModel *m, FmState *s, Band *sd, const double *user,
     }
     if (!finite)
         return fail(err, FM_NOT_FINITE, s->t, 0, 0.0, -1);
-    saddle_matrix(m, s, sd, 0.0, 1.0, 0.0);
+    saddle_matrix(m, s, sd, 0.0, 1.0, 0.0, 1.0);
     for (int k = 0; k < m->nrot; k++) {
         const int *at = m->rot + 4 * k;
         double moment[3], unit[4] = {0.0, 0.0, 0.0, 0.0}, force[4];
