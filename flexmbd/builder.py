@@ -133,6 +133,12 @@ class ModelBuilder:
         self._nodal_forces: dict[int, tuple[float, ...]] = {}
         self._gravity: tuple[float, ...] = ()
         self._problems: list[str] = []
+        #: what :meth:`build` does with a property the classification needs but that was
+        #: left out (a flexible beam's stiffness): ``"raise"`` it with the other problems,
+        #: or ``"note"`` it in :attr:`notes` (a SPACAR file, which cannot say a zero is
+        #: meant)
+        self.missing_properties: Literal["raise", "note"] = "raise"
+        self.notes: list[str] = []
 
     # --- nodes and elements -----------------------------------------------------
     def add_node(self, number: int, x: float, y: float, z: float | None = None
@@ -622,6 +628,11 @@ class ModelBuilder:
         if problems:
             raise ModelError(problems)
         problems += check_solvability(model)
+        missing = self._flexible_without_stiffness(model)
+        if self.missing_properties == "raise":
+            problems += missing
+        else:
+            self.notes += missing
         if problems:
             raise ModelError(problems)
         negative = negative_mass_problem(workspace_of(model)) if any(
@@ -629,6 +640,38 @@ class ModelBuilder:
         if negative:
             raise ModelError([Problem(negative[0], *(("nodal mass", n) for n in negative[1]))])
         return model
+
+    def _flexible_without_stiffness(self, model: Model) -> list[Problem]:
+        """A beam's deformation that is a degree of freedom (dynamic: the link is flexible)
+        while no stiffness value that sets it was given, neither by ``set_stiffness`` nor
+        ``set_section``: it would fold without resistance (a beam's bending at ``e2 ->
+        -l``). An explicit zero (``set_stiffness(k, bending=0.0)``) says it is meant.
+        Released deformations are not asked for: without stiffness they are SPACAR's
+        hinges at a beam's end."""
+        problems = []
+        for number, element in model.elements.items():
+            etype = element.type
+            names = [value.name for value in etype.stiffness_values]
+            if not any(name.startswith("bending") for name in names):
+                continue
+            given = self._values.get((number, "stiffness"), {})
+            setters = _stiffness_setters(etype, np.asarray(element.reference, dtype=float))
+            loose = [i for k, i in enumerate(element.deformations)
+                     if model.deformation_class[i] == DeformationClass.DYNAMIC
+                     and setters.get(k) and not any(name in given for name in setters[k])]
+            if not loose:
+                continue
+            keywords = list(dict.fromkeys(setters[element.deformations.index(i)][0]
+                                          for i in loose))
+            what = ", ".join(model.describe_deformation(i) for i in loose)
+            values = ", ".join(f"{name}=..." for name in keywords)
+            problems.append(Problem(
+                f"{etype.name} {number} is flexible without stiffness, so it would fold "
+                f"freely: {what} {'is a degree' if len(loose) == 1 else 'are degrees'} of "
+                f"freedom; give set_stiffness({number}, {values}) (ESTIFF in a file) or "
+                f"set_section({number}, section, material), and 0.0 to a value meant to be "
+                f"zero", *(("deformation", model.deformation_labels[i]) for i in loose)))
+        return problems
 
     def _node_kinds(self, problems: list[str]) -> dict[int, str]:
         """Kind of every node from its use by elements; reports conflicts."""
@@ -1023,6 +1066,23 @@ def _over_constraints(D_c: np.ndarray) -> tuple[int, int, np.ndarray]:
     U, values = np.linalg.svd(D_c)[:2]
     over, under = _constraint_counts(D_c, values)
     return over, under, U[:, rows - over:]
+
+
+def _stiffness_setters(etype: type[ElementType], reference: np.ndarray
+                       ) -> dict[int, list[str]]:
+    """For each deformation of ``etype`` (by position), the names of its stiffness values
+    that give it stiffness: those whose law alone, at the element's ``reference``
+    parameters, puts a nonzero value on its diagonal."""
+    names = [value.name for value in etype.stiffness_values]
+    damping = {value.name: np.zeros(1) for value in etype.damping_values}
+    setters: dict[int, list[str]] = {}
+    for name in names:
+        unit = {other: np.array([1.0 if other == name else 0.0]) for other in names}
+        with np.errstate(all="ignore"):
+            S = etype.elastic_law(reference[None], unit, damping)[0][0]
+        for k in np.flatnonzero(np.isfinite(np.diag(S)) & (np.diag(S) != 0.0)):
+            setters.setdefault(int(k), []).append(name)
+    return setters
 
 
 def _without_row(null: np.ndarray, row: int) -> np.ndarray:

@@ -161,7 +161,8 @@ def test_a_beam_without_the_bending_linked_terms_cannot_be_written(tmp_path):
     b = fm.ModelBuilder("arm")
     b.add_node(1, 0, 0, 0).add_node(3, 1, 0, 0)
     b.add_spatial_beam(1, 1, 2, 3, 4, orientation=(0, 1, 0), bending_linked=False)
-    b.fix(1).fix(2).dynamic_deformation(1)
+    b.fix(1).fix(2).dynamic_deformation(1).set_section(1, fm.Circle(0.01), fm.Material(
+        210e9, 80e9, 7800.0))
     with pytest.raises(fm.FlexmbdError, match="bending-linked terms"):
         fm.write_dat(b.build(), tmp_path / "m.dat")
 

@@ -191,3 +191,45 @@ def test_summary_shortens_long_lists():
     line = build_model(nbeams=4, eps1flex=True).summary().splitlines()[2]
     assert line.startswith("  dynamic: none; 12 (e2.1 (beam 2, elongation), ..., ")
     assert line.endswith("e5.3 (beam 5, bending at q))")
+
+
+def _flexible_arm(**stiffness):
+    """A planar beam clamped at node 1 whose bending is a degree of freedom."""
+    b = fm.ModelBuilder("arm")
+    b.add_node(1, 0, 0).add_node(3, 1, 0)
+    b.add_beam(1, 1, 2, 3, 4).dynamic_deformation(1, 2, 3).set_mass(1, 1.0)
+    if stiffness:
+        b.set_stiffness(1, **stiffness)
+    return b.fix(1).fix(2)
+
+
+def test_a_flexible_beam_without_stiffness_is_named_at_build():
+    """A beam whose bending is dynamic but has no stiffness would fold freely (e2 -> -l
+    under gravity): build names the element, its deformations and the keyword."""
+    with pytest.raises(fm.ModelError) as caught:
+        _flexible_arm().build()
+    text = str(caught.value)
+    assert "beam 1 is flexible without stiffness" in text
+    assert "e1.2 (beam 1, bending at p), e1.3 (beam 1, bending at q)" in text
+    assert "set_stiffness(1, bending=...)" in text
+    with pytest.raises(fm.ModelError, match=r"e1.1 .* set_stiffness\(1, axial=\.\.\.\)"):
+        fm.ModelBuilder("bar").add_node(1, 0, 0).add_node(3, 1, 0).add_beam(
+            1, 1, 2, 3, 4).dynamic_deformation(1, 1).set_stiffness(1, bending=1.0).fix(
+            1).fix(2).build()
+
+
+def test_a_zero_stiffness_said_explicitly_builds():
+    model = _flexible_arm(axial=1e6, bending=0.0).build()
+    assert model.n_dof == 2
+
+
+def test_a_spacar_file_s_flexible_beam_without_estiff_runs_with_a_note(tmp_path):
+    """SPACAR runs such a file, and a file cannot say that a zero is meant: it reads with
+    a note at the line that made it flexible (DYNE) instead of an error."""
+    path = tmp_path / "arm.dat"
+    path.write_text("PLBEAM 1 1 2 3 4\nX 1 0 0\nX 3 1 0\nFIX 1\nFIX 2\nDYNE 1 2 3\n"
+                    "END\nHALT\nEM 1 1.0\nEND\nEND\n")
+    dat = fm.read_dat(path)
+    assert dat.model.n_dof == 2
+    assert any(note.startswith("line 6: beam 1 is flexible without stiffness")
+               for note in dat.settings.notes)

@@ -142,6 +142,7 @@ class _Reader:
         self.release = release
         name = Path(self.path).stem if self.path else "SPACAR model"
         self.builder = ModelBuilder(name)
+        self.builder.missing_properties = "note"   # SPACAR runs them; a file cannot say 0
         self.elements: dict[int, tuple[str, tuple[int, ...], int]] = {}  # keyword, nodes, line
         self.kinds: dict[int, str] = {}
         self.positions: dict[int, int] = {}  # node -> line of X
@@ -187,6 +188,10 @@ class _Reader:
             model = self.builder.build()
         except ModelError as error:
             raise self.located(error.problems) from None
+        for note in self.builder.notes:   # e.g. a flexible beam without ESTIFF
+            line = next((self.line_of(kind, key) for kind, key in getattr(note, "about", ())),
+                        None)
+            self.remarks.append(f"line {line}: {note}" if line else str(note))
         return DatFile(model, self.run_settings(model))
 
     def located(self, problems: list[str]) -> InputFileError:
