@@ -29,6 +29,7 @@ from .elements import ElementType
 from .elements.base import SPATIAL_KINDS, SPATIAL_ROTATIONAL, is_translational
 from .errors import LabelError
 from .motion import Law
+from .naming import suggestion
 from .sections import Material, Section
 
 
@@ -301,7 +302,35 @@ class Model:
 
     # --- labels and look-up ---------------------------------------------------------------
     def coordinate_index(self, label: str | tuple[int, int | str]) -> int:
-        """Global index of a coordinate given as ``"x3.2"``, ``(3, 2)`` or ``(3, "y")``."""
+        """Global index of a coordinate given as ``"x3.2"``, ``(3, 2)`` or ``(3, "y")``.
+
+        Raises:
+            LabelError: no such coordinate; the closest labels and the naming scheme.
+        """
+        try:
+            return self._coordinate_index(label)
+        except LabelError as error:
+            tail = suggestion(_label_text(label), self.coordinate_labels, self.directions)
+            raise LabelError(f"{error}{tail}") from None
+
+    def deformation_index(self, label: str | tuple[int, int]) -> int:
+        """Global index of a deformation given as ``"e2.1"`` or ``(2, 1)``.
+
+        Raises:
+            LabelError: no such deformation; the closest labels and the naming scheme.
+        """
+        try:
+            return self._deformation_index(label)
+        except LabelError as error:
+            tail = suggestion(_label_text(label), self.deformation_labels)
+            raise LabelError(f"{error}{tail}") from None
+
+    @property
+    def directions(self) -> dict[int, tuple[str, ...]]:
+        """Per node number, the names of its coordinates' directions in order."""
+        return {number: DIRECTION_NAMES[node.kind] for number, node in self.nodes.items()}
+
+    def _coordinate_index(self, label: str | tuple[int, int | str]) -> int:
         node, k = _parse_label(label, "x")
         if node not in self.nodes:
             raise LabelError(f"{_label_text(label)}: node {node} is not in the model")
@@ -311,8 +340,7 @@ class Model:
             raise LabelError(f"{_label_text(label)}: node {node} has no coordinate {k}")
         return coords[number - 1]
 
-    def deformation_index(self, label: str | tuple[int, int]) -> int:
-        """Global index of a deformation given as ``"e2.1"`` or ``(2, 1)``."""
+    def _deformation_index(self, label: str | tuple[int, int]) -> int:
         elem, k = _parse_label(label, "e")
         if elem not in self.elements:
             raise LabelError(f"{_label_text(label)}: element {elem} is not in the model")

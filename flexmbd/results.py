@@ -19,11 +19,13 @@ from .elements.base import SPATIAL_ROTATIONAL
 from .errors import (
     ArgumentError,
     ColumnError,
+    LabelError,
     OptionalDependencyError,
     OutputError,
     SimulationError,
 )
 from .model import Model
+from .naming import suggestion
 from .plot import plot_columns
 
 _COLUMN = re.compile(r"^(xdd|xd|x|edd|ed|e)(\d+)(?:\.(\d+))?$")
@@ -63,16 +65,23 @@ class KinematicResult:
         """One column, shape ``(nt,)``, by name: ``"t"``, ``"x3.2"``, ``"xd2.1"``, ``"edd1.1"``."""
         if name == "t":
             return self.t
-        match = _COLUMN.match(name.strip())
+        match = _COLUMN.match(name.strip()) if isinstance(name, str) else None
         if not match:
-            raise ColumnError(f"{name!r} is not a result column (e.g. 't', 'x3.1', 'xd3.1', "
-                              f"'e2.1')")
+            raise self._unknown(name, "is not a result column")
         prefix, number, k = match.group(1), match.group(2), match.group(3) or "1"
-        if prefix.startswith("x"):
-            index = self.model.coordinate_index(f"x{number}.{k}")
-        else:
-            index = self.model.deformation_index(f"e{number}.{k}")
+        try:
+            if prefix.startswith("x"):
+                index = self.model._coordinate_index(f"x{number}.{k}")
+            else:
+                index = self.model._deformation_index(f"e{number}.{k}")
+        except LabelError as error:
+            raise self._unknown(name, f"is not a result column: {error}") from None
         return self._recorded(prefix, name)[:, index]
+
+    def _unknown(self, name, what: str) -> ColumnError:
+        """A column that names nothing, with the closest columns and the naming scheme."""
+        tail = suggestion(str(name), list(self.columns()), self.model.directions)
+        return ColumnError(f"{name!r} {what}{tail}")
 
     def _recorded(self, attribute: str, name: str) -> np.ndarray:
         values = getattr(self, attribute)
@@ -217,12 +226,19 @@ class SimulationResult(KinematicResult):
 
     def __getitem__(self, name: str) -> np.ndarray:
         """As :meth:`KinematicResult.__getitem__`, plus ``sig<elem>.<k>`` and ``f<node>.<k>``."""
-        stripped = name.strip()
-        if stripped.startswith("sig"):
-            index = self.model.deformation_index("e" + stripped[3:])
-            return self._recorded("sigma", name)[:, index]
-        if stripped.startswith("f") and self.reactions is not None:
-            return self.reactions[:, self.model.coordinate_index("x" + stripped[1:])]
+        stripped = name.strip() if isinstance(name, str) else ""
+        if stripped.startswith("sig") and not _COLUMN.match("e" + stripped[3:]):
+            raise self._unknown(name, "is not a result column")
+        try:
+            if stripped.startswith("sig"):
+                index = self.model._deformation_index("e" + stripped[3:])
+                return self._recorded("sigma", name)[:, index]
+            if stripped.startswith("f") and self.reactions is not None:
+                return self.reactions[:, self.model._coordinate_index("x" + stripped[1:])]
+        except ColumnError:
+            raise
+        except LabelError as error:
+            raise self._unknown(name, f"is not a result column: {error}") from None
         return super().__getitem__(name)
 
     def columns(self) -> dict[str, np.ndarray]:

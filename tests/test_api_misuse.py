@@ -4,6 +4,7 @@ bounded time; laws may be given as expressions in t."""
 import math
 import os
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -13,6 +14,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import flexmbd as fm
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 MODEL = build_model(1)
 TIMES = np.linspace(0.0, 0.004, 5)
@@ -105,3 +108,33 @@ def test_a_failing_user_function_is_named_and_keeps_the_run():
     assert not result.success and len(result.t) == 3
     assert "the law of x2.1 (node 2, phi) raised ZeroDivisionError" in result.message
     assert isinstance(result.error.__cause__, ZeroDivisionError)
+
+
+@pytest.mark.parametrize("given, meant", [("X5.1", "'x5.1'"), ("phi2", "'x2.1'"),
+                                          ("v5.1", "'xd5.1'"), ("acc5.2", "'xdd5.2'"),
+                                          ("sigma2.2", "'sig2.2'"), ("x5.9", "'x5.1'"),
+                                          ("e2.7", "'e2.3'"), ("t0", "'t'")])
+def test_a_column_that_names_nothing_gets_the_closest_and_the_scheme(given, meant):
+    """Other tools' names (v for a velocity, phi2 for node 2's angle), case and spelling:
+    the closest real columns first, then how columns are named."""
+    model = fm.read_dat(EXAMPLES / "slider_crank_flex.dat").model
+    result = fm.simulate(model, np.linspace(0.0, 0.01, 5))
+    with pytest.raises(fm.ColumnError) as caught:
+        result[given]
+    text = str(caught.value)
+    assert f"did you mean {meant}" in text and "coordinates are x<node>.<k>" in text
+
+
+def test_a_coordinate_label_by_direction_name_is_pointed_at_its_label():
+    model = fm.read_dat(EXAMPLES / "slider_crank_flex.dat").model
+    with pytest.raises(fm.LabelError, match=r"did you mean 'x5\.2'"):
+        model.coordinate_index("y5")
+    with pytest.raises(fm.LabelError, match=r"did you mean 'e2\.2'"):
+        model.deformation_index("e2.22")
+
+
+def test_a_misspelled_keyword_of_a_file_gets_the_closest(tmp_path):
+    path = tmp_path / "arm.dat"
+    path.write_text("PLBEM 1 1 2 3 4\nX 1 0 0\nX 3 1 0\nFIX 1\nFIX 2\nEND\nEND\n")
+    with pytest.raises(fm.InputFileError, match="did you mean PLBEAM"):
+        fm.read_dat(path)

@@ -23,6 +23,7 @@ from threadpoolctl import threadpool_limits
 
 from ..elements.base import SPATIAL_ROTATIONAL
 from ..engine import workspace_of
+from ..engine.diagnosis import MASS_ADVICE
 from ..errors import ArgumentError, SingularConfigurationError
 from ..orientation import rotation_matrix
 from ..progress import progress_bar
@@ -271,8 +272,7 @@ def _check_mass(lin: Linearization, M: np.ndarray) -> None:
         weak = int(lin.dynamic[np.argmin(np.diag(M))])
         raise SingularConfigurationError(
             f"the reduced mass matrix M0 is not positive definite: "
-            f"{lin.model.describe_q(weak)} moves without mass; give its elements mass (EM) "
-            f"or its nodes point masses (XM)")
+            f"{lin.model.describe_q(weak)} moves without mass; {MASS_ADVICE}")
 
 
 def _cholesky(A: np.ndarray) -> np.ndarray | None:

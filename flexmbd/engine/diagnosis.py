@@ -137,6 +137,12 @@ def mass_sources(model: Model) -> list[tuple[str, float]]:
     return sources
 
 
+#: how to give a degree of freedom mass, by the builder's keywords and a file's
+MASS_ADVICE = ("give the elements that move with it mass (set_mass(element, mass_per_length, "
+               "section_inertia=...) or set_section; EM in a file; section inertia for a "
+               "spatial beam's twist) or its nodes point masses or rotary inertia "
+               "(add_point_mass, add_rotary_inertia; XM in a file)")
+
 #: a reduced mass matrix better conditioned than this is no cause of a failed solve
 REGULAR_MASS = 1e-12
 
@@ -160,9 +166,8 @@ def massless_message(engine, x: np.ndarray, time: float | None) -> tuple[str, bo
     diagonal = np.diag(reduced)
     empty = dynamic[diagonal <= 1e-14 * np.abs(diagonal).max(initial=0.0)]
     if len(empty):
-        return (f"no mass moves with {_names(model.describe_q, empty)} {where}: give them mass "
-                f"(mass per length on their elements, point masses or rotary inertia on "
-                f"their nodes)"), True
+        return (f"no mass moves with {_names(model.describe_q, empty)} {where}: "
+                f"{MASS_ADVICE}"), True
     eigenvalues = np.linalg.eigvalsh(reduced)
     if not len(eigenvalues):  # nothing to accelerate: the failure is not the masses'
         return (f"the accelerations could not be solved {where}: the velocities or the "

@@ -17,6 +17,7 @@ with a zero fraction (``3.``).
 
 from __future__ import annotations
 
+import difflib
 import math
 import re
 from dataclasses import dataclass
@@ -367,4 +368,7 @@ def _unknown(keyword: str, block: str) -> str:
     if not keyword.isprintable() or not keyword.isascii():
         keyword = ascii(keyword)  # show invisible and look-alike characters
     known = TRANSFER if block == "transfer" else {*KINEMATICS, *DYNAMICS}
-    return f"unknown keyword {keyword} in the {block} block; known: {', '.join(sorted(known))}"
+    close = difflib.get_close_matches(keyword.upper(), sorted(known), n=3, cutoff=0.6)
+    meant = f"; did you mean {' or '.join(close)}?" if close else ""
+    return (f"unknown keyword {keyword} in the {block} block{meant} (known: "
+            f"{', '.join(sorted(known))})")
