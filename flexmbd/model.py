@@ -369,6 +369,15 @@ class Model:
             return self.describe_coordinate(self.independent_coordinates[j])
         return self.describe_deformation(self.independent_deformations[j - nxm])
 
+    def __repr__(self) -> str:
+        """:meth:`summary` and where to see more (never the nodes and elements in full)."""
+        from .summary import clip
+
+        return clip(self.summary() + "\n  more: model.nodes, model.elements, "
+                    "model.coordinate_labels, model.deformation_labels, model.q_labels")
+
+    __str__ = __repr__
+
     def summary(self) -> str:
         """A few lines describing sizes and classification, for printing. Lists longer
         than six entries give their count and the first and last labels."""

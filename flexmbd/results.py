@@ -27,6 +27,7 @@ from .errors import (
 from .model import Model
 from .naming import suggestion
 from .plot import plot_columns
+from .summary import Columns, clip
 
 _COLUMN = re.compile(r"^(xdd|xd|x|edd|ed|e)(\d+)(?:\.(\d+))?$")
 
@@ -61,6 +62,35 @@ class KinematicResult:
     message: str = "completed"
     error: SimulationError | None = None
 
+    def __repr__(self) -> str:
+        """A few lines: the run's size, span and status, its columns and how to get them
+        (never the arrays: a 201-point run printed 64 kB)."""
+        span = (f"{len(self.t)} point{'s' if len(self.t) != 1 else ''}" +
+                (f", t = {self.t[0]:.6g} to {self.t[-1]:.6g} s" if len(self.t) else ""))
+        return clip(self._headline(span) + "\n  columns: " + self._column_groups() +
+                    "\n  one: res['x3.1'] (an array over the rows); all: res.columns(); "
+                    "the model: res.model")
+
+    __str__ = __repr__
+
+    def _headline(self, span: str) -> str:
+        status = "completed" if self.success else f"stopped early: {self.message}"
+        return (f"{type(self).__name__} of model {self.model.name!r}: {span}; "
+                f"{status}")
+
+    def _column_groups(self) -> str:
+        """``"t, x (9), xd (9), ..."``: the recorded groups of columns, with their sizes."""
+        groups = ["t"]
+        for prefix, labels in (("x", self.model.coordinate_labels),
+                               ("e", self.model.deformation_labels)):
+            for suffix in ("", "d", "dd"):
+                if getattr(self, prefix + suffix) is not None:
+                    groups.append(f"{prefix + suffix} ({len(labels)})")
+        return ", ".join(groups + self._more_groups())
+
+    def _more_groups(self) -> list[str]:
+        return []
+
     def __getitem__(self, name: str) -> np.ndarray:
         """One column, shape ``(nt,)``, by name: ``"t"``, ``"x3.2"``, ``"xd2.1"``, ``"edd1.1"``."""
         if name == "t":
@@ -92,7 +122,7 @@ class KinematicResult:
 
     def columns(self) -> dict[str, np.ndarray]:
         """All columns by name, in the order ``t, x, xd, xdd, e, ed, edd``."""
-        out = {"t": self.t}
+        out = Columns({"t": self.t})
         for prefix, labels in (("x", self.model.coordinate_labels),
                                ("e", self.model.deformation_labels)):
             for suffix in ("", "d", "dd"):
@@ -223,6 +253,16 @@ class SimulationResult(KinematicResult):
     reactions: np.ndarray | None = None
     driving: np.ndarray | None = None
     stats: dict = field(default_factory=dict)
+
+    __repr__ = KinematicResult.__repr__
+    __str__ = KinematicResult.__repr__
+
+    def _more_groups(self) -> list[str]:
+        groups = [f"sig ({self.model.n_deformations})"] if self.sigma is not None else []
+        if self.reactions is not None:
+            count = len(self.model.fixed) + len(self.model.input_coordinates)
+            groups.append(f"f ({count}: the loads of supports and drives)")
+        return groups
 
     def __getitem__(self, name: str) -> np.ndarray:
         """As :meth:`KinematicResult.__getitem__`, plus ``sig<elem>.<k>`` and ``f<node>.<k>``."""

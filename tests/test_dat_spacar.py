@@ -1,6 +1,8 @@
 """SPACAR's own syntax as SPACAR reads it: lines written by SPACAR, SPACAR Light and
 oopspa mean in flexmbd what they mean in SPACAR."""
 
+import re
+
 import numpy as np
 import pytest
 
@@ -110,11 +112,11 @@ def test_a_transfer_function_file_is_written_as_spacar_lays_it_out():
     ("OUTX 3 5", "OUTX takes OUTX number node direction; got 2 value"),
     ("STARTDX 5 1 0.0", "STARTDX is not supported by flexmbd in the block of inputs"),
     ("TUBE 3 1 2", "SPACAR's element or keyword TUBE is not supported by flexmbd"),
-    ("OUTQ 3 5 1", "unknown keyword OUTQ in the transfer block; known: INPUTF, OUTX, OUTXP"),
+    ("OUTQ 3 5 1", "unknown keyword OUTQ in the transfer block; did you mean OUTX or OUTXP"),
 ])
 def test_a_wrong_line_in_the_third_block_is_named(line, message):
     block2 = TRANSFER + "\n" + line
-    with pytest.raises(InputFileError, match=message) as raised:
+    with pytest.raises(InputFileError, match=re.escape(message)) as raised:
         read(block2)
     assert raised.value.line == CANTILEVER.format(block2=block2).splitlines().index(line) + 1
 

@@ -22,6 +22,7 @@ import numpy as np
 from .. import checks
 from ..errors import ArgumentError, ConvergenceError, SimulationError
 from ..progress import progress_bar
+from ..summary import dataclass_repr
 from .watch import Crawl, Stiffness
 
 
@@ -143,6 +144,8 @@ class IntegrationResult:
         success, message, error: as in ``solve_ivp``, plus the exception that stopped the run.
         stats: ``nfev``, ``njev``, ``nlu``, ``nsteps``.
     """
+
+    __repr__ = dataclass_repr
 
     t: np.ndarray
     y: np.ndarray

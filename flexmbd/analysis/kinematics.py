@@ -32,6 +32,7 @@ from ..model import Model
 from ..motion import Law
 from ..progress import progress_bar
 from ..results import KinematicResult, check_on_failure, check_times, conclude, first_rows
+from ..summary import dataclass_repr
 
 __all__ = ["accelerations", "deformation_transfer", "deformations", "first_order_transfer",
            "hessian", "initial_q", "jacobian", "kinematic_analysis", "partition_jacobian",
@@ -122,6 +123,8 @@ class PartitionedJacobian:
             configuration (1 for a well-conditioned mechanism, 0 at a singular one).
     """
 
+    __repr__ = dataclass_repr
+
     full: np.ndarray
     fixed: np.ndarray
     dependent: np.ndarray
@@ -139,6 +142,8 @@ class PartitionedJacobian:
 class PositionSolution:
     """Result of :func:`position_analysis`: ``x`` ``(nx,)`` and the partitioned Jacobian
     there (ready for velocities)."""
+
+    __repr__ = dataclass_repr
 
     x: np.ndarray
     jacobian: PartitionedJacobian

@@ -47,6 +47,7 @@ from ..engine import Engine, load_vector, q_scale, unwrap_near, workspace_of
 from ..errors import ArgumentError
 from ..model import Model
 from ..orientation import angular_velocity, euler_forces
+from ..summary import dataclass_repr
 from .kinematics import coordinates, generalized
 
 #: central-difference step of N0, relative to a coordinate's size (model size or 1 rad):
@@ -74,6 +75,8 @@ class Linearization:
         E_q: ``de/dq`` ``(ne, nq)``.
         M0, C0, D0, K0, N0, G0: ``(nq, nq)``, see the module docstring.
     """
+
+    __repr__ = dataclass_repr
 
     model: Model
     x: np.ndarray

@@ -21,6 +21,7 @@ import numpy as np
 from ..engine import workspace_of
 from ..errors import ArgumentError
 from ..progress import progress_bar
+from ..summary import Columns
 from .banded import BandedStatics
 from .modes import buckling, compliance_labels, in_frame, node_compliance, vibration_modes
 from .statics import BANDED_FROM, StaticResult
@@ -50,7 +51,7 @@ def load_step_table(statics: StaticResult, *, modes: int = 0, buckle: int = 0,
         if isinstance(count, bool) or not isinstance(count, int | np.integer) or count < 0:
             raise ArgumentError(name, f"must be a whole number >= 0, got {count!r}")
     rows = len(statics.t)
-    columns: dict[str, np.ndarray] = {"load": np.asarray(statics.t, dtype=float).copy()}
+    columns = Columns({"load": np.asarray(statics.t, dtype=float).copy()})
     for k in range(modes):
         columns[f"f{k + 1}"] = np.full(rows, np.nan)
     for k in range(buckle):

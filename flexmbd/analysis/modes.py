@@ -28,6 +28,7 @@ from ..errors import ArgumentError, SingularConfigurationError
 from ..orientation import rotation_matrix
 from ..progress import progress_bar
 from ..results import KinematicResult
+from ..summary import dataclass_repr
 from .linearization import Linearization, linearize
 
 __all__ = ["Buckling", "Modes", "ModesAlong", "buckling", "compliance", "modes_along",
@@ -66,6 +67,8 @@ class Modes:
             ``lam1..lam3`` (:attr:`~flexmbd.Linearization.motion_transfer`).
     """
 
+    __repr__ = dataclass_repr
+
     linearization: Linearization
     omega2: np.ndarray
     frequencies: np.ndarray
@@ -85,6 +88,8 @@ class Buckling:
         motion: the shapes as coordinate motions ``(nx, k)`` (rotations as in
             :class:`Modes`).
     """
+
+    __repr__ = dataclass_repr
 
     linearization: Linearization
     factors: np.ndarray
@@ -303,6 +308,8 @@ class ModesAlong:
             :class:`Modes`).
         omega2: ``(nt, k)`` [rad^2/s^2].
     """
+
+    __repr__ = dataclass_repr
 
     result: KinematicResult
     t: np.ndarray

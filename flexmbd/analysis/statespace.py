@@ -23,6 +23,7 @@ import scipy.linalg as linalg
 
 from ..engine import workspace_of
 from ..errors import ArgumentError, SingularConfigurationError
+from ..summary import dataclass_repr
 from .linearization import Linearization, central_differences
 from .modes import vibration_modes
 
@@ -43,6 +44,8 @@ class StateSpace:
             (``"xd5.2"``) [m/s, rad/s].
         states: labels of the states: the dynamic entries of ``q``, then their rates.
     """
+
+    __repr__ = dataclass_repr
 
     A: np.ndarray
     B: np.ndarray

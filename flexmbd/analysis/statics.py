@@ -36,6 +36,7 @@ from ..model import Model
 from ..progress import progress_bar
 from ..results import SimulationResult, check_on_failure, conclude, first_rows
 from ..settings import RunSettings
+from ..summary import Columns, clip
 from .banded import BandedStatics
 from .linearization import Linearization, equilibrium_state, linearize, static_tangent
 
@@ -64,12 +65,24 @@ class StaticResult(SimulationResult):
 
     applied: np.ndarray | None = None
 
+    def __repr__(self) -> str:
+        rows = len(self.t)
+        span = f"{rows} load step{'s' if rows != 1 else ''}" + (
+            f", load factor {self.t[0]:.6g} to {self.t[-1]:.6g}" if rows else "")
+        return clip(self._headline(span) + "\n  columns: load, " +
+                    self._column_groups().removeprefix("t, ") +
+                    "\n  one: res['x3.1'] (an array over the steps); all: res.columns(); "
+                    "linearized at a step: res.linearization(row)")
+
+    __str__ = __repr__
+
     def __getitem__(self, name: str) -> np.ndarray:
         return self.t if name.strip() == "load" else super().__getitem__(name)
 
     def columns(self) -> dict[str, np.ndarray]:
         out = super().columns()
-        return {("load" if name == "t" else name): values for name, values in out.items()}
+        return Columns({("load" if name == "t" else name): values
+                        for name, values in out.items()})
 
     def linearization(self, row: int = -1) -> Linearization:
         """The linearized equations at one row (default the last): for its vibration

@@ -26,6 +26,7 @@ from ..errors import ArgumentError
 from ..model import Model
 from ..orientation import moment_of, rotation_matrix
 from ..results import KinematicResult
+from ..summary import dataclass_repr
 from .kinematics import jacobian
 
 __all__ = ["BeamStress", "StressHistory", "beam_stresses", "stress_history"]
@@ -44,6 +45,8 @@ class BeamStress:
         where: the end (``"p"`` or ``"q"``) and the point of the section where it is.
         ends: the largest von Mises stress over the section at p and at q [Pa].
     """
+
+    __repr__ = dataclass_repr
 
     element: int
     resultants: np.ndarray
@@ -121,6 +124,8 @@ class StressHistory:
         ends: ``(nt, n_beams, 2)``: each beam's largest at p and at q [Pa] (for pictures,
             :func:`flexmbd.plot.plot_sections`).
     """
+
+    __repr__ = dataclass_repr
 
     t: np.ndarray
     elements: tuple[int, ...]

@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ArgumentError
+from ..summary import dataclass_repr
 from .parts import Exercise, Part
 
 #: outcomes of a part
@@ -38,6 +39,8 @@ PASSED, FAILED, NOT_DONE = "passed", "failed", "not done"
 class PartReport:
     """The outcome of one part: ``status`` (passed, failed, not done), a message and the
     hint for a recognised mistake."""
+
+    __repr__ = dataclass_repr
 
     letter: str
     function: str
@@ -55,6 +58,8 @@ class Report:
         points: points per part letter (default 1 each).
         seconds: how long the check took [s].
     """
+
+    __repr__ = dataclass_repr
 
     exercise: Exercise
     file: str

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import ArgumentError
+from ..summary import dataclass_repr
 from .check import PASSED, Report, check
 from .parts import Exercise
 
@@ -98,6 +99,8 @@ def parse_points(text: str | None, exercise: Exercise) -> dict[str, float]:
 @dataclass
 class ClassGrades:
     """The reports of a class, by student, and how long grading took [s]."""
+
+    __repr__ = dataclass_repr
 
     exercise: Exercise
     reports: dict[str, Report]

@@ -13,6 +13,8 @@ from typing import Any, Generic, TypeVar
 
 import numpy as np
 
+from ..summary import dataclass_repr
+
 T = TypeVar("T")
 
 
@@ -59,6 +61,8 @@ class NodeResult:
         spa_nrs: the flexmbd (SPACAR) node numbers: translational, rotational.
         attached: False for a node no element uses (it has only ``p``).
     """
+
+    __repr__ = dataclass_repr
 
     p: np.ndarray
     r_quat: np.ndarray | None = None
@@ -108,6 +112,8 @@ class ElementResult:
             (with ``opt.stressperelement``; None otherwise or without a section).
     """
 
+    __repr__ = dataclass_repr
+
     spa_nrs: tuple[int, ...]
     L0: np.ndarray
     e: np.ndarray
@@ -121,6 +127,8 @@ class ElementResult:
 @dataclass
 class StepResult:
     """One load step: the fields of :class:`LightResult` at that step."""
+
+    __repr__ = dataclass_repr
 
     node: OneBased[NodeResult]
     element: OneBased[ElementResult]
@@ -156,6 +164,7 @@ class LightResult:
         model: the flexmbd model; statics: the static equilibria
             (:class:`flexmbd.StaticResult`), for anything beyond SPACAR Light's output.
     """
+
 
     node: OneBased[NodeResult]
     element: OneBased[ElementResult]

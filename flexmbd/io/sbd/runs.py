@@ -43,6 +43,7 @@ from ...model import Model
 from ...progress import progress_bar
 from ...results import KinematicResult
 from ...settings import RunSettings
+from ...summary import dataclass_repr
 from ..dat import read_dat
 from .binary import SpacarFile, read_records, write_records
 from .linear import ltv_records, sbm_records
@@ -73,6 +74,8 @@ class SpacarRun:
         interrupted: the analysis was interrupted (Ctrl-C); the files hold the steps
             computed before.
     """
+
+    __repr__ = dataclass_repr
 
     mode: int
     base: Path
