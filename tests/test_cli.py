@@ -82,3 +82,19 @@ def test_import_and_cli_start_load_no_optional_or_heavy_module():
     out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
                          check=True).stdout.strip()
     assert out == "[]"
+
+
+def test_an_installed_example_file_is_written_next_to_you(tmp_path, monkeypatch, capsys):
+    """Outside a clone the example input files are reachable by name: listed, written
+    into the current folder (never over a file there) and runnable; a wrong name gets
+    the closest ones."""
+    monkeypatch.chdir(tmp_path)
+    assert cli.main(["example", "--file"]) == 0
+    assert "rotating_arm.dat" in capsys.readouterr().out
+    assert cli.main(["example", "--file", "sliding_bar.dat"]) == 0
+    assert (tmp_path / "sliding_bar.dat").read_text().startswith("% EXERCISES 1a-d")
+    assert cli.main(["run", "sliding_bar.dat", "--out", "bar.csv"]) == 0
+    assert cli.main(["example", "--file", "sliding_bar.dat"]) == 1
+    assert "exists" in capsys.readouterr().err
+    assert cli.main(["example", "--file", "slider_crank.dat"]) == 2
+    assert "did you mean slider_crank_flex.dat" in capsys.readouterr().err

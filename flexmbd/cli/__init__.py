@@ -10,6 +10,7 @@ import argparse
 import importlib
 import os
 import sys
+from pathlib import Path
 
 from .. import __version__
 from ..errors import ArgumentError, FlexmbdError
@@ -37,6 +38,10 @@ def _parser(argv: list[str]) -> argparse.ArgumentParser:
     )
     example.add_argument("name", nargs="?", help="example name")
     example.add_argument("--list", action="store_true", help="list the examples")
+    example.add_argument("--file", nargs="?", const="", metavar="FILE",
+                         help="write the installed example input file FILE (e.g. "
+                              "slider_crank_flex.dat) into the current folder; without "
+                              "FILE, list them")
     example.add_argument("-h", "--help", action="store_true", help="show help")
     command = next((word for word in argv if not word.startswith("-")), None)
     groups = [_GROUPS[command]] if command in _GROUPS else list(dict.fromkeys(
@@ -128,6 +133,8 @@ def _one_line(error: BaseException) -> str:
 def _run_example(args: argparse.Namespace, rest: list[str]) -> int:
     from ..examples import EXAMPLES
 
+    if args.file is not None:
+        return _write_example_file(args.file)
     if args.list or args.name is None:
         if args.help:
             print("usage: flexmbd example NAME [options]   (flexmbd example NAME --help)\n")
@@ -146,6 +153,34 @@ def _run_example(args: argparse.Namespace, rest: list[str]) -> int:
         return int(module.main(argv, prog=f"flexmbd example {args.name}") or 0)
     except SystemExit as done:  # argparse of the example: --help or a usage error
         return done.code if isinstance(done.code, int) else EXIT_USAGE
+
+
+def _write_example_file(name: str) -> int:
+    """``flexmbd example --file NAME``: copy an installed example input file into the
+    current folder (never over an existing file); without NAME list them."""
+    import difflib
+    from importlib.resources import files
+
+    available = sorted(entry.name for entry in files("flexmbd.examples").iterdir()
+                       if entry.name.endswith(".dat"))
+    if not name:
+        print("example input files (flexmbd example --file NAME writes one here):")
+        for found in available:
+            print(f"  {found}")
+        return 0
+    if name not in available:
+        close = difflib.get_close_matches(name, available, n=3, cutoff=0.5)
+        meant = f"; did you mean {' or '.join(close)}?" if close else ""
+        print(f"flexmbd: error: no example file {name!r}{meant} (the files: "
+              f"{', '.join(available)})", file=sys.stderr)
+        return EXIT_USAGE
+    target = Path.cwd() / name
+    if target.exists():
+        print(f"flexmbd: error: {target} exists; remove or rename it first", file=sys.stderr)
+        return EXIT_ERROR
+    target.write_bytes((files("flexmbd.examples") / name).read_bytes())
+    print(f"wrote {target}; run it with: flexmbd run {name}")
+    return 0
 
 
 def main(argv: list[str] | None = None) -> int:
