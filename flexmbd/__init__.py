@@ -47,6 +47,7 @@ _NAMES = {
                             "kinematic_analysis", "partition_jacobian", "position_analysis",
                             "quadratic_velocity", "second_order_transfer", "solve_position",
                             "velocities"),
+    "analysis.energy": ("energy",),
     "analysis.linearization": ("Linearization", "linearize"),
     "analysis.load_steps": ("load_step_table",),
     "analysis.modes": ("Buckling", "Modes", "ModesAlong", "buckling", "compliance",

@@ -1,0 +1,100 @@
+"""The energy of a motion, row by row: kinetic, elastic and gravitational (THEORY 5, 6).
+
+* kinetic: ``1/2 xdot^T M(x) xdot`` with the engine's mass matrix (consistent and lumped
+  element masses, point masses, rotary inertia);
+* elastic: ``1/2 e^T S e + sigma0^T e`` over the deformations that carry the elastic law;
+* gravitational: ``-m g . r`` of every mass: an element's consistent mass integrated
+  over its material point (:meth:`~flexmbd.elements.base.ElementType.material_point`,
+  Gauss-Legendre with enough points for its cubic shape), lumped and point masses at
+  their nodes (rotary inertia has no weight).
+
+Their sum stays constant in a motion that nothing drives, damps or loads otherwise (no
+prescribed inputs that move, no damping, no applied loads besides gravity): its drift is
+the integrator's error, the check of a simulation.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..elements.base import is_translational
+from ..engine import workspace_of
+from ..errors import ArgumentError
+from ..results import KinematicResult
+from ..summary import Columns
+
+__all__ = ["energy"]
+
+#: Gauss-Legendre points over [0, 1] for the weight of a material point: exact for its
+#: cubic (Hermite) shape, and to rounding for the small rotations within an element
+_POINTS, _WEIGHTS = np.polynomial.legendre.leggauss(6)
+_POINTS, _WEIGHTS = 0.5 * (_POINTS + 1.0), 0.5 * _WEIGHTS
+
+
+def energy(result: KinematicResult) -> Columns:
+    """The energies of a result's rows [J]: columns ``t``, ``kinetic``, ``elastic``,
+    ``gravity`` and ``total``, each ``(nt,)``.
+
+    Raises:
+        ArgumentError: the result has no velocities (``simulate(..., outputs=
+            "positions")``) or no deformations.
+    """
+    if not isinstance(result, KinematicResult):
+        raise ArgumentError("result", f"must be a simulation or kinematic result, got "
+                                      f"{type(result).__name__}")
+    if result.xd is None or result.e is None:
+        raise ArgumentError("result", "has no velocities or deformations: simulate with "
+                                      "outputs='all' (the default) or 'velocities'")
+    model, x, xd = result.model, np.asarray(result.x), np.asarray(result.xd)
+    engine = workspace_of(model)
+    kinetic = np.array([0.5 * v @ engine.mass(row)[0] @ v for row, v in zip(x, xd,
+                                                                            strict=True)])
+    e = np.asarray(result.e)
+    stress = engine.assembly.law_times("S", e.T).T             # S e, (nt, ne)
+    elastic = np.sum(0.5 * e * stress + engine.compiled.elements.sigma0 * e, axis=1)
+    columns = Columns({"t": np.asarray(result.t, dtype=float), "kinetic": kinetic,
+                       "elastic": elastic, "gravity": _weight(model, engine, x)})
+    columns["total"] = columns["kinetic"] + columns["elastic"] + columns["gravity"]
+    return columns
+
+
+def _weight(model, engine, x: np.ndarray) -> np.ndarray:
+    """``-sum m g . r`` at every row of ``x`` ``(nt, nx)``."""
+    gravity = np.zeros(3)
+    gravity[:len(model.gravity)] = model.gravity
+    out = np.zeros(len(x))
+    if not np.any(gravity):
+        return out
+    spec = engine.compiled.elements
+    width = len(model.gravity)
+    elements = sorted(model.elements.items())
+    for k, (_, element) in enumerate(elements):
+        coords = list(element.coordinates)
+        if spec.emass[k]:              # a consistent mass: over the material point
+            c = [x[:, i] for i in coords]
+            p = list(element.reference)
+            height = sum(w * np.dot(gravity[:width], np.array(
+                element.type.material_point(c, p, xi, np), dtype=float).reshape(width, -1))
+                for xi, w in zip(_POINTS, _WEIGHTS, strict=True))
+            out -= spec.emass[k] * height
+        lumped = spec.lumped_diag[spec.c_off[k]:spec.c_off[k + 1]]
+        if np.any(lumped):             # lumped masses on the element's node coordinates
+            out -= _nodal_weight(model, coords, lumped, gravity, x)
+    for number, mass in model.point_masses.items():
+        node = model.nodes[number]
+        if is_translational(node.kind):
+            coords = list(node.coordinates)
+            out -= _nodal_weight(model, coords, np.full(len(coords), mass), gravity, x)
+    return out
+
+
+def _nodal_weight(model, coords: list[int], masses: np.ndarray, gravity: np.ndarray,
+                  x: np.ndarray) -> np.ndarray:
+    """``sum m_i g_i x_i`` over the translational ``coords`` (each its direction's
+    component of gravity) at every row of ``x``."""
+    total = np.zeros(len(x))
+    for i, mass in zip(coords, masses, strict=True):
+        node = next(n for n in model.nodes.values() if i in n.coordinates)
+        if mass and is_translational(node.kind):
+            total += mass * gravity[list(node.coordinates).index(i)] * x[:, i]
+    return total
