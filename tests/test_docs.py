@@ -114,6 +114,15 @@ def test_gallery_runs_every_example_with_pictures_and_animations(site):
     assert animations >= 2
 
 
+def test_every_gallery_script_builds_its_own_model():
+    """A gallery script shows how its model is made, as scikit-fem's and Exudyn's do: its
+    ModelBuilder code is in the script, not behind a helper."""
+    for script in sorted((ROOT / "examples" / "gallery").glob("plot_*.py")):
+        text = script.read_text()
+        assert "fm.ModelBuilder(" in text, script.name
+        assert "build_model(" not in text, script.name
+
+
 # --- without a build -----------------------------------------------------------------------
 def test_api_source_lists_exactly_the_public_names():
     """``docs/api.rst`` names every entry of ``flexmbd.__all__`` once and nothing else

@@ -10,6 +10,10 @@ each against the continuous leaves (within 1e-3).
 """
 
 # %%
+# The model: two vertical leaves of ``n`` second-order beams (their elongation includes
+# the arc length of their bending, so the payload's compression softens them), clamped
+# at the bottom and joined at the top by a rigid stage. The stage closes a loop: the
+# right leaf's last beam has its three deformations released (its loop's surplus).
 import os
 
 import matplotlib.pyplot as plt
@@ -19,8 +23,31 @@ import flexmbd as fm
 from flexmbd import plot
 
 QUICK = os.environ.get("FLEXMBD_DOCS_QUICK") == "1"
+n = 4 if QUICK else 8
+L, W, E, t, w, rho = 0.05, 0.04, 210e9, 0.5e-3, 0.02, 7850.0    # leaf [m], steel
+EI, EA = E * w * t**3 / 12, E * w * t
 
-model = guide.build_model(4 if QUICK else guide.NBEAMS)
+b = fm.ModelBuilder(f"parallel leaf-spring guide, {n} beams per leaf")
+stage_angle = 2 * n + 2                      # the left leaf's top rotation: the stage's
+for offset, x in ((0, 0.0), (100, W)):       # the right leaf numbered from 101
+    points = [offset + 1 + 2 * k for k in range(n + 1)]
+    angles = [offset + 2 + 2 * k for k in range(n)] + [stage_angle]
+    for k, node in enumerate(points):
+        b.add_node(node, x, L * k / n)
+    for k in range(n):
+        b.add_beam(offset + k + 1, points[k], angles[k], points[k + 1], angles[k + 1],
+                   second_order=True)
+        b.set_mass(offset + k + 1, rho * w * t).set_stiffness(offset + k + 1, axial=EA,
+                                                              bending=EI)
+        if offset and k == n - 1:
+            b.release(offset + k + 1, 1, 2, 3)
+        else:
+            b.dynamic_deformation(offset + k + 1, 1, 2, 3)
+    b.fix(points[0]).fix(angles[0])          # clamped at the bottom
+    b.add_point_mass(points[-1], 0.1)        # half of the 0.2 kg stage
+    b.add_force(points[-1], 0.0, -25.0)      # half of the 50 N payload
+b.add_rigid_beam(200, 2 * n + 1, stage_angle, 100 + 2 * n + 1)   # the stage
+model = b.build()
 found = guide.analyse(model)
 print(f"lateral stiffness {found['stiffness']:.5g} N/m, "
       f"first frequency {found['modes'].frequencies[0]:.5g} Hz, "

@@ -12,6 +12,9 @@ and its derivatives.
 """
 
 # %%
+# The model: node 1 (O) fixed, the crank to node 3 (A) with its angle at rotational
+# node 2 as the input, the rod to node 5 (B), which keeps ``y = 0``.
+import math
 import os
 
 import matplotlib.pyplot as plt
@@ -21,8 +24,15 @@ from flexmbd.examples import slider_crank_kinematics as kin
 import flexmbd as fm
 
 QUICK = os.environ.get("FLEXMBD_DOCS_QUICK") == "1"
+l1, l2 = 1.0, math.sqrt(3.0)                           # crank and rod [m]
 
-model = kin.build_model()
+b = fm.ModelBuilder("slider-crank")
+b.add_node(1, 0.0, 0.0).add_node(3, l1, 0.0).add_node(5, l1 + l2, 0.0)
+b.add_rigid_beam(1, 1, 2, 3)                           # crank O-A
+b.add_rigid_beam(2, 3, 4, 5)                           # rod A-B, pinned at A
+b.fix(1).fix(5, "y")                                   # pivot O; slider B on the x axis
+b.input_coordinate(2, law=fm.Polynomial(0.0, 2 * math.pi, 2 * math.pi))  # phi(t)
+model = b.build()
 times = np.linspace(0.0, 1.0, 73 if QUICK else 361)
 result = fm.kinematic_analysis(model, times)
 phi = result["x2.1"]

@@ -13,24 +13,34 @@ closed form ``y_q = sqrt(l0^2 - x_p^2)``.
 # %%
 # The model and the motion
 # ------------------------
-# ``truss_model`` builds node 1 (p) on the x axis and node 2 (q) on the y axis,
-# drawn at 30 degrees; ``x_p = -l0 + 4 t`` is the input. The motion runs over
-# the quarter turn, stopping just short of the positions where the bar lies
-# along an axis and ``y_q`` is no longer determined.
+# Node 1 (p) on the x axis and node 2 (q) on the y axis, drawn at 30 degrees, joined
+# by a truss; p keeps ``y = 0`` and q ``x = 0``, and ``x_p = -l0 + 4 t`` is the input.
+# The motion runs over the quarter turn, stopping just short of the positions where
+# the bar lies along an axis and ``y_q`` is no longer determined.
+import math
 import os
 
 import matplotlib.pyplot as plt
 import numpy as np
-from flexmbd.examples import sliding_bar
 
+import flexmbd as fm
 from flexmbd import plot
 
 # the documentation's quick build (FLEXMBD_DOCS_QUICK=1) draws fewer points and frames
 QUICK = os.environ.get("FLEXMBD_DOCS_QUICK") == "1"
+l0, v = 2.0, 4.0                     # bar length [m], speed of p [m/s]
 
-result = sliding_bar.run("truss", points=60 if QUICK else 200)
+b = fm.ModelBuilder("sliding bar (truss)")
+b.add_node(1, -l0 * math.cos(math.radians(30)), 0.0)     # p
+b.add_node(2, 0.0, l0 * math.sin(math.radians(30)))      # q
+b.add_truss(1, 1, 2)                                      # keeps its length
+b.fix(1, "y").fix(2, "x")                                 # p slides along x, q along y
+b.input_coordinate(1, "x", law=fm.Polynomial(-l0, v))     # x_p = -l0 + v t
+model = b.build()
+
+result = fm.kinematic_analysis(model, np.linspace(0.005, 0.995 * 2 * l0 / v,
+                                                  60 if QUICK else 200))
 x_p, y_q = result["x1.1"], result["x2.2"]
-l0, v = sliding_bar.L0, sliding_bar.SPEED
 exact = np.sqrt(l0**2 - x_p**2)
 print(f"largest |y_q - sqrt(l0^2 - x_p^2)|: {np.abs(y_q - exact).max():.1e} m")
 
