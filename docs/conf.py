@@ -33,13 +33,14 @@ extensions = [
     "sphinx.ext.autosummary",
     "sphinx.ext.napoleon",
     "sphinx.ext.mathjax",
+    "sphinx-mathjax-offline",   # MathJax 3 copied into the site: math renders offline
     "sphinx_gallery.gen_gallery",
     "flexmbd_tables",
 ]
 
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
 exclude_patterns = ["_build", "gallery/*.ipynb", "gallery/*.py", "gallery/*.zip",
-                    "gallery/*.md5", "gallery/*.codeobj.json"]
+                    "gallery/*.md5", "gallery/*.codeobj.json", "**sg_execution_times.rst"]
 root_doc = "index"
 
 # MyST: $...$ maths, ::: fences, anchors for links to headings of other pages
@@ -63,6 +64,8 @@ sphinx_gallery_conf = {
     "download_all_examples": False,
     "remove_config_comments": True,
     "show_memory": False,
+    # no page of execution times: it loads jQuery and DataTables from CDNs (offline site)
+    "write_computation_times": False,
     "plot_gallery": "True",
     # every build runs every script, so a quick build's pictures never stand in for a full one
     "run_stale_examples": True,

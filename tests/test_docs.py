@@ -114,6 +114,23 @@ def test_gallery_runs_every_example_with_pictures_and_animations(site):
     assert animations >= 2
 
 
+def test_math_renders_without_a_network(site):
+    """MathJax is part of the site: the theory page loads it from the site itself, and no
+    page loads a script from elsewhere."""
+    theory = (site / "theory.html").read_text()
+    assert '_static/mathjax/tex-chtml.js' in theory
+    assert (site / "_static" / "mathjax" / "tex-chtml.js").is_file()
+    for page in site.rglob("*.html"):
+        sources = re.findall(r'<script[^>]*\bsrc="([^"]+)"', page.read_text())
+        assert not [s for s in sources if s.startswith(("http:", "https:", "//"))], page
+
+
+def test_read_the_docs_builds_the_site_as_the_readme_says():
+    config = (ROOT / ".readthedocs.yaml").read_text()
+    assert "configuration: docs/conf.py" in config and "fail_on_warning: true" in config
+    assert "- docs" in config
+
+
 def test_every_gallery_script_builds_its_own_model():
     """A gallery script shows how its model is made, as scikit-fem's and Exudyn's do: its
     ModelBuilder code is in the script, not behind a helper."""
