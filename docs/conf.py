@@ -49,6 +49,7 @@ myst_heading_anchors = 3
 
 # API reference: one page per name of flexmbd.__all__, from the docstrings
 autosummary_generate = True
+templates_path = ["_templates"]   # classes: no __init__ entry; element types: no machinery
 autodoc_default_options = {"members": True, "show-inheritance": True}
 autodoc_member_order = "bysource"
 autodoc_typehints = "signature"
@@ -79,3 +80,28 @@ html_static_path: list[str] = []
 # quick builds say so on every page, so a reduced gallery is never mistaken for the real one
 if os.environ.get("FLEXMBD_DOCS_QUICK") == "1":
     html_title += " (quick build: reduced gallery resolution)"
+
+
+#: of an element type's members, those a user reads: its definition (the deformations) and
+#: names; the rest (laws, kernels' inputs, drawing, file lines) is the engine's machinery
+ELEMENT_MEMBERS_SHOWN = {"deformations", "keyword", "name", "deformation_names",
+                         "stiffness_values", "damping_values"}
+
+
+def _element_machinery(app, what, name, obj, skip, options):
+    """Skip an element type's machinery (a member that every element type has, from
+    their base class), so that its page shows what a user reads: the description and
+    the deformation functions; and a class's ``__init__``, which its signature shows."""
+    from flexmbd.elements.base import ElementType
+
+    if what != "class":
+        return None
+    if name == "__init__":   # the class's own signature and docstring say it
+        return True
+    if name in ELEMENT_MEMBERS_SHOWN or not hasattr(ElementType, name):
+        return None
+    return True
+
+
+def setup(app):
+    app.connect("autodoc-skip-member", _element_machinery)

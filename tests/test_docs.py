@@ -125,6 +125,18 @@ def test_math_renders_without_a_network(site):
         assert not [s for s in sources if s.startswith(("http:", "https:", "//"))], page
 
 
+def test_an_element_type_s_page_shows_what_a_user_reads(site):
+    """An element type's page: its description and deformation functions, not the
+    engine's machinery every type carries (laws, kernels' inputs, drawing, file lines)."""
+    for name in ("Beam", "SpatialBeam", "Hinge"):
+        page = (site / "generated" / f"flexmbd.{name}.html").read_text()
+        assert f'id="flexmbd.{name}.deformations"' in page, name
+        for machinery in ("elastic_law", "material_point", "stiffness_line", "__init__"):
+            assert machinery not in page, (name, machinery)
+    builder = (site / "generated" / "flexmbd.ModelBuilder.html").read_text()
+    assert 'id="flexmbd.ModelBuilder.add_beam"' in builder
+
+
 def test_read_the_docs_builds_the_site_as_the_readme_says():
     config = (ROOT / ".readthedocs.yaml").read_text()
     assert "configuration: docs/conf.py" in config and "fail_on_warning: true" in config

@@ -292,6 +292,19 @@ def kinematic_analysis(
 
     Returns:
         :class:`~flexmbd.results.KinematicResult`.
+
+    Examples:
+        A bar of 2 m sliding with one end along x (driven at 4 m/s) and the other along
+        y: the second end's height is ``sqrt(4 - x^2)``:
+
+        >>> import numpy as np
+        >>> import flexmbd as fm
+        >>> bar = (fm.ModelBuilder("sliding bar").add_node(1, -1.6, 0.0).add_node(2, 0.0, 1.2)
+        ...        .add_truss(1, 1, 2).fix(1, "y").fix(2, "x")
+        ...        .input_coordinate(1, "x", law=fm.Polynomial(-1.6, 4.0)).build())
+        >>> run = fm.kinematic_analysis(bar, [0.0, 0.2])
+        >>> print(f"{run['x2.2'][-1]:.6f} {np.sqrt(4 - 0.8**2):.6f}")
+        1.833030 1.833030
     """
     times = check_times(times)
     check_on_failure(on_failure)

@@ -165,6 +165,18 @@ def linearize(model: Model, x=None, qd=None, qdd=None, *, loads=None,
 
     Returns:
         :class:`Linearization`.
+
+    Examples:
+        The pendulum hanging at rest: its stiffness ``K0 + G0`` is ``m g L / 2``:
+
+        >>> import numpy as np
+        >>> import flexmbd as fm
+        >>> pendulum = (fm.ModelBuilder("pendulum").add_node(1, 0, 0).add_node(3, 0, -1)
+        ...             .add_rigid_beam(1, 1, 2, 3).set_mass(1, 1.0).fix(1)
+        ...             .dynamic_coordinate(2).set_gravity(0, -9.81).build())
+        >>> lin = fm.linearize(pendulum)
+        >>> print(f"{lin.block('K')[0, 0]:.4f} N m/rad, {lin.block('M0')[0, 0]:.4f} kg m^2")
+        4.9050 N m/rad, 0.3333 kg m^2
     """
     engine = engine or workspace_of(model, tolerance)
     x = coordinates(model, model.x0 if x is None else x)

@@ -136,6 +136,22 @@ def static_equilibrium(
     Raises:
         ConvergenceError: a step did not converge even after halving; it names the last
             converged load factor and the degree of freedom with the largest residual.
+
+    Examples:
+        A cantilever under a small tip load bends by ``P L^3 / (3 EI)``:
+
+        >>> import flexmbd as fm
+        >>> b = fm.ModelBuilder("cantilever")   # 1 m, four beams, EI = 2 N m^2, clamped at 1
+        >>> for k in range(5):
+        ...     _ = b.add_node(2 * k + 1, 0.25 * k, 0.0)
+        >>> for k in range(4):
+        ...     _ = (b.add_beam(k + 1, 2 * k + 1, 2 * k + 2, 2 * k + 3, 2 * k + 4)
+        ...          .dynamic_deformation(k + 1).set_mass(k + 1, 0.5)
+        ...          .set_stiffness(k + 1, axial=1e6, bending=2.0))
+        >>> column = b.fix(1).fix(2).build()
+        >>> statics = fm.static_equilibrium(column, load_increment={"x9.2": -0.01}, steps=2)
+        >>> print(f"{statics['x9.2'][-1]:.6f} m, closed form {-0.01 / (3 * 2.0):.6f} m")
+        -0.001667 m, closed form -0.001667 m
     """
     check_on_failure(on_failure)
     if method not in ("auto", "reduced", "banded"):

@@ -68,6 +68,22 @@ def sweep(build, grid, analysis, outputs, client=None, *,
             work, before any case runs.
         OptionalDependencyError: pandas, pyarrow or Dask missing: ``pip install
             'flexmbd[dask]'``.
+
+    Examples:
+        A truss spring's static stretch under a load, for two stiffnesses, in this
+        process:
+
+        >>> import flexmbd as fm
+        >>> def spring(EA):
+        ...     return (fm.ModelBuilder("spring").add_node(1, 0, 0).add_node(2, 1, 0)
+        ...             .add_truss(1, 1, 2).dynamic_deformation(1)
+        ...             .set_stiffness(1, axial=EA).fix(1).fix(2, "y").build())
+        >>> table = fm.sweep(spring, {"EA": [100.0, 200.0]},
+        ...                  lambda model: fm.static_equilibrium(model, loads={"x2.1": 1.0}),
+        ...                  {"stretch": lambda statics: statics["e1.1"][-1]},
+        ...                  client="serial", progress=False)
+        >>> print([round(float(s), 4) for s in table["stretch"]])
+        [0.01, 0.005]
     """
     _require("pandas", "study tables")
     cases = grid_cases(grid)

@@ -99,6 +99,15 @@ def read_dat(path: str | Path, *, release: bool = False) -> DatFile:
 
     Raises:
         InputFileError: naming the file, the line and the reason.
+
+    Examples:
+        An installed example file (``flexmbd example --file`` writes them out):
+
+        >>> from importlib.resources import files
+        >>> import flexmbd as fm
+        >>> dat = fm.read_dat(files("flexmbd.examples") / "slider_crank_flex.dat")
+        >>> print(dat.model.n_dof, dat.settings.t_end)
+        3 0.08377580409572781
     """
     return dat_from_text(read_text(path), path, release=release)
 
