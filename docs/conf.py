@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import logging
 import os
+import re
 import sys
 from pathlib import Path
 
@@ -103,5 +104,19 @@ def _element_machinery(app, what, name, obj, skip, options):
     return True
 
 
+def _theory_links(app, what, name, obj, options, lines):
+    """"THEORY n" in a docstring is a link to section n of the theory page (its label
+    ``theory-n``); the spatial theory's sections and the flexure notes link to the
+    spatial section and the flexure guide, their pages in this site."""
+    for k, line in enumerate(lines):
+        line = re.sub(r"THEORY-SPATIAL(?: \d+)?",
+                      lambda found: f":ref:`{found[0]} <theory-11>`", line)
+        line = re.sub(r"THEORY (\d+)",
+                      lambda found: f":ref:`THEORY {found[1]} <theory-{found[1]}>`", line)
+        lines[k] = re.sub(r"FLEXURES \d+",
+                          lambda found: f":doc:`{found[0]} </guide/flexures>`", line)
+
+
 def setup(app):
     app.connect("autodoc-skip-member", _element_machinery)
+    app.connect("autodoc-process-docstring", _theory_links)

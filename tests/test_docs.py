@@ -137,6 +137,13 @@ def test_an_element_type_s_page_shows_what_a_user_reads(site):
     assert 'id="flexmbd.ModelBuilder.add_beam"' in builder
 
 
+def test_theory_citations_are_links(site):
+    """"THEORY 5" in a docstring links to that section of the theory page (whose
+    anchors the link test checks)."""
+    page = (site / "generated" / "flexmbd.mass_matrix.html").read_text()
+    assert 'href="../theory.html#theory-5"' in page
+
+
 def test_read_the_docs_builds_the_site_as_the_readme_says():
     config = (ROOT / ".readthedocs.yaml").read_text()
     assert "configuration: docs/conf.py" in config and "fail_on_warning: true" in config
