@@ -20,6 +20,7 @@ from .errors import (
     InputFileError,
     LabelError,
     ModelError,
+    ModelWarning,
     SimulationError,
     SingularConfigurationError,
     StiffnessError,
@@ -62,7 +63,7 @@ _NAMES = {
 _MODULE_OF = {name: module for module, names in _NAMES.items() for name in names}
 
 __all__ = ["ArgumentError", "ColumnError", "ConvergenceError", "FlexmbdError",
-           "InputFileError", "LabelError", "ModelError", "SimulationError",
+           "InputFileError", "LabelError", "ModelError", "ModelWarning", "SimulationError",
            "SingularConfigurationError", "StiffnessError", "__version__"]
 __all__ += sorted(_MODULE_OF)
 

@@ -9,6 +9,7 @@ the nodes, elements and coordinates involved.
 from __future__ import annotations
 
 import math
+import warnings
 from collections import defaultdict
 from collections.abc import Sequence
 from contextlib import nullcontext
@@ -39,8 +40,13 @@ from .elements import (
 )
 from .elements.base import is_translational
 from .engine import deformations_and_jacobian, workspace_of
-from .engine.diagnosis import clearly_regular, diagnose_rank, negative_mass_problem
-from .errors import ArgumentError, ModelError, Problem
+from .engine.diagnosis import (
+    clearly_regular,
+    diagnose_rank,
+    massless_message,
+    negative_mass_problem,
+)
+from .errors import ArgumentError, ModelError, ModelWarning, Problem
 from .model import (
     DIRECTION_NAMES,
     CoordinateClass,
@@ -639,7 +645,23 @@ class ModelBuilder:
             mass < 0 for mass in model.nodal_masses.values()) else None
         if negative:
             raise ModelError([Problem(negative[0], *(("nodal mass", n) for n in negative[1]))])
+        self._check_mass(model)
         return model
+
+    def _check_mass(self, model: Model) -> None:
+        """Warn (:class:`~flexmbd.ModelWarning`) when a model with mass has a degree of
+        freedom that moves none: a simulation or its modes would refuse it, while its
+        statics need no mass (a model without any mass is taken as a static one)."""
+        if not model.n_dof or not model.has_mass:
+            return
+        engine = workspace_of(model)
+        x = np.asarray(model.x0, dtype=float)
+        if engine.core.mass_regular(x):
+            return
+        message, massless = massless_message(engine, x, None)
+        if massless:
+            warnings.warn(f"{message}; a simulation or vibration modes would refuse the "
+                          f"model (its statics need no mass)", ModelWarning, stacklevel=3)
 
     def _flexible_without_stiffness(self, model: Model) -> list[Problem]:
         """A beam's deformation that is a degree of freedom (dynamic: the link is flexible)

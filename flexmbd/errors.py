@@ -122,3 +122,9 @@ class OptionalDependencyError(FlexmbdError, ImportError):
 
 class OutputError(FlexmbdError, ValueError):
     """A result, figure or movie cannot be written as asked (e.g. an unknown file type)."""
+
+
+class ModelWarning(UserWarning):
+    """A model that builds but that some analysis will refuse: a degree of freedom that
+    moves no mass in a model that has mass (a simulation or vibration modes need it; a
+    static analysis does not)."""

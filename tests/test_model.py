@@ -1,6 +1,7 @@
 """Model building and validation: every problem is reported, by name."""
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -233,3 +234,24 @@ def test_a_spacar_file_s_flexible_beam_without_estiff_runs_with_a_note(tmp_path)
     assert dat.model.n_dof == 2
     assert any(note.startswith("line 6: beam 1 is flexible without stiffness")
                for note in dat.settings.notes)
+
+
+def test_a_degree_of_freedom_without_mass_is_named_at_build():
+    """A double pendulum whose second link was given no mass builds (its statics need
+    none) with a warning naming the angle that moves no mass and the keywords; a model
+    without any mass is a static one and builds silently."""
+    b = fm.ModelBuilder("double pendulum")
+    b.add_node(1, 0, 0).add_node(3, 1, 0).add_node(5, 2, 0)
+    b.add_rigid_beam(1, 1, 2, 3).add_rigid_beam(2, 3, 4, 5)
+    b.fix(1).dynamic_coordinate(2).dynamic_coordinate(4).set_gravity(0, -9.81)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        b.build()                                   # no mass at all: static, no warning
+    b.set_mass(1, 1.0)
+    with pytest.warns(fm.ModelWarning, match=r"no mass moves with x4\.1 \(node 4, phi\)"
+                                             r".*set_mass"):
+        b.build()
+    b.set_mass(2, 1.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        b.build()

@@ -104,6 +104,7 @@ cdef extern from "runs.h":
                               const double *loads, double *r)
     int fm_core_static_solve(FmCore *c, double *rhs, int count)
     int fm_core_free_mass_times(FmCore *c, const double *v, int count, double *out)
+    int fm_core_mass_regular(FmCore *c, const double *x)
     void fm_core_configuration(const FmCore *c, double *x)
 
 cdef extern from "text.h":
@@ -483,6 +484,12 @@ cdef class Core:
             raise RuntimeError("no static tangent is factorised")
         if code:
             raise MemoryError("the static tangent's solve")
+
+    def mass_regular(self, const double[::1] x not None):
+        """Whether every motion the constraints allow at ``x`` ``(nx,)`` moves mass (the
+        saddle-point matrix of the mass and the constraints is regular)."""
+        need(x.shape[0], self.c.m.nx, "x")
+        return fm_core_mass_regular(&self.c, &x[0]) == FM_OK
 
     def free_mass_times(self, const double[:, ::1] v not None, double[:, ::1] out not None):
         """``M v`` over the free coordinates for the rows of ``v`` ``(k, nfree)``, at the

@@ -934,6 +934,22 @@ int fm_core_static_solve(FmCore *c, double *rhs, int count)
     return FM_OK;
 }
 
+int fm_core_mass_regular(FmCore *c, const double *x)
+{
+    FmState *s = &c->stat;
+    const FmModel *m = &c->m;
+    fm_reset_error(c);
+    c->has_static = 0;                       /* the static tangent's band is reused here */
+    memcpy(s->x, x, sizeof(double) * m->nx);
+    memset(s->xd, 0, sizeof(double) * m->nx);
+    memset(s->q, 0, sizeof(double) * m->nq);
+    fm_factor_at(m, s, x);                   /* e and D_x at x (and D_c, for the message) */
+    fm_inertia(m, s);
+    memset(s->sigma, 0, sizeof(double) * m->ne);
+    memset(s->w, 0, sizeof(double) * m->ne);
+    return fm_saddle(m, s, &c->sd_static, 0.0, 0.0, &c->error);
+}
+
 int fm_core_free_mass_times(FmCore *c, const double *v, int count, double *out)
 {
     if (!c->has_static)

@@ -116,6 +116,9 @@ int fm_core_static_saddle(FmCore *c, const double *x, const double *q, const dou
 /* The kept tangent's solution of `count` right-hand sides (count, ns) in place: over the
  * free coordinates, then the multipliers (constraint stresses); FM_SINGULAR without one. */
 int fm_core_static_solve(FmCore *c, double *rhs, int count);
+/* Whether the mass is regular on the motions the constraints allow at x (nx): the
+ * saddle-point matrix [[M, C^T], [C, 0]] factorised; FM_OK, or FM_MASSLESS / FM_SINGULAR. */
+int fm_core_mass_regular(FmCore *c, const double *x);
 /* M v over the free coordinates at the kept tangent's configuration, v (count, nfree). */
 int fm_core_free_mass_times(FmCore *c, const double *v, int count, double *out);
 int fm_core_solve(FmCore *c, double *rhs, int count, int transposed);
