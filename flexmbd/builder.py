@@ -43,6 +43,7 @@ from .engine import deformations_and_jacobian, workspace_of
 from .engine.diagnosis import (
     clearly_regular,
     diagnose_rank,
+    mass_is_regular,
     massless_message,
     negative_mass_problem,
 )
@@ -635,12 +636,16 @@ class ModelBuilder:
             raise ModelError(problems)
         problems += check_solvability(model)
         missing = self._flexible_without_stiffness(model)
+        hinges = self._flexible_without_stiffness(model, released=True)
         if self.missing_properties == "raise":
             problems += missing
         else:
-            self.notes += missing
+            self.notes += missing + hinges
+            hinges = []
         if problems:
             raise ModelError(problems)
+        for hinge in hinges:   # the model builds: say what is probably meant, once
+            warnings.warn(str(hinge), ModelWarning, stacklevel=2)
         negative = negative_mass_problem(workspace_of(model)) if any(
             mass < 0 for mass in model.nodal_masses.values()) else None
         if negative:
@@ -656,20 +661,22 @@ class ModelBuilder:
             return
         engine = workspace_of(model)
         x = np.asarray(model.x0, dtype=float)
-        if engine.core.mass_regular(x):
+        if mass_is_regular(engine, x):
             return
         message, massless = massless_message(engine, x, None)
         if massless:
             warnings.warn(f"{message}; a simulation or vibration modes would refuse the "
                           f"model (its statics need no mass)", ModelWarning, stacklevel=3)
 
-    def _flexible_without_stiffness(self, model: Model) -> list[Problem]:
+    def _flexible_without_stiffness(self, model: Model, released: bool = False
+                                    ) -> list[Problem]:
         """A beam's deformation that is a degree of freedom (dynamic: the link is flexible)
         while no stiffness value that sets it was given, neither by ``set_stiffness`` nor
         ``set_section``: it would fold without resistance (a beam's bending at ``e2 ->
         -l``). An explicit zero (``set_stiffness(k, bending=0.0)``) says it is meant.
-        Released deformations are not asked for: without stiffness they are SPACAR's
-        hinges at a beam's end."""
+        With ``released``, the released deformations instead: without stiffness they are
+        SPACAR's hinges at a beam's end, often meant, so :meth:`build` only warns."""
+        wanted = DeformationClass.RELEASED if released else DeformationClass.DYNAMIC
         problems = []
         for number, element in model.elements.items():
             etype = element.type
@@ -679,7 +686,7 @@ class ModelBuilder:
             given = self._values.get((number, "stiffness"), {})
             setters = _stiffness_setters(etype, np.asarray(element.reference, dtype=float))
             loose = [i for k, i in enumerate(element.deformations)
-                     if model.deformation_class[i] == DeformationClass.DYNAMIC
+                     if model.deformation_class[i] == wanted
                      and setters.get(k) and not any(name in given for name in setters[k])]
             if not loose:
                 continue
@@ -687,12 +694,18 @@ class ModelBuilder:
                                           for i in loose))
             what = ", ".join(model.describe_deformation(i) for i in loose)
             values = ", ".join(f"{name}=..." for name in keywords)
-            problems.append(Problem(
-                f"{etype.name} {number} is flexible without stiffness, so it would fold "
-                f"freely: {what} {'is a degree' if len(loose) == 1 else 'are degrees'} of "
-                f"freedom; give set_stiffness({number}, {values}) (ESTIFF in a file) or "
-                f"set_section({number}, section, material), and 0.0 to a value meant to be "
-                f"zero", *(("deformation", model.deformation_labels[i]) for i in loose)))
+            zeros = ", ".join(f"{name}=0.0" for name in keywords)
+            text = (f"{etype.name} {number} has released deformations without stiffness, "
+                    f"hinges at its ends: {what}; give set_stiffness({number}, {values}) "
+                    f"(ESTIFF in a file) if they are to resist, or say set_stiffness("
+                    f"{number}, {zeros}) if the hinges are meant" if released else
+                    f"{etype.name} {number} is flexible without stiffness, so it would "
+                    f"fold freely: {what} {'is a degree' if len(loose) == 1 else 'are degrees'}"
+                    f" of freedom; give set_stiffness({number}, {values}) (ESTIFF in a file) "
+                    f"or set_section({number}, section, material), and 0.0 to a value meant "
+                    f"to be zero")
+            problems.append(Problem(text, *(("deformation", model.deformation_labels[i])
+                                             for i in loose)))
         return problems
 
     def _node_kinds(self, problems: list[str]) -> dict[int, str]:

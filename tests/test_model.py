@@ -255,3 +255,22 @@ def test_a_degree_of_freedom_without_mass_is_named_at_build():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         b.build()
+
+
+def test_a_released_beam_end_without_stiffness_builds_with_a_warning():
+    """A beam released at an end without stiffness is SPACAR's hinge there: it builds,
+    with a warning naming the deformation and how to say the hinge is meant (an explicit
+    zero), which silences it."""
+    def arm(**stiffness):
+        b = fm.ModelBuilder("arm")
+        b.add_node(1, 0, 0).add_node(3, 1, 0).add_beam(1, 1, 2, 3, 4).release(1, 3)
+        if stiffness:
+            b.set_stiffness(1, **stiffness)
+        return b.fix(1).fix(2).input_coordinate(4)
+
+    with pytest.warns(fm.ModelWarning, match=r"e1\.3 \(beam 1, bending at q\).*"
+                                             r"set_stiffness\(1, bending=0\.0\)"):
+        arm().build()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        arm(bending=0.0).build()

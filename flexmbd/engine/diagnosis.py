@@ -190,6 +190,22 @@ def massless_message(engine, x: np.ndarray, time: float | None) -> tuple[str, bo
             f"{where}"), True
 
 
+def mass_is_regular(engine, x: np.ndarray) -> bool:
+    """Whether every degree of freedom moves mass at ``x`` ``(nx,)``: the banded
+    saddle-point matrix of the mass and the constraints factorises, or else the reduced
+    mass matrix of the dynamic entries does (its Cholesky factor, as vibration modes
+    take it; the banded pivots are judged against the largest mass, so they may fail
+    where masses span many decades)."""
+    if engine.core.mass_regular(np.ascontiguousarray(x, dtype=float)):
+        return True
+    dynamic = np.flatnonzero(~np.asarray(engine.model.q_is_input))
+    try:
+        np.linalg.cholesky(_reduced_mass(engine, x)[np.ix_(dynamic, dynamic)])
+    except (np.linalg.LinAlgError, FlexmbdError):
+        return False
+    return True
+
+
 def _reduced_mass(engine, x: np.ndarray) -> np.ndarray:
     """``F_q^T M F_q`` ``(nq, nq)`` at ``x`` on ``engine`` (an :class:`~flexmbd.engine.Engine`,
     given, not imported: the engine's errors are worded here)."""

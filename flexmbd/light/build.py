@@ -90,6 +90,9 @@ def assemble(positions: np.ndarray, elements: np.ndarray, props: dict[int, NodeP
     """Build the model (releases made, automatic ones when ``opt.rls`` is not given)."""
     n = len(positions)
     builder = ModelBuilder(opt.filename or "spacar light model")
+    # SPACAR Light's conventions release deformations on purpose (a warping node left
+    # free): not the forgotten properties the builder warns a Python user about
+    builder.missing_properties = "note"
     connected = frozenset(int(v) for v in elements.ravel())
     for j in sorted(connected):
         builder.add_node(translational(j), *positions[j - 1])
