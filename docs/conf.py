@@ -35,6 +35,7 @@ extensions = [
     "sphinx.ext.napoleon",
     "sphinx.ext.mathjax",
     "sphinx-mathjax-offline",   # MathJax 3 copied into the site: math renders offline
+    "element_figures",          # the theory page's figures of the element types
     "sphinx_gallery.gen_gallery",
     "flexmbd_tables",
 ]

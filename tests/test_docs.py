@@ -137,6 +137,16 @@ def test_an_element_type_s_page_shows_what_a_user_reads(site):
     assert 'id="flexmbd.ModelBuilder.add_beam"' in builder
 
 
+def test_the_theory_page_draws_every_element_type(site):
+    """A figure of each element type a user builds with, drawn from its definition."""
+    from flexmbd.elements import ELEMENT_TYPES
+
+    theory = (site / "theory.html").read_text()
+    for keyword in ELEMENT_TYPES:
+        if keyword != "EULER":   # the automatic normalization of Euler parameters
+            assert f"{keyword}: its reference and each deformation alone" in theory, keyword
+
+
 def test_theory_citations_are_links(site):
     """"THEORY 5" in a docstring links to that section of the theory page (whose
     anchors the link test checks)."""
