@@ -158,3 +158,21 @@ def test_the_compliance_under_a_moment_is_the_equilibrium_s_own_slope():
     scale = np.sqrt(np.outer(np.diag(C), np.diag(C)))
     np.testing.assert_array_less(np.abs(slopes - C), 1e-5 * scale)
     assert np.abs((C - C.T) / scale).max() > 1e-3   # unsymmetric, far beyond rounding
+
+
+def test_where_newton_in_all_coordinates_fails_the_reduced_newton_takes_the_step(
+        monkeypatch):
+    """A step the all-coordinate Newton cannot take (here forced) is taken by the reduced
+    solver's Newton, which solves the constraints at every iteration, before any
+    halving: the same equilibria."""
+    from flexmbd.analysis import banded
+
+    model = _pivot()
+    reduced = fm.static_equilibrium(model, load_increment=TURN, steps=2, method="reduced")
+
+    def fails(*args, **kwargs):
+        raise fm.ConvergenceError("forced")
+
+    monkeypatch.setattr(banded.BandedStatics, "equilibrium", fails)
+    rescued = fm.static_equilibrium(model, load_increment=TURN, steps=2, method="banded")
+    _compare_rows(reduced, rescued, L)

@@ -330,12 +330,20 @@ class _BandedSolver(_Solver):
         self.mu = np.zeros(len(self.banded.constrained))
 
     def solve(self, loads: np.ndarray, q_target: np.ndarray) -> None:
+        """Newton in all coordinates; where it fails (a step too large for constraints
+        linearized in all coordinates), the reduced solver's Newton, which solves the
+        constraints at every iteration, before the caller halves the step."""
         model = self.model
         q = self.state["q"].copy() if self.state else q_target.copy()
         inputs = np.asarray(model.q_is_input, dtype=bool)
         q[inputs] = q_target[inputs]
-        x, mu = self.banded.equilibrium(self.x, q, self.mu, loads, self.tolerance,
-                                        self.max_iterations)
+        try:
+            x, mu = self.banded.equilibrium(self.x, q, self.mu, loads, self.tolerance,
+                                            self.max_iterations)
+        except (SimulationError, np.linalg.LinAlgError):
+            super().solve(loads, q_target)   # raises as the reduced solver does
+            self.mu = self.state["sigma"][self.banded.constrained]
+            return
         zero = np.zeros(model.n_dof)
         self.state = _row(equilibrium_state(self.engine, x, zero, zero, loads, near=q))
         self.x, self.mu = self.state["x"], mu
