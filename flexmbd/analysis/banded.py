@@ -156,7 +156,7 @@ class BandedStatics:
         rows = np.zeros((len(labels), model.n_coordinates))
         for k, label in enumerate(labels):
             i = model.coordinate_index(label)
-            node = next(n for n in model.nodes.values() if i in n.coordinates)
+            node = model.nodes[int(model.coordinate_labels[i][1:].split(".")[0])]
             if node.kind != SPATIAL_ROTATIONAL:
                 rows[k, i] = 1.0
                 continue

@@ -73,7 +73,9 @@ def energy(result: KinematicResult) -> Columns:
 
 
 def _weight(model, engine, x: np.ndarray) -> np.ndarray:
-    """``-sum m g . r`` at every row of ``x`` ``(nt, nx)``."""
+    """``-sum m g . r`` at every row of ``x`` ``(nt, nx)``: consistent element masses over
+    their material points, and the masses the engine puts on coordinates (lumped element
+    masses, point masses) times gravity along those coordinates."""
     gravity = np.zeros(3)
     gravity[:len(model.gravity)] = model.gravity
     out = np.zeros(len(x))
@@ -81,34 +83,20 @@ def _weight(model, engine, x: np.ndarray) -> np.ndarray:
         return out
     spec = engine.compiled.elements
     width = len(model.gravity)
-    elements = sorted(model.elements.items())
-    for k, (_, element) in enumerate(elements):
-        coords = list(element.coordinates)
-        if spec.emass[k]:              # a consistent mass: over the material point
-            c = [x[:, i] for i in coords]
+    for k, (_, element) in enumerate(sorted(model.elements.items())):
+        if spec.emass[k]:
+            c = [x[:, i] for i in element.coordinates]
             p = list(element.reference)
             height = sum(w * np.dot(gravity[:width], np.array(
                 element.type.material_point(c, p, xi, np), dtype=float).reshape(width, -1))
                 for xi, w in zip(_POINTS, _WEIGHTS, strict=True))
             out -= spec.emass[k] * height
-        lumped = spec.lumped_diag[spec.c_off[k]:spec.c_off[k + 1]]
-        if np.any(lumped):             # lumped masses on the element's node coordinates
-            out -= _nodal_weight(model, coords, lumped, gravity, x)
-    for number, mass in model.point_masses.items():
-        node = model.nodes[number]
+    # per coordinate: its mass on it, and gravity along it (zero off translational nodes,
+    # so rotary inertia has no weight)
+    on_coordinates = np.array(engine.compiled.loads.nodal_mass, dtype=float)
+    np.add.at(on_coordinates, spec.c_idx, spec.lumped_diag)
+    along = np.zeros(model.n_coordinates)
+    for node in model.nodes.values():
         if is_translational(node.kind):
-            coords = list(node.coordinates)
-            out -= _nodal_weight(model, coords, np.full(len(coords), mass), gravity, x)
-    return out
-
-
-def _nodal_weight(model, coords: list[int], masses: np.ndarray, gravity: np.ndarray,
-                  x: np.ndarray) -> np.ndarray:
-    """``sum m_i g_i x_i`` over the translational ``coords`` (each its direction's
-    component of gravity) at every row of ``x``."""
-    total = np.zeros(len(x))
-    for i, mass in zip(coords, masses, strict=True):
-        node = next(n for n in model.nodes.values() if i in n.coordinates)
-        if mass and is_translational(node.kind):
-            total += mass * gravity[list(node.coordinates).index(i)] * x[:, i]
-    return total
+            along[list(node.coordinates)] = gravity[:len(node.coordinates)]
+    return out - x @ (on_coordinates * along)
