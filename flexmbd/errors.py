@@ -124,6 +124,11 @@ class OutputError(FlexmbdError, ValueError):
     """A result, figure or movie cannot be written as asked (e.g. an unknown file type)."""
 
 
+class SandboxError(FlexmbdError, RuntimeError):
+    """The operating-system sandbox that a graded run needs cannot be made here; names what
+    is missing and what to do instead."""
+
+
 class ModelWarning(UserWarning):
     """A model that builds but that some analysis will refuse: a degree of freedom that
     moves no mass in a model that has mass (a simulation or vibration modes need it; a

@@ -67,7 +67,9 @@ class Part:
         wrapped: ``wrapped(*args)``, the indices of the answer's (flattened) entries that are
             angles: they are compared modulo ``2 pi`` (a Newton start a turn away gives
             the same configuration).
-        rtol: relative tolerance of the comparison.
+        rtol: tolerance of the comparison, relative to the answer's largest entry.
+        iterative: the part iterates (Newton-Raphson), so a nearly right answer may be a
+            loose convergence tolerance.
     """
 
     letter: str
@@ -83,6 +85,7 @@ class Part:
     probes: Callable[[Any], list[Probe]] | None = field(default=None, repr=False)
     wrapped: Callable[..., Sequence[int]] | None = field(default=None, repr=False)
     rtol: float = 1e-7
+    iterative: bool = False
 
 
 @dataclass(frozen=True)

@@ -1,40 +1,59 @@
-"""The checker's child process: load a student's file and call its parts.
+"""The child process of a check: it runs one student's file and calls its parts.
 
-Run by :mod:`flexmbd.course.check` as ``python -I -m flexmbd.course.runner FILE REQUEST``
-in a scratch folder holding only a copy of ``FILE``, never by users. ``REQUEST`` is a JSON
-file: the calls (function name, encoded arguments, optionally a SymPy reference), the
-file descriptor of the pipe the results go through, whether the run is graded, and the
-scratch folder. Each call's outcome is one JSON line on that pipe, after a ``started``
-line, so the parent knows which call hung when it ends the process. The student's
-output is capped and discarded: results travel only through the pipe, whose descriptor
-the runner moves before the student's code runs.
+Started by :mod:`flexmbd.course.launch`, never by users, as ``python -I runner.py``: in a
+graded run inside the operating-system sandbox (:mod:`flexmbd.course.sandbox`), where
+nothing of flexmbd exists but this file and the helper the templates import
+(:mod:`flexmbd.course.student`). So it imports nothing of flexmbd, only the standard
+library and NumPy (SymPy when an answer is an expression), both imported once the import path of the
+request is set.
 
-A graded run (:mod:`flexmbd.course.sandbox`) also confines the student's code: no
-writes outside the scratch folder, no new processes, no network, no flexmbd beyond the
-helper module the template imports, and no reading of flexmbd's files.
+The protocol, all of it on the standard streams:
+
+* stdin: one JSON line, the *header* (the file's name and size in bytes, the calls, the
+  limits, the import path), then the file's bytes. The runner writes the file into its
+  working folder (the scratch folder) and closes stdin.
+* stdout: one JSON record per line: ``{"loaded"}`` when the file has run, then per call a
+  ``{"id", "started"}`` line and its outcome, and ``{"printing"}`` now and then while the
+  file prints a lot. The runner moves stdout to a private descriptor and points
+  descriptors 1 and 2 at ``/dev/null`` before the student's code runs; what the file prints
+  is counted and dropped.
+
+A call carries no answer: every reference stays in the grader, which compares. A SymPy
+answer comes back as a tree of its operations (:func:`sympy_tree`), which the grader
+rebuilds from a fixed list of operations without evaluating any text.
 """
 
 from __future__ import annotations
 
+import contextlib
 import io
 import json
 import os
+import resource
 import sys
 import traceback
 
-import numpy as np
-
 #: what a student's file may print before the rest is dropped [characters]
 OUTPUT_CAP = 20_000
+#: the largest header the runner reads [bytes]
+HEADER_CAP = 16 * 2**20
+#: the largest answer sent back [entries of an array]; larger ones are reported, not sent
+ANSWER_CAP = 100_000
+#: the most nodes of a SymPy answer's tree
+SYMPY_NODES = 20_000
 
 
 class CappedOutput(io.TextIOBase):
-    """A ``sys.stdout`` that keeps the first :data:`OUTPUT_CAP` characters and drops the
-    rest at once: printing in a loop costs the student's process, not the check."""
+    """A ``sys.stdout`` that keeps the first :data:`OUTPUT_CAP` characters, counts the rest
+    and drops it at once: printing in a loop costs the student's process, not the check.
+    Each time the count doubles past a megabyte, ``report(count)`` is told."""
 
-    def __init__(self) -> None:
+    def __init__(self, report=None) -> None:
         self.kept: list[str] = []
         self.size = 0
+        self.total = 0
+        self._report = report
+        self._next = 2**20
 
     def writable(self) -> bool:
         return True
@@ -44,6 +63,10 @@ class CappedOutput(io.TextIOBase):
         if self.size < OUTPUT_CAP:
             self.kept.append(text[:OUTPUT_CAP - self.size])
             self.size += len(self.kept[-1])
+        self.total += len(text)
+        if self.total >= self._next and self._report is not None:
+            self._next = 2 * self.total
+            self._report(self.total)
         return len(text)
 
 
@@ -52,6 +75,8 @@ def decode(value):
     ``{"symbols": [names]}``)."""
     if isinstance(value, dict):
         if "array" in value:
+            import numpy as np
+
             return np.array(value["array"], dtype=float)
         import sympy as sp
 
@@ -73,27 +98,89 @@ def _message(error: BaseException, path: str) -> str:
     return f"{type(error).__name__}: {text}{_where(error, path)}"
 
 
+def _kind(error: BaseException) -> str:
+    """The built-in exception an error is (NumPy's ``_ArrayMemoryError`` is a
+    ``MemoryError``; a student's own exception class is an ``Exception``)."""
+    for kind in type(error).__mro__:
+        if kind.__module__ == "builtins":
+            return kind.__name__
+    return "BaseException"
+
+
+def sympy_tree(expression, budget: int = SYMPY_NODES) -> dict:
+    """A SymPy expression or matrix as a tree of plain data: ``{"s": name}`` a symbol,
+    ``{"i": digits}`` an integer, ``{"q": [p, q]}`` a rational, ``{"f": value}`` a float,
+    ``{"c": name}`` a constant (``Pi``, ``Exp1``, ``ImaginaryUnit``), ``{"o": operation,
+    "a": [arguments]}`` the rest, ``{"matrix": shape, "entries": [...]}`` a matrix (row
+    by row).
+
+    Raises:
+        ValueError: more than ``budget`` nodes.
+    """
+    import sympy as sp
+
+    count = 0
+
+    def node(e):
+        nonlocal count
+        count += 1
+        if count > budget:
+            raise ValueError(f"an expression of more than {budget} terms")
+        if e.is_Symbol:
+            return {"s": e.name}
+        if e.is_Integer:
+            return {"i": str(int(e))}
+        if e.is_Rational:
+            return {"q": [str(e.p), str(e.q)]}
+        if e.is_Float:
+            return {"f": float(e)}
+        if e.is_NumberSymbol or e is sp.I:
+            return {"c": type(e).__name__}
+        return {"o": type(e).__name__, "a": [node(a) for a in e.args]}
+
+    if isinstance(expression, sp.MatrixBase):
+        return {"matrix": list(expression.shape), "entries": [node(e) for e in expression]}
+    return node(sp.sympify(expression))
+
+
+def _dtype(result) -> str | None:
+    """The precision of an answer made of NumPy arrays of less than double precision."""
+    items = result if isinstance(result, tuple | list) else (result,)
+    for item in items:
+        dtype = getattr(item, "dtype", None)
+        if dtype is not None and dtype.kind == "f" and dtype.itemsize < 8:
+            return str(dtype)
+    return None
+
+
 def encode(result) -> dict:
-    """A result as JSON: ``{"array", "shape"}`` (NaN and infinities kept), ``{"tuple"}``,
-    ``{"sympy"}``, ``{"none"}`` or ``{"garbage"}`` for anything that is not numbers."""
+    """A result as JSON: ``{"array", "shape"}`` (NaN and infinities kept, with ``"dtype"``
+    when it is of single precision), ``{"tuple"}``, ``{"sympy"}`` (an expression with free
+    symbols, :func:`sympy_tree`), ``{"none"}`` or ``{"garbage"}`` for anything else."""
+    import numpy as np
+
     if result is None:
         return {"none": True}
     sp = sys.modules.get("sympy")   # an answer in SymPy was made with an imported SymPy
     if sp is not None and isinstance(result, sp.Basic | sp.MatrixBase) \
             and getattr(result, "free_symbols", None):
-        return {"sympy": sp.srepr(result)}
+        try:
+            return {"sympy": sympy_tree(result)}
+        except (ValueError, RecursionError, AttributeError) as error:
+            return {"garbage": f"a SymPy expression that cannot be sent ({error})"}
     if sp is not None and isinstance(result, sp.MatrixBase):
         result = np.array(result.evalf(), dtype=float)
+    precision = _dtype(result)
     try:
         array = np.asarray(result, dtype=float)
     except (TypeError, ValueError, OverflowError):
         if isinstance(result, tuple | list) and len(result) <= 10:
             return {"tuple": [encode(item) for item in result]}
         return {"garbage": _short(result)}
-    if array.size > 100_000:
+    if array.size > ANSWER_CAP:
         return {"garbage": f"an array of shape {array.shape}"}
-    return {"array": array.tolist(), "finite": bool(np.all(np.isfinite(array))),
-            "shape": list(array.shape)}
+    return {"array": array.tolist(), "shape": list(array.shape),
+            **({"dtype": precision} if precision else {})}
 
 
 def _short(value) -> str:
@@ -102,22 +189,6 @@ def _short(value) -> str:
         return repr(value)[:200]
     except BaseException:
         return f"an object of type {type(value).__name__}"
-
-
-def compare_symbolic(result, reference: str) -> str:
-    """``"equal"`` when ``result - reference`` simplifies to zero, else ``"different"``."""
-    import sympy as sp
-
-    expected = sp.sympify(reference)
-    got = sp.Matrix(result) if isinstance(expected, sp.MatrixBase) else result
-    if isinstance(got, sp.MatrixBase) and got.shape != expected.shape:
-        if 1 not in got.shape or len(got) != len(expected):
-            return "different"
-        got = got.reshape(*expected.shape)  # a vector given as a row or a column
-    difference = sp.simplify(got - expected)
-    zero = difference.is_zero_matrix if isinstance(difference, sp.MatrixBase) \
-        else difference == 0
-    return "equal" if zero else "different"
 
 
 def _no_input(prompt=""):
@@ -130,21 +201,35 @@ def _display(*objects, **options):
     print(*objects)
 
 
+def notebook_code(text: str) -> list[str]:
+    """The code cells of a notebook's JSON ``text``; IPython magics and shell lines
+    (``%``, ``!``) are dropped. Raises ``ValueError`` for text that is not a notebook."""
+    data = json.loads(text)
+    out = []
+    for cell in data.get("cells", []):
+        if cell.get("cell_type") != "code":
+            continue
+        source = cell.get("source", "")
+        source = "".join(source) if isinstance(source, list) else str(source)
+        out.append("\n".join(line for line in source.splitlines()
+                             if not line.lstrip().startswith(("%", "!"))))
+    return out
+
+
 def load(path: str) -> tuple[dict, str | None]:
     """Run the student's file (script or notebook); returns its namespace and the error
-    that stopped it, if any. A notebook's cells run one by one; a failing cell is
+    that stopped it, if any. The file is read as UTF-8 with or without a byte-order mark
+    (as Python reads a script). A notebook's cells run one by one; a failing cell is
     noted and the next ones still run. ``input()`` fails with its reason and
     ``display()`` works as in a notebook."""
     namespace = {"__name__": "student_exercise", "__file__": path, "input": _no_input,
                  "display": _display}
-    with open(path, encoding="utf-8", errors="replace") as handle:
+    with open(path, encoding="utf-8-sig", errors="replace") as handle:
         text = handle.read()
     if path.endswith(".ipynb"):
-        from .templates import notebook_code
-
         try:
             blocks = notebook_code(text)
-        except (ValueError, AttributeError) as error:
+        except (ValueError, AttributeError, TypeError) as error:
             return namespace, f"not a readable notebook: {error}"
     else:
         blocks = [text]
@@ -185,35 +270,82 @@ def _returning(value):
     return stand_in
 
 
-def _channel(fd: int):
-    """The results pipe moved to a descriptor the student's code is not told of."""
-    moved = os.dup(fd)
-    os.close(fd)
+def limit(limits: dict) -> None:
+    """Lower this process's limits for good (a process cannot raise a hard limit again):
+    ``memory`` (address space) and ``file_size`` [bytes], ``cpu`` [s] (a second of grace
+    between the signal and the kill), ``processes``; no core dumps."""
+    wanted = [(resource.RLIMIT_CORE, 0, 0)]
+    if limits.get("memory"):
+        wanted.append((resource.RLIMIT_AS, limits["memory"], limits["memory"]))
+    if limits.get("file_size"):
+        wanted.append((resource.RLIMIT_FSIZE, limits["file_size"], limits["file_size"]))
+    if limits.get("cpu"):
+        wanted.append((resource.RLIMIT_CPU, int(limits["cpu"]), int(limits["cpu"]) + 1))
+    if limits.get("processes"):
+        wanted.append((resource.RLIMIT_NPROC, limits["processes"], limits["processes"]))
+    for kind, soft, hard in wanted:
+        _, current = resource.getrlimit(kind)
+        if current != resource.RLIM_INFINITY:
+            soft, hard = min(soft, current), min(hard, current)
+        resource.setrlimit(kind, (soft, hard))
+
+
+def _read_request() -> tuple[dict, bytes]:
+    """The header and the file's bytes from stdin; stdin is then ``/dev/null``."""
+    stream = sys.stdin.buffer
+    header = json.loads(stream.readline(HEADER_CAP))
+    content = stream.read(int(header["size"]))
+    null = os.open(os.devnull, os.O_RDONLY)
+    os.dup2(null, 0)
+    os.close(null)
+    return header, content
+
+
+def _channel():
+    """The results channel: stdout moved to a private descriptor; descriptors 1 and 2 then
+    lead to ``/dev/null``, so that nothing the student's code writes reaches the grader
+    by accident."""
+    moved = os.dup(1)
+    null = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(null, 1)
+    os.dup2(null, 2)
+    os.close(null)
     return os.fdopen(moved, "w", encoding="utf-8")
 
 
-def main(path: str, request: str) -> None:
-    path = os.path.abspath(path)
-    with open(request, encoding="utf-8") as handle:
-        spec = json.load(handle)
-    out = _channel(spec["channel"])
+def main() -> None:
+    # nothing inherited beyond the standard streams reaches the student's code
+    os.closerange(3, 65536)
+    header, content = _read_request()
+    name = os.path.basename(str(header["file"]))
+    path = os.path.abspath(name)
+    with open(path, "wb") as handle:
+        handle.write(content)
+    out = _channel()
 
     def write(record):
         out.write(json.dumps(record) + "\n")
         out.flush()
 
-    sys.stdout = sys.stderr = CappedOutput()
-    # what the runner needs later is loaded before the student's code may load nothing
-    from . import student  # noqa: F401 - the helper the templates import
-    from .templates import notebook_code  # noqa: F401
-    if spec.get("graded"):
-        from .sandbox import confine
+    printed = CappedOutput(lambda count: write({"printing": count}))
+    sys.stdout = sys.stderr = printed
+    sys.path[:0] = [str(p) for p in header.get("path", [])]
+    if header.get("limits"):
+        limit(header["limits"])
+    if header.get("confine") == "audit-hook":   # --unsafe-in-process only
+        from flexmbd.course.inprocess import confine
 
-        confine(spec["scratch"])
+        # SciPy loads its shared libraries through ctypes, which the hook refuses later
+        for module in ("numpy", "scipy"):
+            with contextlib.suppress(ImportError):
+                __import__(module)
+
+        confine(os.getcwd())
     namespace, problem = load(path)
-    write({"loaded": True, "problem": problem})
-    used = _track(namespace, {call["function"] for call in spec["calls"]})
-    for call in spec["calls"]:
+    write({"loaded": True, "problem": problem, "printed": printed.total})
+    calls = header["calls"]
+    used = _track(namespace, {call["function"] for call in calls})
+    for call in calls:
         write({"id": call["id"], "started": True})
         used.clear()
         function = namespace.get(call["function"])
@@ -224,22 +356,22 @@ def main(path: str, request: str) -> None:
         try:
             for name, value in call.get("substitutes", {}).items():
                 namespace[name] = _returning(decode(value))
-            result = function(*[decode(a) for a in call["args"]])
-            record = encode(result)
-            if call.get("reference") and "sympy" in record:
-                record["symbolic"] = compare_symbolic(result, call["reference"])
+            record = encode(function(*[decode(a) for a in call["args"]]))
         except BaseException as error:
             if type(error).__name__ == "NotDone":
                 record = {"not_done": str(error)}
             else:
-                record = {"error": _message(error, path)}
+                record = {"error": _message(error, path), "kind": _kind(error)}
         finally:
             namespace.update(saved)
         record["uses"] = sorted(used - {call["function"]})
-        write({"id": call["id"], **record})
+        write({"id": call["id"], **record, "printed": printed.total})
     out.close()
 
 
 if __name__ == "__main__":
+    # run as a script: its own folder is not a place to import from
+    here = os.path.dirname(os.path.abspath(__file__))
+    sys.path[:] = [p for p in sys.path if os.path.abspath(p or ".") != here]
     os.environ.setdefault("MPLBACKEND", "Agg")
-    main(*sys.argv[1:3])
+    main()

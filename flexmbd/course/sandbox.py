@@ -1,119 +1,299 @@
-"""What a graded student's file may do, enforced inside its process: resource limits and
-a Python audit hook (PEP 578), which the code it watches cannot remove.
+"""The operating-system sandbox a graded submission runs in, made by bubblewrap (``bwrap``).
 
-In a graded run the student's code may not
+Every graded process is a fresh process tree in its own user, mount, PID, IPC, network,
+UTS and cgroup namespaces, as user 65534 (nobody) with no capabilities and no way to make
+further user namespaces. Its file system is built from nothing; it sees
 
-* write, create, delete or rename anything outside its scratch folder;
-* start processes (``subprocess``, ``os.system``, ``os.fork``, ``os.exec*``, spawn) or
-  signal others;
-* open network connections or load C code through ``ctypes``;
-* import flexmbd beyond :mod:`flexmbd.course.student` (the helper the templates import),
-  nor read flexmbd's files: a graded answer is the student's own;
+* the system's ``/usr`` (with ``/bin``, ``/lib``, ... and the dynamic linker's cache) and
+  the Python installation, read-only, with every ``site-packages`` folder, flexmbd's
+  own folders and the grader's folders hidden under empty read-only ones;
+* ``/sandbox/site``: NumPy, SciPy, SymPy and Matplotlib with what they need, read-only;
+* ``/sandbox/lib/flexmbd/course``: the helper the templates import
+  (:mod:`flexmbd.course.student`) and the runner (:mod:`flexmbd.course.runner`),
+  read-only, and nothing else of flexmbd;
+* ``/scratch``: a private tmpfs of limited size holding a copy of the file, its working
+  folder, home and temporary folder;
+* its own ``/proc`` (only its own processes) and a minimal read-only ``/dev``.
 
-and it runs under limits of memory, file size and CPU time. A refused action raises
-``PermissionError`` (``ImportError`` for an import) in the student's code, so the part
-that tried it fails with that message.
+The root of that file system is read-only. The network namespace has no interface
+but a loopback. Limits of memory, CPU time, processes and file size are set by the
+runner before the student's code starts (:func:`flexmbd.course.runner.limit`); the wall
+clock is the grader's, which ends the sandbox's first process, and the kernel then ends
+every process of its PID namespace: nothing of it outlives the grading.
 
-This is in-process isolation: it stops accidents and the cheats a student can write in a
-few lines, not an attacker who rewrites the interpreter's memory (``gc`` and frame
-introspection reach every object, the hook's own data included). Grade untrusted files
-in a container (a throw-away user, no network, a read-only file system) when marks are
-at stake against such attacks; see the course guide.
+When the grader runs as root, the sandbox must not run as root outside its namespace
+either (a root process is exempt from the process limit, and owns every root file). Then
+a private mount namespace first binds what the sandbox needs under a folder that user
+nobody may enter, and bubblewrap runs as nobody (``unshare``, ``mount`` and ``setpriv``
+of util-linux, which Debian and every major distribution install).
 """
 
 from __future__ import annotations
 
-import contextlib
+import functools
+import glob
+import importlib.metadata
 import os
-import resource
+import re
+import shutil
+import site
 import sys
+import sysconfig
+import tempfile
+import weakref
+from dataclasses import dataclass
+from pathlib import Path
 
-#: flexmbd modules a graded file may import: the package (its errors) and the helper
-ALLOWED_MODULES = frozenset({"flexmbd", "flexmbd.errors", "flexmbd.course",
-                             "flexmbd.course.student"})
-#: audit events that start processes or signal them
-PROCESS_EVENTS = frozenset({"os.fork", "os.forkpty", "os.system", "os.exec", "os.posix_spawn",
-                            "os.spawn", "os.startfile", "subprocess.Popen", "os.kill",
-                            "os.killpg", "pty.spawn"})
-#: audit events that change the file system, with the argument positions of their paths
-PATH_EVENTS = {"os.remove": (0,), "os.rename": (0, 1), "os.rmdir": (0,), "os.mkdir": (0,),
-               "os.chmod": (0,), "os.chown": (0,), "os.truncate": (0,), "os.symlink": (1,),
-               "os.link": (1,), "os.utime": (0,), "shutil.rmtree": (0,),
-               "shutil.copyfile": (1,), "shutil.copytree": (1,), "shutil.move": (1,),
-               "shutil.make_archive": (0,), "os.chflags": (0,), "os.setxattr": (0,),
-               "os.removexattr": (0,)}
-#: audit events of network access and foreign code
-FOREIGN_EVENTS = ("socket.", "ctypes.", "_ctypes", "winreg.")
-#: limits of a graded process: address space [bytes], size of a file it writes [bytes]
-MEMORY_LIMIT, FILE_LIMIT = 4 * 2**30, 64 * 2**20
-_WRITING = os.O_WRONLY | os.O_RDWR | os.O_CREAT | os.O_APPEND | os.O_TRUNC
-
-
-def limit_resources(cpu_seconds: int | None = None) -> None:
-    """Memory, file size, core dumps and (when given) CPU time of this process."""
-    for kind, value in ((resource.RLIMIT_AS, MEMORY_LIMIT),
-                        (resource.RLIMIT_FSIZE, FILE_LIMIT), (resource.RLIMIT_CORE, 0),
-                        *(((resource.RLIMIT_CPU, cpu_seconds),) if cpu_seconds else ())):
-        _soft, hard = resource.getrlimit(kind)
-        target = value if hard == resource.RLIM_INFINITY else min(value, hard)
-        # a limit the system does not let us lower stays as it is
-        with contextlib.suppress(ValueError, OSError):
-            resource.setrlimit(kind, (target, target))
+#: the distributions a graded file may import, besides the standard library
+PACKAGES = ("numpy", "scipy", "sympy", "matplotlib")
+#: where they are inside the sandbox
+SITE = "/sandbox/site"
+#: where the student helper and the runner are inside the sandbox
+LIB = "/sandbox/lib"
+#: the scratch folder inside the sandbox
+SCRATCH = "/scratch"
+#: the user and group id a graded process runs as (nobody)
+NOBODY = 65534
+#: system folders bound read-only (those that exist), or made the links they are
+SYSTEM = ("/usr", "/bin", "/sbin", "/lib", "/lib32", "/lib64", "/libx32")
+#: single system files bound read-only (those that exist)
+SYSTEM_FILES = ("/etc/ld.so.cache", "/etc/ld.so.conf")
+#: the package folders of other Pythons of the system, hidden as the sandbox's own are
+SYSTEM_PACKAGES = ("/usr/lib/python3*/*-packages", "/usr/lib64/python3*/*-packages",
+                   "/usr/local/lib/python3*/*-packages", "/usr/local/lib64/python3*/*-packages")
+#: the stand-in of the package ``flexmbd`` inside the sandbox
+STUB = '"""flexmbd inside a graded sandbox: only flexmbd.course.student is here."""\n'
 
 
-def _flexmbd_folders() -> tuple[str, ...]:
-    """The folders of flexmbd's files: the package, and its examples (a folder of their own
-    in a source checkout)."""
-    package = os.path.dirname(os.path.dirname(os.path.realpath(__file__))) + os.sep
-    examples = os.path.join(os.path.dirname(package.rstrip(os.sep)), "examples")
-    return (package, *((os.path.realpath(examples) + os.sep,)
-                       if os.path.isfile(os.path.join(examples, "slider_crank_flex.dat"))
-                       else ()))
+@dataclass(frozen=True)
+class Limits:
+    """The limits of one graded process.
+
+    Attributes:
+        memory: address space [bytes].
+        cpu: CPU time [s]; ``None``: set by the check from its time limits.
+        processes: processes and threads of the sandbox's user.
+        file_size: the largest file it may write [bytes].
+        scratch: the size of its scratch folder [bytes].
+    """
+
+    memory: int = 2 * 2**30
+    cpu: float | None = None
+    processes: int = 64
+    file_size: int = 64 * 2**20
+    scratch: int = 64 * 2**20
+
+    def for_runner(self, cpu: float) -> dict:
+        """The limits the runner sets on itself, with ``cpu`` [s] unless given."""
+        return {"memory": self.memory, "cpu": self.cpu or cpu, "processes": self.processes,
+                "file_size": self.file_size}
 
 
-def confine(scratch: str) -> None:
-    """Limit this process and install the audit hook for the files under ``scratch``."""
-    limit_resources()
-    inside = os.path.realpath(scratch) + os.sep
-    folders = _flexmbd_folders()
-    helper = os.path.join(folders[0], "course", "student.py")
+def _normalized(name: str) -> str:
+    return re.sub(r"[-_.]+", "-", name).lower()
 
-    def within(path) -> bool:
+
+def _requirements(distribution) -> list[str]:
+    """The names of what ``distribution`` requires unconditionally of extras."""
+    names = []
+    for requirement in distribution.requires or []:
+        _, _, marker = requirement.partition(";")
+        if "extra" in marker:
+            continue
+        match = re.match(r"\s*([A-Za-z0-9][A-Za-z0-9._-]*)", requirement)
+        if match:
+            names.append(match.group(1))
+    return names
+
+
+@functools.cache
+def package_files(roots: tuple[str, ...] = PACKAGES) -> dict[str, str]:
+    """The files of ``roots`` and of what they require, installed: name in the sandbox's
+    ``site`` folder (a package, a module, a folder of shared libraries, a ``.dist-info``)
+    -> its path. flexmbd and anything not installed are left out."""
+    found: dict[str, str] = {}
+    seen: set[str] = {"flexmbd"}
+    pending = list(roots)
+    while pending:
+        name = pending.pop()
+        if _normalized(name) in seen:
+            continue
+        seen.add(_normalized(name))
         try:
-            return (os.path.realpath(os.fsdecode(path)) + os.sep).startswith(inside)
-        except (TypeError, ValueError):
-            return False
+            distribution = importlib.metadata.distribution(name)
+        except importlib.metadata.PackageNotFoundError:
+            continue
+        pending += _requirements(distribution)
+        for file in distribution.files or []:
+            top = file.parts[0]
+            if top in ("..", "__pycache__") or top.endswith(".pth") or top in found:
+                continue
+            path = Path(str(distribution.locate_file(top)))
+            if path.exists():
+                found[top] = str(path)
+    return found
 
-    def hook(event: str, args: tuple) -> None:
-        if event == "import":
-            name = str(args[0])
-            if (name == "flexmbd" or name.startswith("flexmbd.")) and \
-                    name not in ALLOWED_MODULES:
-                raise ImportError(f"{name} is not available in a graded check: a graded "
-                                  f"answer is your own code (the template imports "
-                                  f"flexmbd.course.student only)")
-        elif event == "open":
-            path, mode, flags = ((*tuple(args), None, None))[:3]
-            if isinstance(path, int) or path is None:
-                return
-            writing = (isinstance(mode, str) and any(c in mode for c in "wax+")) or \
-                (isinstance(flags, int) and flags & _WRITING)
-            if writing and not within(path):
-                raise PermissionError(f"a graded check writes only in its scratch folder, "
-                                      f"not {os.fsdecode(path)!r}")
-            real = os.path.realpath(os.fsdecode(path))
-            if real.startswith(folders) and real != helper:
-                raise PermissionError("a graded check may not read flexmbd's files")
-        elif event in PROCESS_EVENTS:
-            raise PermissionError(f"a graded check may not start or signal processes "
-                                  f"({event})")
-        elif event in PATH_EVENTS:
-            for at in PATH_EVENTS[event]:
-                if at < len(args) and isinstance(args[at], str | bytes | os.PathLike) \
-                        and not within(args[at]):
-                    raise PermissionError(f"a graded check changes only its scratch folder "
-                                          f"({event} {os.fsdecode(args[at])!r})")
-        elif event.startswith(FOREIGN_EVENTS):
-            raise PermissionError(f"a graded check may not use {event.split('.')[0]}")
 
-    sys.addaudithook(hook)
+def _interpreter() -> str:
+    """The Python the sandbox runs: the base interpreter (not a virtualenv's link)."""
+    return os.path.realpath(getattr(sys, "_base_executable", None) or sys.executable)
+
+
+def _within(path: str, roots) -> bool:
+    path = os.path.realpath(path)
+    return any(path == root or path.startswith(root.rstrip(os.sep) + os.sep) for root in roots)
+
+
+def _python_roots() -> list[str]:
+    """The folders of the Python installation to bind: its prefix (unless under /usr)."""
+    prefix = os.path.realpath(sys.base_prefix)
+    roots = [] if _within(prefix, ["/usr"]) else [prefix]
+    interpreter = _interpreter()
+    if not _within(interpreter, ["/usr", *roots]):
+        roots.append(os.path.dirname(interpreter))
+    return roots
+
+
+def _hidden(bound: list[str], extra) -> list[str]:
+    """The folders under ``bound`` that the sandbox must not see: every folder Python
+    imports from besides the standard library, flexmbd's package and checkout, the
+    lecturer's solutions, and ``extra`` (the grader's folders)."""
+    standard = {os.path.realpath(sysconfig.get_paths()[key]) for key in ("stdlib",
+                                                                        "platstdlib")}
+    standard.add(os.path.join(os.path.realpath(sysconfig.get_paths()["stdlib"]),
+                              "lib-dynload"))
+    candidates = [*site.getsitepackages(), site.getusersitepackages(), *sys.path,
+                  sysconfig.get_paths()["purelib"], sysconfig.get_paths()["platlib"]]
+    package = Path(__file__).resolve().parents[1]
+    candidates += [str(package), str(package.parent / "lecturer")]
+    if os.environ.get("FLEXMBD_SOLUTIONS"):
+        candidates.append(os.environ["FLEXMBD_SOLUTIONS"])
+    candidates += [str(p) for p in extra]
+    # the package folders of the system's other Pythons (Debian's dist-packages, ...)
+    for pattern in SYSTEM_PACKAGES:
+        candidates += glob.glob(pattern)
+    # never a folder that holds what the sandbox runs (a script's folder on sys.path may
+    # be the interpreter's)
+    needed = [_interpreter(), *standard]
+    hidden: list[str] = []
+    for candidate in candidates:
+        real = os.path.realpath(candidate or ".")
+        if real in standard or not os.path.isdir(real) or not _within(real, bound) \
+                or any(_within(n, [real]) for n in needed):
+            continue
+        if real not in hidden and not any(_within(real, [h]) for h in hidden):
+            hidden = [h for h in hidden if not _within(h, [real])] + [real]
+    return hidden
+
+
+def helper_files() -> dict[str, bytes]:
+    """The files of ``/sandbox/lib``, all of flexmbd a graded run has: path inside ->
+    content."""
+    course = Path(__file__).resolve().parent
+    return {f"{LIB}/flexmbd/__init__.py": STUB.encode(),
+            f"{LIB}/flexmbd/course/__init__.py": b'"""The course helper."""\n',
+            f"{LIB}/flexmbd/course/student.py": (course / "student.py").read_bytes(),
+            f"{LIB}/flexmbd/course/runner.py": (course / "runner.py").read_bytes()}
+
+
+def _memory_file(name: str, content: bytes) -> int:
+    """A descriptor of an anonymous file holding ``content``, read from its start."""
+    fd = os.memfd_create(name, 0)
+    os.write(fd, content)
+    os.lseek(fd, 0, os.SEEK_SET)
+    return fd
+
+
+#: what runs as root before bubblewrap: the bindings of the pairs before ``--``, then the
+#: command after it
+_STAGING = 'while [ "$1" != "--" ]; do mount --bind "$1" "$2" || exit 126; shift 2; done; ' \
+           'shift; exec "$@"'
+
+
+class Bubblewrap:
+    """Starts processes in the sandbox (see the module docstring).
+
+    Args:
+        limits: the limits of each process.
+        hide: folders (besides flexmbd's and Python's own) that must not be visible even
+            where they lie under a bound folder: the grader's submissions and outputs.
+    """
+
+    runner = f"{LIB}/flexmbd/course/runner.py"
+    path = (LIB, SITE)
+    confine = None
+    signals_as_status = True   # bwrap exits 128 + n when its command dies of signal n
+    name = "sandbox (bubblewrap: own namespaces, user nobody, read-only Python)"
+
+    def __init__(self, limits: Limits | None = None, hide=()) -> None:
+        self.limits = limits or Limits()
+        self.bwrap = shutil.which("bwrap")
+        self._hide = tuple(hide)
+        self._stage: str | None = None
+
+    def _staged(self, sources: list[str]) -> tuple[list[str], dict[str, str]]:
+        """As root: the command that binds ``sources`` under a folder nobody may enter, in
+        a private mount namespace, then drops to nobody; and where each source then is."""
+        if self._stage is None:
+            self._stage = tempfile.mkdtemp(prefix="flexmbd-sandbox-")
+            os.chmod(self._stage, 0o755)
+            weakref.finalize(self, shutil.rmtree, self._stage, True)
+        pairs, where = [], {}
+        for k, source in enumerate(sources):
+            target = os.path.join(self._stage, str(k))
+            if not os.path.lexists(target):
+                if os.path.isdir(source):
+                    os.mkdir(target, 0o755)
+                else:
+                    Path(target).touch(0o644)
+            pairs += [source, target]
+            where[source] = target
+        prefix = [shutil.which("unshare") or "unshare", "--mount", "--propagation", "private",
+                  "--", "/bin/sh", "-c", _STAGING, "sh", *pairs, "--",
+                  shutil.which("setpriv") or "setpriv", f"--reuid={NOBODY}",
+                  f"--regid={NOBODY}", "--clear-groups", "--"]
+        return prefix, where
+
+    def command(self) -> tuple[list[str], tuple[int, ...]]:
+        """The command that starts the runner in a new sandbox, and the descriptors it
+        must inherit (the caller closes them once the process has started)."""
+        if self.bwrap is None:
+            raise FileNotFoundError("bwrap")
+        roots = _python_roots()
+        packages = package_files()
+        sources = roots + list(packages.values())
+        prefix, where = self._staged(sources) if os.geteuid() == 0 else ([], {})
+        args = ["--unshare-user", "--unshare-pid", "--unshare-ipc", "--unshare-net",
+                "--unshare-uts", "--unshare-cgroup-try", "--disable-userns",
+                "--uid", str(NOBODY), "--gid", str(NOBODY), "--cap-drop", "ALL",
+                "--die-with-parent", "--new-session", "--hostname", "sandbox",
+                "--clearenv"]
+        for name, value in (("PATH", "/usr/bin:/bin"), ("HOME", SCRATCH), ("TMPDIR", SCRATCH),
+                            ("LANG", "C.UTF-8"), ("MPLBACKEND", "Agg"),
+                            ("PYTHONDONTWRITEBYTECODE", "1"), ("OPENBLAS_NUM_THREADS", "1"),
+                            ("OMP_NUM_THREADS", "1"), ("MKL_NUM_THREADS", "1")):
+            args += ["--setenv", name, value]
+        for folder in SYSTEM:
+            if os.path.islink(folder):
+                args += ["--symlink", os.readlink(folder), folder]
+            elif os.path.isdir(folder):
+                args += ["--ro-bind", folder, folder]
+        for file in SYSTEM_FILES:
+            if os.path.isfile(file):
+                args += ["--ro-bind", file, file]
+        for root in roots:
+            args += ["--ro-bind", where.get(root, root), root]
+        for folder in _hidden(["/usr", *roots], self._hide):
+            args += ["--tmpfs", folder, "--remount-ro", folder]
+        for name, source in packages.items():
+            args += ["--ro-bind", where.get(source, source), f"{SITE}/{name}"]
+        fds = []
+        for inside, content in helper_files().items():
+            fds.append(_memory_file(os.path.basename(inside), content))
+            args += ["--ro-bind-data", str(fds[-1]), inside]
+        args += ["--proc", "/proc", "--dev", "/dev", "--remount-ro", "/dev",
+                 "--size", str(self.limits.scratch), "--tmpfs", SCRATCH,
+                 "--remount-ro", "/", "--chdir", SCRATCH]
+        return [*prefix, self.bwrap, *args, "--", _interpreter(), "-I", self.runner], \
+            tuple(fds)
+

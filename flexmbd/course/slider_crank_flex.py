@@ -208,7 +208,7 @@ EXERCISE = Exercise(
                                "beam's own) and -F_q^T M (F_qq qd) qd (from the motion of "
                                "the coordinates); yours has only the second",
                                functools.partial(half_velocity_terms, keep="F_qq")))),
-        dict(function="positions", arguments="q, nbeams, eps1flex",
+        dict(function="positions", iterative=True, arguments="q, nbeams, eps1flex",
              returns="x [m, rad] for nbeams beams by Newton-Raphson, q = [phi2, the beams' "
                      "(e1,) e2, e3]",
              hint="Newton on [e(o); e(m) - q_e] = 0 for the dependent coordinates, from the "

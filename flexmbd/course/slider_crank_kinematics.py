@@ -117,7 +117,7 @@ EXERCISE = Exercise(
              hint="one row per deformation, one column per coordinate of x",
              answer=_jacobian, cases=_x, symbolic=model_reference(model, "jacobian"),
              mistakes=(Mistake(_BENDING, negated_rows(_jacobian, [1, 3])),)),
-        dict(function="positions", arguments="phi2",
+        dict(function="positions", iterative=True, arguments="phi2",
              returns="(x3, y3, phi4, x5) by Newton-Raphson",
              hint="Newton on e = 0 for the dependent coordinates, from the drawn "
                   "configuration",

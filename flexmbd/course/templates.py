@@ -25,6 +25,10 @@ from pathlib import Path
 
 from ..errors import ArgumentError, InputFileError
 from .parts import Exercise
+from .runner import notebook_code
+
+__all__ = ["cells", "make_template", "notebook", "notebook_code", "solution_source",
+           "solutions_directory", "template_source", "write_handouts"]
 
 _BEGIN, _END = "# BEGIN SOLUTION", "# END SOLUTION"
 _DEF = re.compile(r"^def (\w+)\(")
@@ -117,21 +121,6 @@ def notebook(source: str) -> str:
                                                    "language": "python", "name": "python3"},
                                     "language_info": {"name": "python"}},
                        "nbformat": 4, "nbformat_minor": 5}, indent=1) + "\n"
-
-
-def notebook_code(text: str) -> list[str]:
-    """The code cells of a notebook's JSON ``text``; IPython magics and shell lines
-    (``%``, ``!``) are dropped. Raises ``ValueError`` for text that is not a notebook."""
-    data = json.loads(text)
-    out = []
-    for cell in data.get("cells", []):
-        if cell.get("cell_type") != "code":
-            continue
-        source = cell.get("source", "")
-        source = "".join(source) if isinstance(source, list) else str(source)
-        out.append("\n".join(line for line in source.splitlines()
-                             if not line.lstrip().startswith(("%", "!"))))
-    return out
 
 
 def write_handouts(directory: str | os.PathLike | None = None) -> list[Path]:
