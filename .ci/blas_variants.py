@@ -54,7 +54,9 @@ def main() -> int:
         print(f"blas variants: the numerical tests with OPENBLAS_CORETYPE={name} "
               f"(this CPU's own: {', '.join(sorted(own))})", flush=True)
         runs[name] = subprocess.Popen(
-            [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", *ignore],
+            # one process each: the two runs already share the cores side by side
+            [sys.executable, "-m", "pytest", "-q", "-n", "0", "-p", "no:cacheprovider",
+             *ignore],
             env={**os.environ, "OPENBLAS_CORETYPE": name}, stdout=subprocess.PIPE,
             stderr=subprocess.STDOUT, text=True)
     failed = []

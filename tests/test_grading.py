@@ -451,3 +451,18 @@ def test_sympy_answers_are_compared_as_trees_of_operations():
     for _ in range(5000):
         deep = {"o": "sin", "a": [deep]}
     assert equal(deep, sympy_tree(x), ["x"], rng) in (False, None)
+
+
+def test_the_table_is_safe_to_open_and_names_identical_files(tmp_path):
+    """A student name that a spreadsheet would run as a formula stays text, and files of
+    the same content are named in the summary."""
+    folder = _class(tmp_path / "class", ["=HYPERLINK(1)", "copy"])
+    out = tmp_path / "grades.csv"
+    grades = grading.grade(KINEMATICS, folder, isolation="none", out=out)
+    assert {row["student"] for row in csv.DictReader(out.open())} == {"'=HYPERLINK(1)",
+                                                                        "copy"}
+    assert "identical files" in grades.summary() and "=HYPERLINK(1), copy" in grades.summary()
+    kept = []
+    grading.grade(KINEMATICS, folder, isolation="none", out=out,
+                  progress=lambda student, report: kept.append(report is None))
+    assert kept == [True, True] and len(list(csv.DictReader(out.open()))) == 2

@@ -312,6 +312,36 @@ def test_cpu_time_is_a_time_limit_of_its_own(sandbox, tmp_path):
     assert all(verdicts[k].status == PASSED for k in "abcdefgh")
 
 
+HOG = """
+def accelerations(phi2, phi2d, phi2dd):
+    for _ in range({count}):
+        if os.fork() == 0:
+            {work}
+            os._exit(0)
+    while True:
+        time.sleep(1)
+"""
+
+
+def test_a_part_is_charged_what_all_its_processes_use(sandbox, tmp_path):
+    """A part that leaves its work to many processes is charged their CPU time and held
+    to the memory limit together: it is stopped as soon as they have used the part's
+    time, or hold more memory than one process may, and cannot starve a classmate."""
+    spin = _submission(tmp_path, "spin", extra="\nimport os, time\n" + HOG.format(
+        count=20, work="while True: pass"))
+    begun = time.monotonic()
+    part = _verdicts(check(KINEMATICS, spin, graded=True, timeout=4))["i"]
+    assert part.reason == TIME and "used 4 s of CPU time" in part.message, part
+    assert time.monotonic() - begun < 12   # 4 s of CPU on two cores, and the rest
+    hold = _submission(tmp_path, "hold", extra="\nimport os, time\n" + HOG.format(
+        count=3, work="block = np.ones(400 * 2**20 // 8); time.sleep(60)"))
+    verdicts = _verdicts(check(KINEMATICS, hold, graded=True, timeout=20,
+                               limits=Limits(memory=2**30)))
+    part = verdicts["i"]
+    assert part.reason == MEMORY and "1 GB of memory together" in part.message, part
+    assert all(verdicts[k].status == PASSED for k in "abcdefgh")
+
+
 def test_honest_work_in_the_sandbox_gets_full_marks(sandbox, tmp_path):
     """A Windows file with a byte-order mark, a notebook, and a file that imports
     Matplotlib and SciPy: all of it runs as Python runs it."""

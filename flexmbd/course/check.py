@@ -41,7 +41,7 @@ WRONG, ERROR, TIME, MEMORY, KILLED, NOT_DEFINED = ("wrong", "error", "time", "me
 #: the seed of a self-check's random configurations (a graded check draws its own)
 SELF_CHECK_SEED = 2026
 #: the largest file a check reads [bytes]
-FILE_CAP = 20 * 2**20
+FILE_CAP = 32 * 2**20
 
 
 @dataclass(frozen=True)
@@ -336,8 +336,9 @@ def check_content(exercise: Exercise, file: str, content: bytes, start, *,
     begun = time.monotonic()
     cpu = timeout * (len(exercise.parts) + 1) + 5.0
     outcome = run(start, _name_inside(Path(file)), content, calls, part_of, timeout, cpu)
-    report = Report(exercise, file, problem=one_line(outcome.problem, 500)
-                    if outcome.problem else None, points=dict(points or {}), seed=seed,
+    if outcome.problem:   # the student's words: shown as one line of plain text
+        outcome.problem = one_line(outcome.problem, 500)
+    report = Report(exercise, file, problem=outcome.problem, points=dict(points or {}), seed=seed,
                     sha256=hashlib.sha256(content).hexdigest(), isolation=start.name)
     limits, single = start.limits, single_precision_in(content)
     for part in exercise.parts:
@@ -392,6 +393,9 @@ def _stopped(stop: Stop, where: str, printed: int, timeout: float) -> tuple:
         message = f"time limit: the call with {where} did not return within {timeout:g} s" \
             + (f" ({stop.words})" if stop.words else "")
         return TIME, message, noisy or "an endless loop, or a method far slower than needed?"
+    if stop.reason == MEMORY:
+        return MEMORY, f"memory limit: in the call with {where}, {stop.words}", \
+            "no part needs that much memory: an array far too large, or too many processes?"
     return stop.reason, f"the file's process ended in the call with {where}: {stop.words}", \
         noisy
 

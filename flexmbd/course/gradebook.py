@@ -97,6 +97,13 @@ def write_atomically(path: Path, text: str) -> None:
         raise
 
 
+def _text(value: str, limit: int) -> str:
+    """Student text for a cell: one line, and never a spreadsheet formula (a cell that
+    starts with ``=``, ``+``, ``-`` or ``@`` gets a ``'`` in front)."""
+    text = one_line(value, limit)
+    return "'" + text if text[:1] in ("=", "+", "-", "@") else text
+
+
 def table(exercise: Exercise, grades) -> str:
     """The CSV text of ``grades`` (sorted by student)."""
     letters = [p.letter for p in exercise.parts]
@@ -104,11 +111,11 @@ def table(exercise: Exercise, grades) -> str:
     writer = csv.writer(text)
     writer.writerow(columns(exercise))
     for grade in sorted(grades, key=lambda g: g.student):
-        writer.writerow([one_line(grade.student, 200), one_line(grade.file, 500), grade.sha256,
+        writer.writerow([_text(grade.student, 200), _text(grade.file, 500), grade.sha256,
                          *(_cell(grade.points.get(k, 0.0)) for k in letters),
                          _cell(grade.score), _cell(grade.max_score),
                          *(grade.reasons.get(k, "") for k in letters),
-                         one_line(grade.problem, 500), grade.seed, grade.version,
+                         _text(grade.problem, 500), grade.seed, grade.version,
                          grade.graded_at])
     return text.getvalue()
 
@@ -161,14 +168,14 @@ class Gradebook:
         seeds = {g.seed for g in self.grades.values() if g.sha256}
         return int(seeds.pop()) if seeds else None
 
-    def done(self, student: str, sha256: str) -> bool:
-        """Whether ``student``'s file with this hash is graded already."""
-        grade = self.grades.get(student)
-        return grade is not None and grade.sha256 == sha256
+    def kept(self, student: str, sha256: str) -> Grade | None:
+        """``student``'s row, if their file with this hash is graded already."""
+        grade = self.grades.get(_text(student, 200))
+        return grade if grade is not None and grade.sha256 == sha256 else None
 
     def record(self, grade: Grade, report: Report | None = None) -> None:
         """Add a row (and its student's reports) and write the table anew."""
-        self.grades[grade.student] = grade
+        self.grades[_text(grade.student, 200)] = grade
         if report is not None and self.reports is not None:
             self.reports.mkdir(parents=True, exist_ok=True)
             write_atomically(self.reports / f"{grade.student}.txt", report.text() + "\n")

@@ -197,6 +197,11 @@ class ClassGrades:
         if problems:
             lines.append(f"{problems} file(s) did not load completely or could not be "
                          f"graded (see their reports)")
+        same = Counter(g.sha256 for g in graded if g.sha256)
+        for digest, count in same.items():
+            if count > 1:
+                names = sorted(one_line(g.student, 80) for g in graded if g.sha256 == digest)
+                lines.append(f"identical files ({digest[:12]}): {', '.join(names)}")
         if self.missing:
             lines.append(f"no submission from {len(self.missing)} student(s) of the roster: "
                          f"{', '.join(one_line(m, 80) for m in self.missing)}")
@@ -272,8 +277,9 @@ def grade(exercise: Exercise, folder: str | os.PathLike, *, points=None,
             return None, _unchecked(exercise, file, str(error).removeprefix("file: "), seed,
                                     points=points)
         sha256 = hashlib.sha256(content).hexdigest()
-        if book is not None and book.done(submission.student, sha256):
-            return book.grades[submission.student], None
+        kept = book.kept(submission.student, sha256) if book is not None else None
+        if kept is not None:
+            return kept, None
         try:
             return None, check_content(exercise, file, content, start, timeout=timeout,
                                        seed=seed, points=points)

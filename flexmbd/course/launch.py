@@ -37,6 +37,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import ArgumentError, SandboxError
+from . import usage
 from .sandbox import Bubblewrap, Limits
 
 #: bytes a runner may send before the check stops reading it (a forged flood)
@@ -64,6 +65,7 @@ class Unconfined:
     def __init__(self, limits: Limits | None = None, confine: bool = False) -> None:
         self.limits = limits if limits is not None or not confine else Limits()
         self.confine = "audit-hook" if confine else None
+        self.metered = usage.available()   # with limits (in-process) only
         self.name = ("in-process (an audit hook inside the student's Python)" if confine
                      else "unconfined (a self-check)")
 
@@ -81,6 +83,7 @@ class ContainerCommand:
     path = ("/sandbox/lib",)
     confine = None
     signals_as_status = True
+    metered = False   # its processes are the container engine's, not the grader's
 
     def __init__(self, command: str, limits: Limits | None = None) -> None:
         self.argv = shlex.split(command)
@@ -253,15 +256,14 @@ def _run_once(start, name: str, content: bytes, calls: list[dict], part_of: dict
         _feed(stdin, json.dumps(header).encode() + b"\n" + content)
         errors = _Drain(stderr)
         errors.start()
+        meter = _Meter(process.pid if start.metered and start.limits else None)
+        memory = start.limits.memory if start.metered and start.limits else None
         try:
-            stopped_in, how = _follow(stdout.fileno(), calls, part_of, timeout, outcome)
+            stopped_in, how, stop = _follow(stdout.fileno(), calls, part_of, timeout,
+                                            outcome, meter, memory)
             if how == "ended":
                 stop = _ending(process, start, (start.limits.cpu if start.limits else None)
                                or cpu)
-            elif how == "time":
-                stop = Stop("time", "")
-            else:
-                stop = None
         finally:
             _end(process)
             stdout.close()
@@ -272,6 +274,7 @@ def _run_once(start, name: str, content: bytes, calls: list[dict], part_of: dict
             outcome.load_stop = stop
             said = errors.kept.decode("utf-8", "replace").strip()
             outcome.problem = ("the file did not finish loading within the time limit"
+                               + (f" ({stop.words})" if stop.words else "")
                                if stop.reason == "time" else
                                f"the file's process ended before it finished loading: "
                                f"{stop.words}" + (f" ({said})" if said else ""))
@@ -291,43 +294,91 @@ def _ending(process, start, cpu: float) -> Stop:
     return exit_stop(returncode, start.signals_as_status, start.limits, cpu)
 
 
+#: how often a metered run's memory and CPU time are read [s]
+POLL = 0.05
+#: a metered part's wall-clock limit, in times its CPU time limit (a part that waits
+#: without computing, sleeping or blocked, uses no CPU time)
+WALL_FACTOR = 3.0
+
+
+class _Meter:
+    """The time a run is charged and what it holds: the CPU time [s] and resident memory
+    [bytes] of the process tree of ``pid`` (:mod:`flexmbd.course.usage`), or, for a run
+    that is not metered, the wall clock."""
+
+    def __init__(self, pid: int | None) -> None:
+        self.pid = pid
+
+    def read(self) -> tuple[float, float, int]:
+        """(charged time, wall time, resident memory)."""
+        wall = time.monotonic()
+        if self.pid is None:
+            return wall, wall, 0
+        resident, cpu = usage.usage(self.pid)
+        return cpu, wall, resident
+
+
 def _follow(read: int, calls: list[dict], part_of: dict, timeout: float,
-            outcome: Outcome) -> tuple[int | None, str]:
-    """Read the runner's records as they come, ending when the call running has used its
-    part's time. Returns the call that stopped the run early (or ``None``) and how:
-    ``"time"``, ``"ended"`` (the channel closed or overflowed) or ``"done"``."""
+            outcome: Outcome, meter: _Meter,
+            memory: int | None) -> tuple[int | None, str, Stop | None]:
+    """Read the runner's records as they come, ending the run when the call running has
+    used its part's time (its CPU time, for a metered run, within a wall-clock limit of
+    :data:`WALL_FACTOR` times that) or the run holds more than ``memory`` bytes. Returns
+    the call that stopped the run early (or ``None``), how (``"stopped"``, ``"ended"``:
+    the channel closed or overflowed, or ``"done"``) and why it was stopped."""
+    metered = meter.pid is not None
+    wall_limit = timeout * (WALL_FACTOR if metered else 1.0)
     expected = iter(calls)
     current = None        # the call running, after its "started" record
-    used: dict = {}       # seconds each part has run
+    spent: dict = {}      # (charged, wall) seconds each part has run; None: loading
     printed = 0           # characters the file has printed so far
-    started_at = time.monotonic()
+    segment = meter.read()
     buffer, total = b"", 0
-    while True:
-        budget = timeout - used.get(part_of.get(current), 0.0) if current is not None \
-            else timeout
-        left = budget - (time.monotonic() - started_at)
-        ready, _, _ = select.select([read], [], [], max(left, 0.0))
-        if not ready:
-            if current is None:
-                if not outcome.loaded:
-                    return None, "time"
-                current = next(expected, {"id": None})["id"]
-                if current is None:
-                    return None, "done"
+
+    def close_segment(key):
+        nonlocal segment
+        now = meter.read()
+        charged, wall = spent.get(key, (0.0, 0.0))
+        spent[key] = (charged + now[0] - segment[0], wall + now[1] - segment[1])
+        segment = now
+
+    def stopping(stop: Stop) -> tuple[int | None, str, Stop]:
+        nonlocal current
+        if current is None and outcome.loaded:   # between calls: the next one is charged
+            current = next(expected, {"id": None})["id"]
+        if current is not None:
             outcome.printed[current] = printed
-            return current, "time"
+        return current, "stopped", stop
+
+    while True:
+        key = part_of[current] if current is not None else None
+        now = meter.read()
+        charged, wall = spent.get(key, (0.0, 0.0))
+        charged, wall = charged + now[0] - segment[0], wall + now[1] - segment[1]
+        if memory is not None and now[2] > memory:
+            return stopping(Stop("memory", f"its processes held more than "
+                                           f"{memory / 2**30:g} GB of memory together"))
+        if metered and charged >= timeout:
+            return stopping(Stop("time", f"its processes used {timeout:g} s of CPU time"))
+        if wall >= wall_limit:
+            return stopping(Stop("time", f"it waited {wall_limit:g} s without finishing"
+                                 if metered else ""))
+        wait = min(wall_limit - wall, POLL) if metered else wall_limit - wall
+        ready, _, _ = select.select([read], [], [], max(wait, 0.0))
+        if not ready:
+            continue
         chunk = os.read(read, 65536)
         total += len(chunk)
         if not chunk or total > CHANNEL_CAP or len(buffer) > LINE_CAP:
             if not outcome.loaded:
-                return None, "ended"
+                return None, "ended", None
             if current is None:
                 following = next(expected, None)
                 if following is None:
-                    return None, "done"
+                    return None, "done", None
                 current = following["id"]
             outcome.printed[current] = printed
-            return current, "ended"
+            return current, "ended", None
         buffer += chunk
         *lines, buffer = buffer.split(b"\n")
         for line in lines:
@@ -342,18 +393,19 @@ def _follow(read: int, calls: list[dict], part_of: dict, timeout: float,
                 outcome.loaded = True
                 problem = record.get("problem")
                 outcome.problem = str(problem) if problem else None
-                started_at = time.monotonic()
+                segment, spent[None] = meter.read(), (0.0, 0.0)
             elif record.get("started") and current is None:
                 following = next(expected, None)
                 if following is None or record.get("id") != following["id"]:
                     continue  # not the call that comes next: not the runner's
-                current, started_at = following["id"], time.monotonic()
+                close_segment(None)
+                spent[None] = (0.0, 0.0)
+                current = following["id"]
             elif current is not None and record.get("id") == current:
-                used[part_of[current]] = used.get(part_of[current], 0.0) + \
-                    time.monotonic() - started_at
+                close_segment(part_of[current])
                 outcome.records.setdefault(current, record)
                 outcome.printed[current] = printed
-                current, started_at = None, time.monotonic()
+                current = None
 
 
 def _children(pid: int) -> list[int]:

@@ -44,6 +44,8 @@ import weakref
 from dataclasses import dataclass
 from pathlib import Path
 
+from . import usage
+
 #: the distributions a graded file may import, besides the standard library
 PACKAGES = ("numpy", "scipy", "sympy", "matplotlib")
 #: where they are inside the sandbox
@@ -228,6 +230,7 @@ class Bubblewrap:
     def __init__(self, limits: Limits | None = None, hide=()) -> None:
         self.limits = limits or Limits()
         self.bwrap = shutil.which("bwrap")
+        self.metered = usage.available()   # its processes are in the tree of our child
         self._hide = tuple(hide)
         self._stage: str | None = None
 
