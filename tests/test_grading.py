@@ -466,3 +466,22 @@ def test_the_table_is_safe_to_open_and_names_identical_files(tmp_path):
     grading.grade(KINEMATICS, folder, isolation="none", out=out,
                   progress=lambda student, report: kept.append(report is None))
     assert kept == [True, True] and len(list(csv.DictReader(out.open()))) == 2
+
+
+def test_an_interrupted_grading_ends_the_runs_it_leaves(tmp_path):
+    """Interrupted while a submission loops, grading stops at once, not after its time."""
+    folder = _class(tmp_path / "class", ["ann"])
+    _submission(folder, "zed", [(F_Q, "    while True:\n        pass\n")])
+
+    def interrupt(student, report):
+        raise KeyboardInterrupt
+
+    from flexmbd.course import launch
+
+    with pytest.raises(KeyboardInterrupt):
+        grading.grade(KINEMATICS, folder, isolation="none", jobs=2, timeout=60,
+                      out=tmp_path / "grades.csv", progress=interrupt)
+    begun = time.monotonic()
+    while launch._LIVE and time.monotonic() - begun < 10:
+        time.sleep(0.05)
+    assert not launch._LIVE   # the looping run ended, though 60 s were its due

@@ -328,14 +328,16 @@ def check(exercise: Exercise, path: str | os.PathLike, timeout: float = 10.0,
 
 
 def check_content(exercise: Exercise, file: str, content: bytes, start, *,
-                  timeout: float, seed: int, points=None) -> Report:
+                  timeout: float, seed: int, points=None, cancel=None) -> Report:
     """:func:`check` of a file's ``content`` (read already), run by the launcher
-    ``start`` (verified already); ``file`` is the name reports give."""
+    ``start`` (verified already); ``file`` is the name reports give, ``cancel`` the
+    event of an interrupted grading (:func:`flexmbd.course.launch.end_all`)."""
     calls, plan = _calls(exercise, seed)
     part_of = {i: letter for letter, item in plan.items() for i in item.all_ids()}
     begun = time.monotonic()
     cpu = timeout * (len(exercise.parts) + 1) + 5.0
-    outcome = run(start, _name_inside(Path(file)), content, calls, part_of, timeout, cpu)
+    outcome = run(start, _name_inside(Path(file)), content, calls, part_of, timeout, cpu,
+                  cancel)
     if outcome.problem:   # the student's words: shown as one line of plain text
         outcome.problem = one_line(outcome.problem, 500)
     report = Report(exercise, file, problem=outcome.problem, points=dict(points or {}), seed=seed,

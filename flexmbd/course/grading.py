@@ -18,6 +18,7 @@ import math
 import os
 import secrets
 import statistics
+import threading
 import time
 from collections import Counter
 from collections.abc import Callable
@@ -29,7 +30,7 @@ from ..errors import ArgumentError
 from ..summary import dataclass_repr
 from .check import ERROR, FAILED, PASSED, PartReport, Report, check_content, read_submission
 from .gradebook import NOT_SUBMITTED, Grade, Gradebook, flexmbd_version, table
-from .launch import launcher, verify
+from .launch import Cancelled, end_all, launcher, verify
 from .parts import Exercise
 from .sandbox import Limits
 from .untrusted import one_line
@@ -282,7 +283,9 @@ def grade(exercise: Exercise, folder: str | os.PathLike, *, points=None,
             return kept, None
         try:
             return None, check_content(exercise, file, content, start, timeout=timeout,
-                                       seed=seed, points=points)
+                                       seed=seed, points=points, cancel=cancel)
+        except Cancelled:
+            return None, None
         except Exception as error:  # the grader's own failure costs this row only
             return None, _unchecked(exercise, file, f"the grader could not check this file "
                                                     f"({type(error).__name__}: "
@@ -290,6 +293,7 @@ def grade(exercise: Exercise, folder: str | os.PathLike, *, points=None,
                                     points=points)
 
     rows: dict[str, Grade] = {}
+    cancel = threading.Event()
     pool = ThreadPoolExecutor(max_workers=jobs)
     try:
         running = {pool.submit(one, s): s for s in found}
@@ -305,8 +309,11 @@ def grade(exercise: Exercise, folder: str | os.PathLike, *, points=None,
                 rows[student] = kept
             if progress is not None:
                 progress(student, report)
-    finally:
+    except BaseException:   # interrupted: the rows written stay, the runs end now
         pool.shutdown(wait=False, cancel_futures=True)
+        end_all(cancel)
+        raise
+    pool.shutdown()
     missing = sorted(set(roster or ()) - set(rows))
     for student in missing:
         row = Grade(student, "", "", {p.letter: 0.0 for p in exercise.parts},

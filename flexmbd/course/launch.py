@@ -53,6 +53,16 @@ _ENVIRONMENT = {"LANG": "C.UTF-8", "MPLBACKEND": "Agg", "PYTHONDONTWRITEBYTECODE
                 "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "PATH": os.defpath}
 
 
+#: the children running now, in every thread, by the cancellation event of the grading
+#: they belong to (so that an interrupted grading ends its own)
+_LIVE: dict = {}
+_LIVE_LOCK = threading.Lock()
+
+
+class Cancelled(Exception):  # noqa: N818 - the grading asked for it, not an error
+    """The grading a run belongs to was interrupted: no new process starts."""
+
+
 class Unconfined:
     """The runner as a child of the grader's own Python, in a scratch folder of its own
     with a minimal environment; ``confine=True`` adds the in-process audit hook and
@@ -209,15 +219,20 @@ def _feed(stream, data: bytes) -> None:
 
 
 def run(start, name: str, content: bytes, calls: list[dict], part_of: dict,
-        timeout: float, cpu: float) -> Outcome:
+        timeout: float, cpu: float, cancel: threading.Event | None = None) -> Outcome:
     """Run the file ``content`` (named ``name`` in its scratch folder) on ``calls`` with
     the launcher ``start``, ``timeout`` seconds per part (``part_of``: call id -> part
     letter): a part that runs out of time, or ends the process, is ended with it, and a
-    new process runs the parts after it. ``cpu`` is each process's CPU time limit [s]."""
+    new process runs the parts after it. ``cpu`` is each process's CPU time limit [s].
+
+    Raises:
+        Cancelled: ``cancel`` is set (:func:`end_all`).
+    """
     outcome = Outcome()
     pending = list(calls)
     while True:   # once at least: a file without calls still loads
-        done = _run_once(start, name, content, pending, part_of, timeout, cpu, outcome)
+        done = _run_once(start, name, content, pending, part_of, timeout, cpu, outcome,
+                         cancel)
         if done is None:
             return outcome
         # the part that stopped the process costs itself only: go on after it
@@ -229,7 +244,8 @@ def run(start, name: str, content: bytes, calls: list[dict], part_of: dict,
 
 
 def _run_once(start, name: str, content: bytes, calls: list[dict], part_of: dict,
-              timeout: float, cpu: float, outcome: Outcome) -> int | None:
+              timeout: float, cpu: float, outcome: Outcome,
+              cancel: threading.Event | None = None) -> int | None:
     """One runner process over ``calls``; returns the id of the call that stopped it
     early, or ``None`` when it ran them all (or never loaded)."""
     header = {"file": name, "size": len(content), "calls": calls, "path": list(start.path),
@@ -242,10 +258,14 @@ def _run_once(start, name: str, content: bytes, calls: list[dict], part_of: dict
         {**_ENVIRONMENT, **({"HOME": scratch, "TMPDIR": scratch} if scratch else {})}
     try:
         try:
-            process = subprocess.Popen(argv, cwd=scratch, env=environment,
-                                       stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                                       stderr=subprocess.PIPE, pass_fds=fds,
-                                       start_new_session=True)
+            with _LIVE_LOCK:
+                if cancel is not None and cancel.is_set():
+                    raise Cancelled
+                process = subprocess.Popen(argv, cwd=scratch, env=environment,
+                                           stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                           stderr=subprocess.PIPE, pass_fds=fds,
+                                           start_new_session=True)
+                _LIVE[process] = cancel
         except OSError as error:
             raise SandboxError(f"cannot start {start.name}: {error}") from error
         finally:
@@ -266,6 +286,8 @@ def _run_once(start, name: str, content: bytes, calls: list[dict], part_of: dict
                                or cpu)
         finally:
             _end(process)
+            with _LIVE_LOCK:
+                _LIVE.pop(process, None)
             stdout.close()
             errors.join(timeout=1)
         if stop is not None and stopped_in is not None:
@@ -406,6 +428,17 @@ def _follow(read: int, calls: list[dict], part_of: dict, timeout: float,
                 outcome.records.setdefault(current, record)
                 outcome.printed[current] = printed
                 current = None
+
+
+def end_all(cancel: threading.Event) -> None:
+    """Cancel a grading: set ``cancel`` (no run of it starts a process again) and end
+    every child of its runs now, instead of waiting for their time limits."""
+    with _LIVE_LOCK:
+        cancel.set()
+        running = [process for process, event in _LIVE.items() if event is cancel]
+    for process in running:
+        with contextlib.suppress(ProcessLookupError, PermissionError):
+            os.killpg(process.pid, signal.SIGKILL)
 
 
 def _children(pid: int) -> list[int]:
