@@ -419,7 +419,7 @@ def test_grading_needs_a_sandbox_or_the_lecturer_s_word(tmp_path, monkeypatch, c
     b'{"id": "0", "array": [1.0]}', b'{"id": 0, "array": {"a": 1}}', b'[1, 2]', b"{}",
     b'{"id": 0, "uses": [1]}', b'{"id": true, "none": true}', b'{"id": 0, "evil": 1}'])
 def test_the_results_channel_is_read_strictly(line):
-    from flexmbd.course.launch import parse
+    from flexmbd.course.channel import parse
 
     assert parse(line) is None
     record = parse(b'{"id": 3, "array": [1.5, NaN], "shape": [2], "uses": ["f"]}')
