@@ -8,6 +8,7 @@ it for an interactive window.
 
 from __future__ import annotations
 
+import weakref
 from pathlib import Path
 from typing import Any, Protocol
 
@@ -317,6 +318,8 @@ def animate(result: Motion, filename: str | Path | None = None, *,
     animation = FuncAnimation(fig, draw, frames=frames, interval=1000 / fps, blit=False)
     if filename is not None:
         save_animation(animation, filename, fps)
+    elif window:
+        _WINDOW_ANIMATIONS.add(animation)
     return animation
 
 
@@ -552,11 +555,27 @@ def save_figure(fig, filename: str | Path | None) -> None:
         raise OutputError(f"cannot save the figure as {str(filename)!r}: {exc}") from None
 
 
+#: the backends that write files and show nothing
+FILE_BACKENDS = frozenset({"agg", "cairo", "pdf", "pgf", "ps", "svg", "template"})
+#: the animations made with ``window=True``, until they are shown or dropped
+_WINDOW_ANIMATIONS: weakref.WeakSet = weakref.WeakSet()
+
+
 def show() -> None:
-    """Show the figures made with ``window=True`` (needs an interactive backend)."""
+    """Show the figures made with ``window=True``, and play their animations. Where
+    matplotlib's backend only writes files (Agg, as on a machine without a screen), there
+    is nothing to show: the animations are let go without a word (matplotlib would
+    otherwise warn, when each is deleted, that it was never drawn)."""
+    import matplotlib
     import matplotlib.pyplot as plt
 
-    plt.show()
+    if matplotlib.get_backend().lower() not in FILE_BACKENDS:
+        plt.show()
+        return
+    for animation in list(_WINDOW_ANIMATIONS):
+        # the switch matplotlib's own Animation.save() turns: drawing is not missed
+        animation._draw_was_started = True
+    _WINDOW_ANIMATIONS.clear()
 
 
 def plot_shapes(model: Model, x: np.ndarray, motions: np.ndarray, labels: list[str], *,

@@ -41,6 +41,7 @@ def site(tmp_path_factory) -> Path:
     return out
 
 
+@pytest.mark.docs
 def test_docs_build_without_warnings(site):
     assert (site / "index.html").is_file()
     assert (site / "api.html").is_file()
@@ -71,6 +72,7 @@ def _parse(page: Path) -> _Links:
     return links
 
 
+@pytest.mark.docs
 def test_internal_links_resolve(site):
     """Every relative link of every page reaches a file of the site, and its #anchor an id
     of that file; no link leaves the site except to a public web page."""
@@ -93,6 +95,7 @@ def test_internal_links_resolve(site):
     assert not broken, "broken links:\n" + "\n".join(sorted(set(broken)))
 
 
+@pytest.mark.docs
 def test_api_reference_lists_every_public_name(site):
     """A page per name of ``flexmbd.__all__``, linked from the API reference."""
     api = (site / "api.html").read_text()
@@ -101,6 +104,7 @@ def test_api_reference_lists_every_public_name(site):
     assert not missing, f"not in the API reference: {missing}"
 
 
+@pytest.mark.docs
 def test_gallery_runs_every_example_with_pictures_and_animations(site):
     scripts = sorted((ROOT / "examples" / "gallery").glob("plot_*.py"))
     assert len(scripts) >= 5
@@ -114,6 +118,7 @@ def test_gallery_runs_every_example_with_pictures_and_animations(site):
     assert animations >= 2
 
 
+@pytest.mark.docs
 def test_math_renders_without_a_network(site):
     """MathJax is part of the site: the theory page loads it from the site itself, and no
     page loads a script from elsewhere."""
@@ -125,6 +130,7 @@ def test_math_renders_without_a_network(site):
         assert not [s for s in sources if s.startswith(("http:", "https:", "//"))], page
 
 
+@pytest.mark.docs
 def test_an_element_type_s_page_shows_what_a_user_reads(site):
     """An element type's page: its description and deformation functions, not the
     engine's machinery every type carries (laws, kernels' inputs, drawing, file lines)."""
@@ -137,6 +143,7 @@ def test_an_element_type_s_page_shows_what_a_user_reads(site):
     assert 'id="flexmbd.ModelBuilder.add_beam"' in builder
 
 
+@pytest.mark.docs
 def test_the_theory_page_draws_every_element_type(site):
     """A figure of each element type a user builds with, drawn from its definition."""
     from flexmbd.elements import ELEMENT_TYPES
@@ -147,6 +154,7 @@ def test_the_theory_page_draws_every_element_type(site):
             assert f"{keyword}: its reference and each deformation alone" in theory, keyword
 
 
+@pytest.mark.docs
 def test_theory_citations_are_links(site):
     """"THEORY 5" in a docstring links to that section of the theory page (whose
     anchors the link test checks)."""

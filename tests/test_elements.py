@@ -81,6 +81,17 @@ def test_the_generated_kernels_are_those_of_the_current_definitions():
     assert tuple(ELEMENT_TYPES) == _core.KEYWORDS
 
 
+def test_the_kernels_are_as_generated():
+    """kernels.c holds the hash of its own body: a hand edit of a kernel fails here (the
+    generator's output itself is checked by .ci/run, which regenerates it)."""
+    text = codegen.KERNELS.read_text()
+    recorded, actual = codegen.recorded_body_hash(text)
+    assert recorded == actual
+    at = text.index(" = ", text.index("_deform("))   # the first formula of the first kernel
+    edited = text[:at] + " = -" + text[at + 3:]
+    assert codegen.recorded_body_hash(edited)[1] != recorded
+
+
 @pytest.mark.parametrize("cls", TYPES, ids=lambda c: c.name)
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_deformations_and_jacobian_match_the_definition(cls, seed):

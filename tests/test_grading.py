@@ -325,7 +325,7 @@ def test_an_interrupted_grading_keeps_its_rows_and_a_rerun_grades_the_rest(tmp_p
     with pytest.raises(KeyboardInterrupt):
         grading.grade(KINEMATICS, folder, isolation="none", out=out, reports=reports,
                       jobs=1, progress=interrupt)
-    first = {row["student"]: row for row in csv.DictReader(out.open())}
+    first = {row["student"]: row for row in csv.DictReader(out.read_text().splitlines())}
     assert set(first) == set(seen) and all(r["score"] == "9" for r in first.values())
     assert sorted(p.name for p in reports.iterdir()) == sorted(
         f"{s}.{kind}" for s in seen for kind in ("json", "txt"))
@@ -337,7 +337,7 @@ def test_an_interrupted_grading_keeps_its_rows_and_a_rerun_grades_the_rest(tmp_p
                                (student, report is not None)))
     assert dict(graded) == {seen[0]: True, seen[1]: False, changed: True,
                             ({"ann", "ben", "cat", "dan"} - set(seen) - {changed}).pop(): True}
-    rows = {row["student"]: row for row in csv.DictReader(out.open())}
+    rows = {row["student"]: row for row in csv.DictReader(out.read_text().splitlines())}
     assert rows[seen[0]]["score"] == "0" and rows[seen[1]]["score"] == "9"
     assert {row["seed"] for row in rows.values()} == {str(grades.seed)} == {first[seen[1]]["seed"]}
     with pytest.raises(grading.ArgumentError, match="was graded with seed"):
@@ -370,7 +370,7 @@ def test_every_entry_gets_its_row_whatever_goes_wrong(tmp_path, monkeypatch):
     monkeypatch.setattr(grading, "read_submission", vanishing)
     out = tmp_path / "grades.csv"
     grading.grade(KINEMATICS, folder, isolation="none", out=out, roster=["ann", "zoe"])
-    rows = {row["student"]: row for row in csv.DictReader(out.open())}
+    rows = {row["student"]: row for row in csv.DictReader(out.read_text().splitlines())}
     assert set(rows) == {"ann", "gone", "odd", "link", "two", "zoe"}
     assert "two submissions" in rows["ann"]["problem"]
     assert "link" in rows["link"]["problem"] and "2 files" in rows["two"]["problem"]
@@ -409,7 +409,7 @@ def test_grading_needs_a_sandbox_or_the_lecturer_s_word(tmp_path, monkeypatch, c
                  "--unsafe-in-process"]) == 0
     err = capsys.readouterr().err
     assert err.count("--unsafe-in-process:") == 1 and "unconfined processes" in err
-    assert next(csv.DictReader(out.open()))["score"] == "9"
+    assert next(csv.DictReader(out.read_text().splitlines()))["score"] == "9"
 
 
 # --- what comes back from a student's process --------------------------------------------
@@ -459,13 +459,13 @@ def test_the_table_is_safe_to_open_and_names_identical_files(tmp_path):
     folder = _class(tmp_path / "class", ["=HYPERLINK(1)", "copy"])
     out = tmp_path / "grades.csv"
     grades = grading.grade(KINEMATICS, folder, isolation="none", out=out)
-    assert {row["student"] for row in csv.DictReader(out.open())} == {"'=HYPERLINK(1)",
-                                                                        "copy"}
+    names = {row["student"] for row in csv.DictReader(out.read_text().splitlines())}
+    assert names == {"'=HYPERLINK(1)", "copy"}
     assert "identical files" in grades.summary() and "=HYPERLINK(1), copy" in grades.summary()
     kept = []
     grading.grade(KINEMATICS, folder, isolation="none", out=out,
                   progress=lambda student, report: kept.append(report is None))
-    assert kept == [True, True] and len(list(csv.DictReader(out.open()))) == 2
+    assert kept == [True, True] and len(list(csv.DictReader(out.read_text().splitlines()))) == 2
 
 
 def test_an_interrupted_grading_ends_the_runs_it_leaves(tmp_path):

@@ -386,7 +386,8 @@ def test_a_degree_of_freedom_without_mass_is_named():
     b = fm.ModelBuilder("massless beam")
     b.add_node(1, 0.0, 0.0).add_node(3, L, 0.0)
     b.add_beam(1, 1, 2, 3, 4).dynamic_deformation(1, 2, 3).set_stiffness(1, bending=EI)
-    model = b.fix(1).fix(2).add_point_mass(3, 1.0).build()
+    with pytest.warns(fm.ModelWarning, match="no mass moves with e1.3"):   # said at build
+        model = b.fix(1).fix(2).add_point_mass(3, 1.0).build()
     with pytest.raises(fm.SingularConfigurationError, match="moves without mass"):
         vibration_modes(linearize(model))
     with pytest.raises(fm.SingularConfigurationError, match="moves without mass"):
@@ -472,7 +473,10 @@ def test_the_assembled_arrays_equal_the_element_by_element_ones_in_space():
     b.set_stiffness(1, axial=5.0, torsion=0.7, bending_y=2.0, bending_z=3.0)
     b.set_stiffness(6, torsion=0.9, warping=0.4)
     b.set_stiffness(3, axial=1.0).set_stiffness(4, hinge=0.5, tilt_y=1.0, tilt_z=2.0)
-    model = b.build()
+    # beam 2 is released without stiffness or mass on purpose: it only adds its arrays
+    with pytest.warns(fm.ModelWarning) as said:
+        model = b.build()
+    assert {str(w.message).split(" ")[0] for w in said} <= {"spatial", "warping", "no"}
     assert {e.type for e in model.elements.values()} == {
         t for t in fm.elements.ELEMENT_TYPES.values() if t.is_spatial()}
     rng = np.random.default_rng(6)

@@ -323,8 +323,11 @@ def test_an_implicit_method_that_cannot_pass_aligned_bars_stops_within_seconds()
     ({SLIDER_MASS: "XM 5 1e300"}, "the masses span 1e+300 (node 5) to 0.0668 (element 2"),
 ])
 def test_a_singular_mass_matrix_says_why(replacements, words):
+    with warnings.catch_warnings():   # a massless rod is also said at build: not the point
+        warnings.simplefilter("ignore", fm.ModelWarning)
+        model = _flex_with(replacements)
     with pytest.raises(fm.SingularConfigurationError, match=r"at t = 0 s|span") as info:
-        fm.simulate(_flex_with(replacements), np.linspace(0, 0.01, 3))
+        fm.simulate(model, np.linspace(0, 0.01, 3))
     assert words in str(info.value)
 
 

@@ -239,7 +239,7 @@ def test_no_submission_breaks_the_grader_or_a_classmate(sandbox, tmp_path):
     out = tmp_path / "grades.csv"
     assert main(["exercise", "grade", "2", str(folder), "--out", str(out), "--reports",
                  str(reports), "--timeout", "10"]) == 0
-    rows = {row["student"]: row for row in csv.DictReader(out.open())}
+    rows = {row["student"]: row for row in csv.DictReader(out.read_text().splitlines())}
     assert set(rows) == {"ada", "killer", "forger", "eve"}
     assert rows["ada"]["score"] == rows["eve"]["score"] == "9"
     assert rows["killer"]["score"] == "9"   # it killed nothing but its own processes
@@ -399,7 +399,7 @@ def test_the_container_recipe_s_image_runs_a_graded_process(sandbox, tmp_path):
     out = tmp_path / "grades.csv"
     assert main(["exercise", "grade", "2", str(path.parent), "--out", str(out),
                  "--sandbox-command", stand_in]) == 0
-    rows = list(csv.DictReader(out.open()))
+    rows = list(csv.DictReader(out.read_text().splitlines()))
     assert rows[0]["score"] == "9" and not rows[0]["problem"], rows[0]
     assert np.all([r == PASSED for k, r in rows[0].items() if k.endswith("reason")])
 
@@ -453,7 +453,7 @@ def test_grading_a_folder(sandbox, tmp_path, capsys):
     out = tmp_path / "grades.csv"
     assert main(["exercise", "grade", "2", str(folder), "--out", str(out), "--timeout", "3",
                  "--points", "f=2"]) == 0
-    rows = {row["student"]: row for row in csv.DictReader(out.open())}
+    rows = {row["student"]: row for row in csv.DictReader(out.read_text().splitlines())}
     assert set(rows) == {"ada", "bob", "cy", "dee"}
     assert rows["ada"]["score"] == "10" and rows["ada"]["max_score"] == "10"
     assert rows["bob"]["score"] == "0" and rows["bob"]["2a reason"] == "not defined"

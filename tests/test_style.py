@@ -53,6 +53,7 @@ def test_a_circle_breaks_the_import_contract(tmp_path):
         "flexmbd.analysis" in done.stdout
 
 
+@pytest.mark.mypy
 def test_mypy_is_clean():
     """mypy at its default strictness on the package ([tool.mypy] in pyproject.toml):
     annotated functions are checked, and no error is left."""

@@ -34,8 +34,10 @@ GUIDE_DAT = EXAMPLES_DIR / "parallel_guide.dat"
 #: a quarter crank turn: each case a few milliseconds
 ANALYSIS = functools.partial(flex.run, revolutions=0.25)
 OUTPUTS = {"peak": flex.peak_deflection, "v": flex.deflection}
-#: seconds a cluster may take to start, a worker to register
-STARTUP = 60.0
+#: seconds a cluster may take to start, a worker to register (generous: on a loaded
+#: machine dask's worker processes have taken more than a minute; past it, the tests of
+#: separate worker processes skip and say so)
+STARTUP = 180.0
 
 
 def serial_loop(grid: dict) -> list[dict]:
@@ -270,6 +272,7 @@ def _interrupted(command: list[str], out: Path, sig: int) -> int:
         return process.wait(timeout=30)
     finally:
         process.kill()
+        process.stderr.close()
 
 
 @pytest.mark.parametrize("sig, where", [(signal.SIGINT, []), (signal.SIGKILL, ["--serial"])])
@@ -311,6 +314,9 @@ def scheduler(tmp_path_factory):
         deadline = time.monotonic() + STARTUP
         while not info.exists() and time.monotonic() < deadline:
             time.sleep(0.05)
+        if not info.exists():
+            pytest.skip(f"the dask scheduler did not start within {STARTUP:g} s on this "
+                        f"machine: it is too loaded to test a study on separate workers")
         address = json.loads(info.read_text())["address"]
         for _ in range(2):
             processes.append(subprocess.Popen(
@@ -319,8 +325,13 @@ def scheduler(tmp_path_factory):
                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env, cwd=folder))
         from dask.distributed import Client
 
-        with Client(address, timeout=STARTUP) as client:
-            client.wait_for_workers(2, timeout=STARTUP)
+        try:
+            with Client(address, timeout=STARTUP) as client:
+                client.wait_for_workers(2, timeout=STARTUP)
+        except (OSError, TimeoutError) as error:
+            pytest.skip(f"two dask worker processes did not start within {STARTUP:g} s on "
+                        f"this machine ({type(error).__name__}): it is too loaded to test "
+                        f"a study on separate workers")
         yield address
     finally:
         for process in reversed(processes):

@@ -62,3 +62,4 @@ fig.tight_layout()
 # The motion
 # ----------
 anim = plot.animate(res, max_frames=30 if QUICK else 100, window=True, arrows=False)
+plot.show()   # run as a script: plays it in a window (on a screen)

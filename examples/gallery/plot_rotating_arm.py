@@ -70,3 +70,4 @@ fig.tight_layout()
 # %%
 anim = plot.animate(run, max_frames=25 if QUICK else 80, window=True, arrows=False,
                     sections=True)
+plot.show()   # run as a script: plays it in a window (on a screen)

@@ -67,3 +67,4 @@ fig.tight_layout()
 # velocities (blue) and accelerations (red).
 anim = plot.animate(result, max_frames=25 if QUICK else 80, exaggeration=20.0, window=True,
                     title="flexible slider-crank, deflection x 20")
+plot.show()   # run as a script: plays it in a window (on a screen)

@@ -71,3 +71,4 @@ fig.tight_layout()
 # :func:`flexmbd.plot.animate` draws the bar with blue velocity and red
 # acceleration arrows at its ends.
 anim = plot.animate(result, max_frames=20 if QUICK else 60, window=True)
+plot.show()   # run as a script: plays it in a window (on a screen)

@@ -229,6 +229,7 @@ def _run_once(start, name: str, content: bytes, calls: list[dict], part_of: dict
                 _LIVE.pop(process, None)
             stdout.close()
             errors.join(timeout=1)
+            stderr.close()
         if stop is not None and stopped_in is not None:
             outcome.stopped[stopped_in] = stop
         elif stop is not None and not outcome.loaded:
