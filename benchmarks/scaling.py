@@ -22,7 +22,7 @@ import numpy as np
 from flexmbd.examples import slider_crank_flex as example
 
 import flexmbd as fm
-from flexmbd.engine import Engine
+from flexmbd.engine import Workspace
 
 
 def cost_per_step(nbeams: int, steps: int, repeat: int) -> dict:
@@ -37,7 +37,7 @@ def cost_per_step(nbeams: int, steps: int, repeat: int) -> dict:
         result = fm.simulate(model, times, method="GeneralizedAlpha", step=step, iterations=1,
                              renew_every=2, progress=False)
         walls.append(time.perf_counter() - start)
-    bands = Engine(model).core.bands()
+    bands = Workspace(model).core.bands()
     return {"nbeams": nbeams, "dof": model.n_dof, "coordinates": model.n_coordinates,
             "D_c band": bands["dc_kl"] + bands["dc_ku"],
             "saddle band": bands["saddle_kl"] + bands["saddle_ku"],

@@ -14,7 +14,6 @@ from collections import defaultdict
 from collections.abc import Sequence
 from contextlib import nullcontext
 from dataclasses import dataclass
-from types import MappingProxyType
 from typing import Any, Literal
 
 import numpy as np
@@ -48,6 +47,7 @@ from .engine.diagnosis import (
     negative_mass_problem,
 )
 from .errors import ArgumentError, ModelError, ModelWarning, Problem
+from .frozen import FrozenMap
 from .model import (
     DIRECTION_NAMES,
     CoordinateClass,
@@ -812,7 +812,7 @@ class ModelBuilder:
                                   etype.reference_parameters(x0_array[list(coords)], arrays)[0])
             elements[number] = Element(number, etype, element_nodes, coords,
                                        tuple(range(first, first + nd)), reference,
-                                       MappingProxyType(dict(data)))
+                                       FrozenMap(dict(data)))
         self._check_lengths(elements, self._positions, problems)
         element_properties = self._element_properties(elements, problems)
         first_euler = max(elements, default=0) + 1
@@ -823,7 +823,7 @@ class ModelBuilder:
             elements[number] = Element(number, EulerNormalization, (node,),
                                        nodes[node].coordinates,
                                        (len(deformation_labels),), data["inertia"],
-                                       MappingProxyType(data))
+                                       FrozenMap(data))
             deformation_labels.append(f"e{number}.1")
             default_class.append(DeformationClass.RIGID)
 
@@ -842,19 +842,19 @@ class ModelBuilder:
         self._check_nodal_loads(nodes, problems)
         return Model(
             name=self.name,
-            nodes=MappingProxyType(nodes),
-            elements=MappingProxyType(elements),
+            nodes=FrozenMap(nodes),
+            elements=FrozenMap(elements),
             x0=frozen_array(x0_array),
             coordinate_class=frozen_array(coordinate_class),
             deformation_class=frozen_array(deformation_class),
             coordinate_labels=tuple(labels),
             deformation_labels=tuple(deformation_labels),
-            input_laws=MappingProxyType(laws),
-            element_properties=MappingProxyType(element_properties),
-            nodal_masses=MappingProxyType(dict(self._nodal_masses)),
-            warping_inertias=MappingProxyType(self._warping_masses(elements, nodes)),
-            nodal_inertias=MappingProxyType(dict(self._nodal_inertias)),
-            nodal_forces=MappingProxyType(dict(self._nodal_forces)),
+            input_laws=FrozenMap(laws),
+            element_properties=FrozenMap(element_properties),
+            nodal_masses=FrozenMap(dict(self._nodal_masses)),
+            warping_inertias=FrozenMap(self._warping_masses(elements, nodes)),
+            nodal_inertias=FrozenMap(dict(self._nodal_inertias)),
+            nodal_forces=FrozenMap(dict(self._nodal_forces)),
             gravity=self._gravity or ((0.0,) * (3 if self._spatial() else 2)),
         )
 
@@ -959,7 +959,7 @@ class ModelBuilder:
                         problems.append(f"set_{what} element {number}: {name} {value} is "
                                         f"negative")
                 if values:
-                    fields[what] = MappingProxyType(dict(values))
+                    fields[what] = FrozenMap(dict(values))
             nd = etype.n_deformations()
             prestress = [0.0] * nd
             for k, sigma0 in self._prestress.get(number, {}).items():

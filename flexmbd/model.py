@@ -3,7 +3,7 @@
 A :class:`Model` is immutable once built (its arrays are read-only, its tables
 mapping proxies); analyses are functions of ``(model, state)`` with the state in
 plain numpy arrays, and every run builds its own workspace
-(:class:`flexmbd.engine.Engine`). Build one with :class:`flexmbd.ModelBuilder`.
+(:class:`flexmbd.engine.Workspace`). Build one with :class:`flexmbd.ModelBuilder`.
 
 Numbering follows SPACAR: node and element numbers are the user's; coordinate
 ``k`` of node ``n`` is labelled ``x<n>.<k>`` (``k = 1, 2`` for ``x, y`` of a
@@ -21,13 +21,13 @@ import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from enum import IntEnum
-from types import MappingProxyType
 
 import numpy as np
 
 from .elements import ElementType
 from .elements.base import SPATIAL_KINDS, SPATIAL_ROTATIONAL, is_translational
 from .errors import LabelError
+from .frozen import FrozenMap
 from .motion import Law
 from .naming import suggestion
 from .sections import Material, Section
@@ -80,7 +80,7 @@ class Element:
     coordinates: tuple[int, ...]
     deformations: tuple[int, ...]
     reference: tuple[float, ...]
-    data: Mapping[str, tuple[float, ...]] = field(default_factory=lambda: MappingProxyType({}))
+    data: Mapping[str, tuple[float, ...]] = field(default_factory=lambda: FrozenMap({}))
 
 
 @dataclass(frozen=True)

@@ -5,9 +5,10 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from types import MappingProxyType
 
 import numpy as np
+
+from .frozen import FrozenMap
 
 
 @dataclass(frozen=True)
@@ -45,14 +46,14 @@ class RunSettings:
     t_end: float | None = None
     steps: int | None = None
     initial: Mapping[str, tuple[float, float]] = field(
-        default_factory=lambda: MappingProxyType({}))
+        default_factory=lambda: FrozenMap({}))
     atol: float | None = None
     rtol: float | None = None
     max_iterations: int | None = None
     load_steps: int | None = None
     tolerance: float | None = None
-    load_increment: Mapping[str, float] = field(default_factory=lambda: MappingProxyType({}))
-    input_increment: Mapping[str, float] = field(default_factory=lambda: MappingProxyType({}))
+    load_increment: Mapping[str, float] = field(default_factory=lambda: FrozenMap({}))
+    input_increment: Mapping[str, float] = field(default_factory=lambda: FrozenMap({}))
     force_inputs: tuple[str, ...] = ()
     outputs: tuple[str, ...] = ()
     rate_outputs: tuple[str, ...] = ()

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 import flexmbd as fm
-from flexmbd.engine import Engine, compile_model
+from flexmbd.engine import Workspace, compile_model
 
 from .elementwise import deformations_and_jacobian
 
@@ -81,7 +81,7 @@ def terms(model: fm.Model, q: np.ndarray, qd: np.ndarray, x_guess=None, forces=N
     convective = np.zeros(model.n_coordinates)
     if len(dep):
         convective[dep] = np.linalg.solve(D_c, -quadratic[rows])
-    M, h, f = Engine(model).mass(x, xd)
+    M, h, f = Workspace(model).mass(x, xd)
     if forces is not None:
         f = f + fm.engine.load_vector(model, forces(t, x, xd))
     ed = D_x @ xd

@@ -2,7 +2,9 @@
 checked there, the statuses have one definition, and the fixed buffers of the C are
 sized by the generated element sizes."""
 
+import ast
 import dataclasses
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -67,15 +69,15 @@ def test_the_core_takes_only_a_checked_spec(spec):
 
 
 def test_the_binding_checks_lengths_and_types(spec):
-    engine = workspace_of(slider_crank())
+    core = _core.Core(spec)
     nx = spec.sizes.nx
     with pytest.raises(ValueError, match=f"x: a float64 array of {nx} entries is needed"):
-        engine.core.factor(np.zeros(nx + 1))
+        core.factor(np.zeros(nx + 1))
     with pytest.raises(ValueError, match="dtype mismatch"):
-        engine.core.factor(np.zeros(nx, dtype=np.float32))
+        core.factor(np.zeros(nx, dtype=np.float32))
     with pytest.raises(ValueError, match="outputs: no column"):
-        engine.core.prepare(np.zeros(spec.sizes.nq, np.int32), np.zeros((spec.sizes.nq, 3)),
-                            {"velocity": np.zeros((1, nx))}, 1, False)
+        core.prepare(np.zeros(spec.sizes.nq, np.int32), np.zeros((spec.sizes.nq, 3)),
+                     {"velocity": np.zeros((1, nx))}, 1, False)
 
 
 def test_a_spatial_kernel_refuses_planar_gravity():
@@ -148,7 +150,7 @@ def test_a_callback_exception_is_raised_again_with_its_type():
 
 
 def test_one_state_inverse_dynamics_is_a_runs_output():
-    """The static Newton iterations' single call (``Engine.equilibrium``) gives what an
+    """The static Newton iterations' single call (``Workspace.equilibrium``) gives what an
     inverse-dynamics run over a time grid gives at the same state: another path through
     the core (laws, predictor, the run's loads callback)."""
     model = slider_crank_flex.build_model(2, eps1flex=True)
@@ -164,3 +166,56 @@ def test_one_state_inverse_dynamics_is_a_runs_output():
         for name in ("x", "xdd", "sigma", "reactions", "driving"):
             np.testing.assert_allclose(state[name][0], getattr(run, name)[k], rtol=1e-9,
                                        atol=1e-9, err_msg=name)
+
+
+def test_the_stub_declares_exactly_what_the_binding_defines():
+    """``_core.pyi`` types every name of the binding, every method of ``Core``, and
+    nothing else: mypy then refuses a call of a method that does not exist."""
+    stub = ast.parse((Path(_core.__file__).parent / "_core.pyi").read_text())
+    declared = {node.target.id if isinstance(node, ast.AnnAssign) else node.name
+                for node in stub.body
+                if isinstance(node, ast.FunctionDef | ast.ClassDef | ast.AnnAssign)}
+    declared -= {"RunStatus"}   # the stub's own type of a status dict
+    defined = {name for name in vars(_core) if not name.startswith("_")
+               and name not in ("np", "os")}
+    assert declared == defined
+    core = next(node for node in stub.body if isinstance(node, ast.ClassDef)
+                and node.name == "Core")
+    methods = {node.name for node in core.body if isinstance(node, ast.FunctionDef)}
+    assert methods - {"__init__"} == {name for name in dir(_core.Core)
+                                      if not name.startswith("_")}
+    for enum in ("FmStatus", "FmLawKind"):   # the C header's values, by name
+        typed = next(node for node in stub.body if isinstance(node, ast.ClassDef)
+                     and node.name == enum)
+        values = {node.targets[0].id: node.value.value for node in typed.body
+                  if isinstance(node, ast.Assign)}
+        assert values == {member.name: int(member) for member in getattr(_core, enum)}
+
+
+def _imports_the_binding(node) -> bool:
+    return isinstance(node, ast.ImportFrom) and (
+        (node.module or "").endswith("_core")
+        or any(alias.name == "_core" for alias in node.names))
+
+
+def _calls_the_binding(node) -> bool:
+    """A call of a function of the binding (``native.name(...)``) or a use of a
+    workspace's core (``._core``)."""
+    if isinstance(node, ast.Attribute):
+        return node.attr == "_core"
+    return (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute)
+            and isinstance(node.func.value, ast.Name) and node.func.value.id == "native")
+
+
+def test_only_the_workspace_calls_the_core():
+    """flexmbd/engine/core.py alone imports the binding, and flexmbd/engine/workspace.py
+    alone calls it (the compiler reads its kernel sizes): every call goes through the
+    workspace."""
+    package = Path(_core.__file__).resolve().parents[1]
+    for path in package.rglob("*.py"):
+        where = path.relative_to(package).as_posix()
+        nodes = list(ast.walk(ast.parse(path.read_text())))
+        if any(map(_imports_the_binding, nodes)):
+            assert where == "engine/core.py", where
+        if any(map(_calls_the_binding, nodes)):
+            assert where == "engine/workspace.py", where

@@ -12,7 +12,7 @@ import pytest
 
 import flexmbd as fm
 from flexmbd.elements import Beam, RigidBeam, Truss
-from flexmbd.engine import Engine
+from flexmbd.engine import Workspace
 
 from .test_elements import kernel, random_element
 
@@ -109,5 +109,5 @@ def test_system_mass_matrix_assembles_the_element_matrices():
         coords = list(model.nodes[number].coordinates)
         expected[coords, coords] += mass
     np.testing.assert_allclose(fm.mass_matrix(model, x), expected, rtol=0, atol=1e-15)
-    M, _, _ = Engine(model).mass(x)
+    M, _, _ = Workspace(model).mass(x)
     np.testing.assert_array_equal(M, fm.mass_matrix(model, x))

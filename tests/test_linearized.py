@@ -15,7 +15,7 @@ from flexmbd.analysis.linearization import equilibrium_state, linearize
 from flexmbd.analysis.modes import buckling, compliance, modes_along, vibration_modes
 from flexmbd.analysis.statespace import state_space
 from flexmbd.analysis.statics import static_equilibrium
-from flexmbd.engine import Engine
+from flexmbd.engine import Workspace
 
 L, EI, RHO_A = 1.0, 2.0, 0.5
 #: (beta_n L) of the first three bending modes of a clamped-free beam
@@ -270,7 +270,7 @@ def test_the_linearized_matrices_are_the_tangent_of_the_driving_loads():
         b.set_mass(k + 1, RHO_A).set_damping(k + 1, axial=0.3, bending=0.02)
     model = b.fix(1).input_coordinate(2).add_point_mass(5, 0.2).build()
     rng = np.random.default_rng(1)
-    engine = Engine(model)
+    engine = Workspace(model)
     q = np.r_[0.3, rng.normal(scale=0.02, size=model.n_dof - 1)]
     qd, qdd = rng.normal(size=model.n_dof), rng.normal(size=model.n_dof)
     x = engine.positions(q)
@@ -395,14 +395,14 @@ def test_a_degree_of_freedom_without_mass_is_named():
 
 
 def assembled_equals_element_by_element(model: fm.Model, rng):
-    """Engine.assembly against the per-element kernels at a random configuration near
+    """Workspace.assembly against the per-element kernels at a random configuration near
     ``x0``: ``e``, ``D_x``, ``D_x A`` and the stress-weighted Hessian times ``A``; returns the
     assembly for checks of the elastic law."""
     from .elementwise import deformations_and_jacobian, dense_hessian, quadratic_velocity
 
     x = model.x0 + 0.1 * rng.standard_normal(model.n_coordinates)
     sigma = rng.standard_normal(model.n_deformations)
-    assembly = Engine(model).assembly
+    assembly = Workspace(model).assembly
     e, D_x = assembly.deformations_and_jacobian(x)
     e_each, D_x_each = deformations_and_jacobian(model, x)
     assert np.array_equal(e, e_each) and np.array_equal(D_x, D_x_each)
@@ -423,7 +423,7 @@ def assembled_equals_element_by_element(model: fm.Model, rng):
 
 
 def test_the_assembled_arrays_equal_the_element_by_element_ones():
-    """Engine.assembly (every element in one core call, scattered by index maps) gives
+    """Workspace.assembly (every element in one core call, scattered by index maps) gives
     D_x, the stress Hessian and the elastic law's products of the per-element kernels,
     on a model of every element type at a random configuration."""
     b = fm.ModelBuilder("every element type")

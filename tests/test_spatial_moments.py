@@ -11,7 +11,7 @@ import pytest
 
 import flexmbd as fm
 from flexmbd.analysis.linearization import load_stiffness, static_tangent
-from flexmbd.engine import Engine
+from flexmbd.engine import Workspace
 
 SPAN, EA, GIT, EIY, EIZ = 1.3, 2e7, 30.0, 50.0, 80.0
 
@@ -81,7 +81,7 @@ def test_static_tangent_includes_the_load_stiffness_of_a_moment():
     differences of the out-of-balance loads along every ``q``."""
     model = spatial_cantilever(2, (3.0, -20.0, 40.0))
     x = fm.static_equilibrium(model).x[0]
-    engine = Engine(model)
+    engine = Workspace(model)
     loads = np.zeros(model.n_coordinates)
     state, tangent = static_tangent(engine, x, loads)
     q0, h = state["q"], 1e-6
@@ -137,8 +137,8 @@ def test_constant_moment_spins_a_rotor_up(given):
 
 def test_a_load_on_lam0_is_refused():
     model = rotor().build()
-    with pytest.raises(fm.ModelError, match=r"x2\.1, lam0 of a spatial rotational node.*"
-                                            r"x2\.2 to x2\.4"):
+    with pytest.raises(fm.ArgumentError, match=r"loads: a load on x2\.1, lam0 of a spatial "
+                                               r"rotational node.*x2\.2 to x2\.4"):
         fm.static_equilibrium(model, loads={"x2.1": 1.0})
 
 

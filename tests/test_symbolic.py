@@ -75,7 +75,7 @@ def test_symbolic_dynamics_equal_the_engine_at_random_states(name):
         x, xd = np.asarray(run.x)[0], fm.velocities(model, np.asarray(run.x)[0], qd)
         got = [np.asarray(a, dtype=float) for a in functions(x, xd, qd, qdd)]
         F2, E2 = fm.second_order_transfer(model, x)
-        M, h, _ = fm.engine.Engine(model).mass(x, xd)
+        M, h, _ = fm.engine.Workspace(model).mass(x, xd)
         expected = [F2.reshape(model.n_coordinates, -1), E2.reshape(model.n_deformations, -1),
                     M, h[:, None], fm.reduced_mass_matrix(model, x),
                     np.asarray(run.driving)[0][:, None]]

@@ -28,8 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..elements.base import SPATIAL_ROTATIONAL
-from ..engine import Engine
-from ..engine._core import CoreError
+from ..engine import CoreError, Workspace
 from ..errors import ArgumentError, ConvergenceError, SingularConfigurationError
 from ..model import CoordinateClass, DeformationClass, Model
 from ..orientation import angular_velocity
@@ -54,8 +53,8 @@ class BandedStatics:
             ``mu`` are the other unknowns ``(nc,)``.
     """
 
-    def __init__(self, model: Model, engine: Engine):
-        self.model, self.engine, self.core = model, engine, engine.core
+    def __init__(self, model: Model, engine: Workspace):
+        self.model, self.engine = model, engine
         classes = np.asarray(model.coordinate_class)
         self.free = np.flatnonzero((classes == CoordinateClass.DEPENDENT)
                                    | (classes == CoordinateClass.DYNAMIC))
@@ -86,30 +85,25 @@ class BandedStatics:
             numpy.linalg.LinAlgError: the tangent is singular (a mechanism, buckling) or
                 not finite.
         """
-        residual = np.empty(self.size)
         try:
-            self.core.static_saddle(np.ascontiguousarray(x, dtype=float),
-                                    np.ascontiguousarray(q, dtype=float),
-                                    np.ascontiguousarray(mu, dtype=float),
-                                    np.ascontiguousarray(loads, dtype=float), residual)
+            return self.engine.static_residual(x, q, mu, loads)
         except CoreError:
             raise np.linalg.LinAlgError("the static tangent [[K, D_c^T], [D_c, 0]] is "
                                         "singular or not finite") from None
-        return residual
 
     def solve(self, rhs: np.ndarray) -> np.ndarray:
         """The factorised tangent's solution for the columns of ``rhs`` ``(n, k)`` (loads on
         the free coordinates, then constraint changes): ``(n, k)`` (coordinate changes,
         then stress changes)."""
         rows = np.array(np.asarray(rhs, dtype=float).reshape(self.size, -1).T, order="C")
-        self.core.static_solve(rows)
+        self.engine.static_solve(rows)
         return rows.T.reshape(np.shape(rhs))
 
     def mass_times(self, V: np.ndarray) -> np.ndarray:
         """``M V`` over the free coordinates, ``V`` ``(nf, k)``, at the factorised state."""
         rows = np.ascontiguousarray(np.asarray(V, dtype=float).T)
         out = np.empty_like(rows)
-        self.core.free_mass_times(rows, out)
+        self.engine.free_mass_times(rows, out)
         return out.T
 
     def equilibrium(self, x: np.ndarray, q: np.ndarray, mu: np.ndarray, loads: np.ndarray,

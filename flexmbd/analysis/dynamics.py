@@ -22,7 +22,7 @@ from typing import Literal
 import numpy as np
 
 from .. import checks
-from ..engine import Engine, Forces, initial_q, q_index, resolve_laws, workspace_of
+from ..engine import Forces, Workspace, initial_q, q_index, resolve_laws, workspace_of
 from ..errors import ArgumentError, ModelError, SimulationError, StiffnessError
 from ..model import Model
 from ..motion import Law
@@ -302,7 +302,7 @@ class _Run:
             # a segment after the first starts at the time it took over; that row is the
             # last segment's last state again and is dropped
             seg_times = times[k:] if start is None else np.concatenate([[t_end], times[k:]])
-            engine = Engine(segment, self.tolerance)
+            engine = Workspace(segment, self.tolerance)
             laws = self.laws if segment is self.model else resolve_laws(segment, self.inputs)
             arrays = engine.prepare(laws, len(seg_times), integrated=True, dynamics=True,
                                     forces=self.forces, progress=self.advance,
@@ -333,7 +333,7 @@ class _Run:
                   for name in pieces[0]}
         return arrays, k, error, stats
 
-    def _segment(self, engine: Engine, laws, times, y, watched, start):
+    def _segment(self, engine: Workspace, laws, times, y, watched, start):
         """One integration on ``engine``'s partition from the configuration ``start``
         (``None``: the model's own): outputs reached, error, counters, and ``(t, y)``
         where a free rotation's partition was spent (else ``None``)."""
@@ -352,7 +352,7 @@ class _Run:
                           advance=self.advance, watched=watched, start=start)
 
 
-def _scipy_run(engine: Engine, laws, times, y0, method: str, settings: ScipyOptions, *,
+def _scipy_run(engine: Workspace, laws, times, y0, method: str, settings: ScipyOptions, *,
                advance, watched, start=None):
     """A scipy integrator over the core's accelerations; each output evaluated as soon as
     it is reached, from the solution of the evaluation before it. It stops where a
@@ -431,7 +431,7 @@ def inverse_dynamics(
                          "add_point_mass() before inverse dynamics")
     checks.flag(with_reactions, "with_reactions")
     laws = resolve_laws(model, inputs)
-    engine = Engine(model, tolerance)
+    engine = Workspace(model, tolerance)
     with progress_bar(times, "inverse dynamics", progress) as advance:
         arrays = engine.prepare(laws, len(times), dynamics=True, forces=forces,
                                 progress=advance)

@@ -1,6 +1,6 @@
 """Kinematic analysis (THEORY sections 3 and 4): one configuration, or a time grid.
 
-Every function here runs on the compiled core through :class:`flexmbd.engine.Engine`:
+Every function here runs on the compiled core through :class:`flexmbd.engine.Workspace`:
 
 * :func:`deformations`, :func:`jacobian`, :func:`hessian` and
   :func:`quadratic_velocity` evaluate the generated element kernels;
@@ -26,7 +26,7 @@ import numpy as np
 
 from .. import checks
 from .. import engine as _engine
-from ..engine import KINEMATIC_OUTPUTS, Engine, initial_q, resolve_laws, workspace_of
+from ..engine import KINEMATIC_OUTPUTS, Workspace, initial_q, resolve_laws, workspace_of
 from ..errors import SingularConfigurationError
 from ..model import Model
 from ..motion import Law
@@ -131,7 +131,7 @@ class PartitionedJacobian:
     independent: np.ndarray
     D_c: np.ndarray
     conditioning: float
-    _engine: Engine
+    _engine: Workspace
 
     def solve(self, rhs: np.ndarray) -> np.ndarray:
         """``D_c^-1 rhs`` for ``rhs`` of shape ``(n_dependent,)`` or ``(n_dependent, k)``."""
@@ -161,7 +161,7 @@ def partition_jacobian(model: Model, x: np.ndarray, time: float | None = None
     return _partition(workspace_of(model), coordinates(model, x), time)
 
 
-def _partition(engine: Engine, x: np.ndarray, time: float | None) -> PartitionedJacobian:
+def _partition(engine: Workspace, x: np.ndarray, time: float | None) -> PartitionedJacobian:
     model = engine.model
     D_x = engine.assembly.deformations_and_jacobian(x)[1]
     dependent = D_x[:, model.dependent]
@@ -309,7 +309,7 @@ def kinematic_analysis(
     times = check_times(times)
     check_on_failure(on_failure)
     laws = resolve_laws(model, inputs)
-    engine = Engine(model, tolerance, max_iterations)
+    engine = Workspace(model, tolerance, max_iterations)
     with progress_bar(times, "kinematics", progress) as bar:
         arrays = engine.prepare(laws, len(times), progress=bar,
                                 columns=KINEMATIC_OUTPUTS)

@@ -43,7 +43,7 @@ from functools import cached_property
 import numpy as np
 
 from ..elements.base import SPATIAL_ROTATIONAL
-from ..engine import Engine, load_vector, q_scale, unwrap_near, workspace_of
+from ..engine import Workspace, load_vector, q_scale, unwrap_near, workspace_of
 from ..errors import ArgumentError
 from ..model import Model
 from ..orientation import angular_velocity, euler_forces
@@ -145,7 +145,7 @@ class Linearization:
 
 
 def linearize(model: Model, x=None, qd=None, qdd=None, *, loads=None,
-              tolerance: float | None = None, engine: Engine | None = None,
+              tolerance: float | None = None, engine: Workspace | None = None,
               e=None) -> Linearization:
     """Linearize the reduced equations at the configuration ``x`` with rates ``qd`` and
     accelerations ``qdd`` of ``q``.
@@ -183,7 +183,8 @@ def linearize(model: Model, x=None, qd=None, qdd=None, *, loads=None,
     zero = np.zeros(model.n_dof)
     qd = zero if qd is None else generalized(model, qd, "qd")
     qdd = zero if qdd is None else generalized(model, qdd, "qdd")
-    extra = np.zeros(model.n_coordinates) if loads is None else load_vector(model, loads)
+    extra = np.zeros(model.n_coordinates) if loads is None else load_vector(model, loads,
+                                                                            "loads")
     near = None
     if e is not None:
         e = np.asarray(e, dtype=float)
@@ -207,7 +208,7 @@ def linearize(model: Model, x=None, qd=None, qdd=None, *, loads=None,
         K0=E_q.T @ law("S", E_q), N0=N0, G0=G0)
 
 
-def linearize_free(model: Model, x, qd=None, *, loads=None, engine: Engine | None = None,
+def linearize_free(model: Model, x, qd=None, *, loads=None, engine: Workspace | None = None,
                    e=None) -> Linearization:
     """:func:`linearize` at the accelerations of the free motion: the dynamic entries of
     ``qddot`` are those the equations of motion give at ``(x, qd)`` (the prescribed ones
@@ -229,7 +230,7 @@ def linearize_free(model: Model, x, qd=None, *, loads=None, engine: Engine | Non
     return linearize(model, at_rest.x, at_rest.qd, qdd, loads=loads, engine=engine, e=e)
 
 
-def static_tangent(engine: Engine, x: np.ndarray, loads: np.ndarray,
+def static_tangent(engine: Workspace, x: np.ndarray, loads: np.ndarray,
                    near: np.ndarray | None = None
                    ) -> tuple[dict[str, np.ndarray], np.ndarray]:
     """The state at rest at ``x`` under ``loads`` ``(nx,)`` (:func:`equilibrium_state`:
@@ -242,7 +243,7 @@ def static_tangent(engine: Engine, x: np.ndarray, loads: np.ndarray,
 
 
 # --- the pieces ---------------------------------------------------------------------------
-def _elastic_state(engine: Engine, x: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
+def _elastic_state(engine: Workspace, x: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
                    loads: np.ndarray, near: np.ndarray | None = None
                    ) -> tuple[dict, np.ndarray, np.ndarray, np.ndarray]:
     """The state (:func:`equilibrium_state`), ``F_q``, ``E_q = D_x F_q`` and the geometric
@@ -258,7 +259,7 @@ def _elastic_state(engine: Engine, x: np.ndarray, qd: np.ndarray, qdd: np.ndarra
     return state, F_q, assembly.jacobian_times(x, F_q), G0
 
 
-def load_stiffness(engine: Engine, loads: np.ndarray) -> np.ndarray:
+def load_stiffness(engine: Workspace, loads: np.ndarray) -> np.ndarray:
     """``df/dx`` ``(nx, nx)`` of the applied loads (the model's and ``loads``). Only a
     global moment ``M`` on a spatial rotational node depends on the configuration: its
     generalized force ``2 E(lam)^T M`` is linear in ``lam``, so its block is the matrix of
@@ -274,7 +275,7 @@ def load_stiffness(engine: Engine, loads: np.ndarray) -> np.ndarray:
     return slopes
 
 
-def load_stiffness_times(engine: Engine, loads: np.ndarray, A: np.ndarray) -> np.ndarray:
+def load_stiffness_times(engine: Workspace, loads: np.ndarray, A: np.ndarray) -> np.ndarray:
     """``(df/dx) A`` ``(nx, k)`` for ``A`` ``(nx, k)``: :func:`load_stiffness` applied block
     by block, on the rotational nodes that carry a moment only."""
     product = np.zeros((engine.model.n_coordinates, A.shape[1]))
@@ -286,7 +287,7 @@ def load_stiffness_times(engine: Engine, loads: np.ndarray, A: np.ndarray) -> np
     return product
 
 
-def equilibrium_state(engine: Engine, x: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
+def equilibrium_state(engine: Workspace, x: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
                       loads: np.ndarray, near: np.ndarray | None = None
                       ) -> dict[str, np.ndarray]:
     """The engine's inverse dynamics at one state: ``{"x", "xd", "xdd", "q", "sigma",
@@ -300,7 +301,7 @@ def equilibrium_state(engine: Engine, x: np.ndarray, qd: np.ndarray, qdd: np.nda
     return {name: values[0] for name, values in engine.equilibrium(q, qd, qdd, x, loads).items()}
 
 
-def inertia_derivatives(engine: Engine, state: dict[str, np.ndarray], F_q: np.ndarray,
+def inertia_derivatives(engine: Workspace, state: dict[str, np.ndarray], F_q: np.ndarray,
                         E_q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``N0``, ``C0`` ``(nq, nq)``: central differences of the inertia forces ``M xddot + h``
     (and of ``edot`` for the damping stresses) along each ``q`` and ``qdot`` at the state;
@@ -317,12 +318,12 @@ def inertia_derivatives(engine: Engine, state: dict[str, np.ndarray], F_q: np.nd
     return N0, C0
 
 
-def central_differences(engine: Engine, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
+def central_differences(engine: Workspace, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
                         x: np.ndarray, value, columns=None) -> np.ndarray:
     """``d value / dq_j`` at the state ``(q, qd, qdd)`` (configuration solved from ``x``) by
     central differences with a step of :data:`DIFFERENCE_STEP` of ``q_j``'s size, one column
     per entry ``j`` of ``columns`` (default all of ``q``); ``value`` maps the engine's
-    state (:meth:`Engine.state`) to a vector."""
+    state (:meth:`Workspace.state`) to a vector."""
     size = 1.0 / q_scale(engine.model)
     columns = range(len(q)) if columns is None else columns
     out = []

@@ -22,7 +22,7 @@ from .. import checks
 from ..engine import (
     MAX_ITERATIONS,
     OUTPUTS,
-    Engine,
+    Workspace,
     initial_q,
     load_vector,
     output_bytes,
@@ -156,9 +156,10 @@ def static_equilibrium(
     check_on_failure(on_failure)
     if method not in ("auto", "reduced", "banded"):
         raise ArgumentError("method", f"must be 'auto', 'reduced' or 'banded', got {method!r}")
-    base = np.zeros(model.n_coordinates) if loads is None else load_vector(model, loads)
+    base = np.zeros(model.n_coordinates) if loads is None else load_vector(model, loads,
+                                                                           "loads")
     increment = (np.zeros(model.n_coordinates) if load_increment is None
-                 else load_vector(model, load_increment))
+                 else load_vector(model, load_increment, "load_increment"))
     inputs = np.zeros(model.n_dof)
     for label, value in (input_increment or {}).items():
         j = q_index(model, label, "input_increment")
@@ -249,7 +250,7 @@ class _Solver:
     """Newton's method on the dynamic degrees of freedom along a path of loads and inputs,
     from the last converged state."""
 
-    def __init__(self, model: Model, engine: Engine, tolerance: float | None,
+    def __init__(self, model: Model, engine: Workspace, tolerance: float | None,
                  max_iterations: int):
         self.model, self.engine, self.max_iterations = model, engine, max_iterations
         self.tolerance = (engine.tolerance if tolerance is None else
@@ -323,7 +324,7 @@ class _BandedSolver(_Solver):
     coordinates and stresses; a converged state is the reduced solver's (the engine's
     equilibrium at its ``q``)."""
 
-    def __init__(self, model: Model, engine: Engine, tolerance: float | None,
+    def __init__(self, model: Model, engine: Workspace, tolerance: float | None,
                  max_iterations: int):
         super().__init__(model, engine, tolerance, max_iterations)
         self.banded = BandedStatics(model, engine)

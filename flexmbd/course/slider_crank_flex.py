@@ -16,7 +16,7 @@ import numpy as np
 
 from ..analysis import kinematics as kin
 from ..analysis.dynamics import inverse_dynamics, reduced_mass_matrix
-from ..engine import Engine
+from ..engine import Workspace
 from ..motion import Polynomial
 from .parts import Exercise, Mistake, lettered, negated_rows, without_nodal_masses
 
@@ -57,7 +57,7 @@ def beam_quadratic(xe, xed):
 
 
 def beam_mass(xe, xed, velocity_term=True):
-    M, h, _ = Engine(rod_only()).mass(_with_beam(xe), _with_beam(xed, np.zeros(9)))
+    M, h, _ = Workspace(rod_only()).mass(_with_beam(xe), _with_beam(xed, np.zeros(9)))
     return M[np.ix_(BEAM, BEAM)], h[BEAM] if velocity_term else np.zeros(6)
 
 
@@ -84,7 +84,7 @@ def half_velocity_terms(x, qd, keep: str):
     m = model()
     F_q = kin.first_order_transfer(m, x)
     F_qq = kin.second_order_transfer(m, x)[0]
-    M, h, _ = Engine(m).mass(x, F_q @ qd)
+    M, h, _ = Workspace(m).mass(x, F_q @ qd)
     term = {"h": F_q.T @ (M @ np.einsum("ijk,j,k->i", F_qq, qd, qd)),
             "F_qq": F_q.T @ h}[keep]
     Mbar = reduced_mass_matrix(m, x)

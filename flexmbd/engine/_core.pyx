@@ -22,6 +22,8 @@ cdef extern from "core.h":
     cpdef enum FmStatus:
         FM_OK, FM_NOT_CONVERGED, FM_SINGULAR, FM_SINGULAR_TOLERANCE, FM_MASSLESS
         FM_NOT_FINITE, FM_STEP_FAILED, FM_PYTHON, FM_NO_MEMORY, FM_PARTITION
+    cpdef enum FmLawKind:
+        FM_LAW_POLYNOMIAL, FM_LAW_CALLBACK, FM_LAW_INTEGRATED
 
     ctypedef void (*FmDeform)(const double *c, const double *p, double *out)
     ctypedef void (*FmRates)(const double *c, const double *v, const double *p, double *out)
@@ -43,6 +45,21 @@ cdef extern from "core.h":
         double tolerance, regularity_limit, reference_conditioning
     size_t fm_element_values(const FmModel *m, int hessian, const double *x, double *out)
     size_t fm_gravity_slopes(const FmModel *m, const double *x, double *out)
+
+cdef extern from "core.h":
+    ctypedef struct Band:
+        int n, kl, ku, ldab
+        double *ab
+        int *ipiv
+        double *work
+    int band_init(Band *b, int n, int kl, int ku)
+    void band_free(Band *b)
+    int band_factor(Band *b)
+    void band_solve(const Band *b, double *x)
+    void band_solve_many(const Band *b, double *x, int k)
+    void band_solve_t(const Band *b, double *x)
+    double band_inverse_norm(Band *b, int *column)
+    double band_min_pivot(const Band *b)
 
 cdef extern from "alpha.h":
     ctypedef struct AlphaOptions:
@@ -232,8 +249,9 @@ cdef class Core:
                 dict outputs not None, int n_outputs, bint dynamics, law_callback=None,
                 double[:, ::1] law_values=None, forces=None, double[::1] force_x=None,
                 double[::1] force_xd=None, double[::1] force_f=None, progress=None):
-        """A run's laws (``law_kind`` ``(nq,)``: 0 polynomial with ``law_coef`` ``(nq, 3)``,
-        1 ``law_callback(t)`` filling ``law_values`` ``(nq, 3)``, 2 integrated), its loads
+        """A run's laws (``law_kind`` ``(nq,)`` of :class:`FmLawKind`: polynomial with
+        ``law_coef`` ``(nq, 3)``, a ``law_callback(t)`` filling ``law_values`` ``(nq, 3)``, or
+        integrated), its loads
         (``forces(t)`` reads ``force_x``, ``force_xd`` and fills ``force_f``, ``(nx,)``
         each), ``progress(t)`` and the ``outputs`` ``{name: (n_outputs, size)}`` it fills."""
         cdef FmModel *m = &self.c.m
@@ -580,3 +598,51 @@ def kernel(int type, str name, const double[::1] c not None, const double[::1] p
         k.gravity(&c[0], pp, &g[0], &out[0])
     else:
         k.gravity_jac(&c[0], pp, &g[0], &out[0])
+
+
+def banded_lu(const double[:, ::1] a not None, int kl, int ku, double[:, ::1] rhs not None,
+              str how="each"):
+    """The core's banded LU (``band.c``) of the matrix ``a`` ``(n, n)``, whose entries
+    outside ``kl`` sub- and ``ku`` super-diagonals are ignored, for its tests against
+    LAPACK: the rows of ``rhs`` ``(k, n)`` are solved in place, one by one (``how="each"``),
+    all at once (``"many"``) or with the transpose (``"transposed"``). Returns
+    ``(info, pivots, factors, smallest_pivot, inverse_norm)``: ``info`` 0 or ``j + 1``
+    for a zero pivot ``j``, the 0-based row interchanges ``(n,)``, the factors in LAPACK's
+    band storage ``(2 kl + ku + 1, n)``, the smallest ``|u_jj|`` and the estimate of
+    ``||a^-1||_1``."""
+    cdef Py_ssize_t n = a.shape[0], i, j, r
+    cdef Band b
+    cdef int column = -1
+    cdef double[:, ::1] block
+    if a.shape[1] != n or rhs.shape[1] != n or kl < 0 or ku < 0:
+        raise ValueError("banded_lu: a square (n, n), rows of rhs (k, n), kl, ku >= 0")
+    if how not in ("each", "many", "transposed"):
+        raise ValueError(f"banded_lu: how is each, many or transposed, not {how!r}")
+    if band_init(&b, <int>n, kl, ku):
+        band_free(&b)
+        raise MemoryError("banded_lu")
+    try:
+        for j in range(n):
+            for i in range(max(0, j - ku), min(n, j + kl + 1)):
+                b.ab[(kl + ku + i - j) + j * b.ldab] = a[i, j]
+        info = band_factor(&b)
+        if info == 0:
+            if how == "many" and rhs.shape[0]:
+                # band_solve_many takes the right-hand sides as columns, (n, k) row-major
+                solved = np.ascontiguousarray(np.asarray(rhs).T)
+                block = solved
+                band_solve_many(&b, &block[0, 0], <int>rhs.shape[0])
+                np.asarray(rhs)[...] = solved.T
+            else:
+                for r in range(rhs.shape[0]):
+                    if how == "transposed":
+                        band_solve_t(&b, &rhs[r, 0])
+                    else:
+                        band_solve(&b, &rhs[r, 0])
+        pivots = np.array([b.ipiv[j] for j in range(n)], dtype=np.int32)
+        factors = np.array([[b.ab[i + j * b.ldab] for j in range(n)] for i in range(b.ldab)])
+        smallest = band_min_pivot(&b)
+        estimate = band_inverse_norm(&b, &column) if info == 0 else float("inf")
+        return info, pivots, factors, smallest, estimate
+    finally:
+        band_free(&b)

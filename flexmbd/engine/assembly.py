@@ -18,6 +18,7 @@ element at a time.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -63,11 +64,16 @@ class _Group:
 
 
 class Assembly:
-    """Index maps of one compiled model's elements (``Engine.compiled.elements``) and its
-    core."""
+    """Index maps of one compiled model's elements (``Workspace.compiled.elements``), and
+    its workspace's evaluations of every element at once: ``element_values(name, x,
+    out)`` and ``gravity_slopes(x, out)`` (:class:`~flexmbd.engine.workspace.Workspace`'s
+    methods)."""
 
-    def __init__(self, core, elements: Elements, n_coordinates: int, n_deformations: int):
-        self.core, self.nx, self.ne = core, n_coordinates, n_deformations
+    def __init__(self, element_values: Callable[[str, np.ndarray, np.ndarray], None],
+                 gravity_slopes: Callable[[np.ndarray, np.ndarray], None],
+                 elements: Elements, n_coordinates: int, n_deformations: int):
+        self.element_values, self.gravity_slopes = element_values, gravity_slopes
+        self.nx, self.ne = n_coordinates, n_deformations
         c_off, c_idx = elements.c_off, elements.c_idx
         d_off, d_idx = elements.d_off, elements.d_idx
         nc, nd = np.diff(c_off), np.diff(d_off)
@@ -93,7 +99,7 @@ class Assembly:
 
     def _evaluate(self, name: str, x: np.ndarray) -> np.ndarray:
         out = self.jac_out if name == "deform_jac" else self.hess_out
-        self.core.element_values(name, np.ascontiguousarray(x, dtype=float), out)
+        self.element_values(name, x, out)
         return out
 
     def deformations(self, x: np.ndarray) -> np.ndarray:
@@ -161,7 +167,7 @@ class Assembly:
         elements whose gravity turns with them (a consistent mass that varies with the
         configuration: a beam's weight has moments on its rotations), at ``x``; ``None``
         when no element's gravity turns (no gravity, or constant masses)."""
-        self.core.gravity_slopes(np.ascontiguousarray(x, dtype=float), self.slope_out)
+        self.gravity_slopes(x, self.slope_out)
         if not np.any(self.slope_out):
             return None
         product = np.zeros((self.nx, A.shape[1]))

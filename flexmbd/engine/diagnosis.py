@@ -196,7 +196,7 @@ def mass_is_regular(engine, x: np.ndarray) -> bool:
     mass matrix of the dynamic entries does (its Cholesky factor, as vibration modes
     take it; the banded pivots are judged against the largest mass, so they may fail
     where masses span many decades)."""
-    if engine.core.mass_regular(np.ascontiguousarray(x, dtype=float)):
+    if engine.mass_regular(x):
         return True
     dynamic = np.flatnonzero(~np.asarray(engine.model.q_is_input))
     try:
@@ -207,7 +207,7 @@ def mass_is_regular(engine, x: np.ndarray) -> bool:
 
 
 def _reduced_mass(engine, x: np.ndarray) -> np.ndarray:
-    """``F_q^T M F_q`` ``(nq, nq)`` at ``x`` on ``engine`` (an :class:`~flexmbd.engine.Engine`,
+    """``F_q^T M F_q`` ``(nq, nq)`` at ``x`` on ``engine`` (an :class:`~flexmbd.engine.Workspace`,
     given, not imported: the engine's errors are worded here)."""
     F_q = engine.transfer(x)
     return F_q.T @ engine.mass(x)[0] @ F_q

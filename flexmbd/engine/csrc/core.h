@@ -78,6 +78,14 @@ enum FmStatus {
                                   run stops so that another one is chosen */
 };
 
+/* How an entry of q moves in a run; the binding hands these names to Python as
+ * flexmbd.engine._core.FmLawKind, so this is their one definition. */
+enum FmLawKind {
+    FM_LAW_POLYNOMIAL = 0,     /* q = x0 + v0 t + a0 t^2 / 2, its coefficients given */
+    FM_LAW_CALLBACK = 1,       /* a Python function fills its value, rate and acceleration */
+    FM_LAW_INTEGRATED = 2      /* a dynamic degree of freedom: the integrator's state */
+};
+
 typedef struct {
     int code;
     double time;

@@ -285,13 +285,14 @@ static int compose(FmCore *c, FmState *s, double t, const double *q_d, const dou
     if (c->laws && c->laws(c->context, t))
         return FM_PYTHON;
     for (int j = 0, d = 0; j < m->nq; j++) {
-        const double *k = c->law_kind[j] == 1 ? c->law_values + 3 * j : c->law_coef + 3 * j;
-        if (c->law_kind[j] == 2) {
+        const double *k = c->law_kind[j] == FM_LAW_CALLBACK ? c->law_values + 3 * j
+                                                              : c->law_coef + 3 * j;
+        if (c->law_kind[j] == FM_LAW_INTEGRATED) {
             s->q[j] = q_d[d];
             s->qd[j] = qd_d[d];
             s->qdd[j] = qdd_d ? qdd_d[d] : 0.0;
             d++;
-        } else if (c->law_kind[j] == 1) {
+        } else if (c->law_kind[j] == FM_LAW_CALLBACK) {
             s->q[j] = k[0];
             s->qd[j] = k[1];
             s->qdd[j] = k[2];

@@ -46,7 +46,7 @@ typedef struct {
     FmError error;
     int trial;
     /* the prepared run */
-    int *law_kind;                 /* per q entry: 0 polynomial, 1 callback, 2 integrated */
+    int *law_kind;                 /* per q entry: an enum FmLawKind */
     double *law_coef;              /* x0, v0, a0 per q entry */
     void *context;                 /* the binding's, for its callbacks */
     FmCallback laws;               /* fills law_values (3 nq) for the callback entries */

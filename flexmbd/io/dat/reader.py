@@ -49,7 +49,6 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from types import MappingProxyType
 from typing import Any, Literal, NamedTuple
 
 from ... import checks
@@ -63,6 +62,7 @@ from ...elements.base import (
 )
 from ...engine import output_bytes
 from ...errors import ArgumentError, InputFileError, ModelError
+from ...frozen import FrozenMap
 from ...model import CoordinateClass, DeformationClass, Model
 from ...motion import Polynomial
 from ...settings import RunSettings
@@ -252,12 +252,12 @@ class _Reader:
         self.check_settings(model)
         initial = {label: pair for label, (pair, _) in self.initial.items()}
         linear: dict[str, Any] = {
-            name: MappingProxyType(values) if isinstance(values, dict) else tuple(values)
+            name: FrozenMap(values) if isinstance(values, dict) else tuple(values)
             for name, values in self.linear.items()}
         notes = tuple(f"{what} on line{'s' if len(lines) > 1 else ''} "
                       f"{', '.join(map(str, lines))}: read and ignored"
                       for what, lines in self.ignored.items()) + tuple(self.remarks)
-        return RunSettings(initial=MappingProxyType(initial), **self.settings, **linear,
+        return RunSettings(initial=FrozenMap(initial), **self.settings, **linear,
                            notes=notes)
 
     def check_settings(self, model: Model) -> None:

@@ -22,7 +22,7 @@ from ...analysis.kinematics import first_order_transfer, jacobian, quadratic_vel
 from ...analysis.linearization import Linearization
 from ...analysis.statics import StaticResult
 from ...elements.base import SPATIAL_ROTATIONAL
-from ...engine.workspace import load_slots
+from ...engine.laws import load_slots
 from ...errors import ArgumentError
 from ...model import CoordinateClass, Model
 from ...numbering import ELEMENT_CODES, LE_WIDTH, LN_WIDTH, SpacarNumbering
