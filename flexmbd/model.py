@@ -198,6 +198,13 @@ class Model:
     #: the coordinates ``lam0`` of the spatial rotational nodes (they take no load)
     euler_scalars: np.ndarray = field(init=False, repr=False)
 
+    def __setstate__(self, state: dict) -> None:
+        """A model unpickled: its arrays read-only again (pickle gives writable copies)."""
+        for name, value in state.items():
+            if isinstance(value, np.ndarray):
+                value.flags.writeable = False
+            object.__setattr__(self, name, value)
+
     def __post_init__(self):
         def coordinates_of(*classes):
             return frozen_array(np.flatnonzero(np.isin(self.coordinate_class, classes)))
