@@ -35,6 +35,7 @@ _NAMES = {
                  "SpatialBeam", "SpatialHinge", "SpatialRigidBeam", "SpatialTruss",
                  "SpringDamper", "Truss"),
     "model": ("CoordinateClass", "DeformationClass", "Model"),
+    "engine.workspace": ("Workspace",),
     "motion": ("Custom", "Expression", "Polynomial"),
     "orientation": ("angular_velocity", "axis_angle", "euler_parameters", "euler_rates",
                     "rotation_matrix"),

@@ -25,7 +25,7 @@ from .errors import (
     SimulationError,
 )
 from .model import Model
-from .naming import suggestion
+from .model.naming import suggestion
 from .plot import plot_columns
 from .summary import Columns, clip
 

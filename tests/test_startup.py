@@ -23,7 +23,7 @@ def _python(code: str, **env: str) -> str:
 def test_import_flexmbd_loads_no_numpy_and_every_name_on_use():
     code = ("import sys, flexmbd as fm\nprint('numpy' in sys.modules)\n"
             "print(fm.ModelBuilder.__module__, 'numpy' in sys.modules)")
-    assert _python(code).split() == ["False", "flexmbd.builder", "True"]
+    assert _python(code).split() == ["False", "flexmbd.builder.recording", "True"]
 
 
 def test_a_lazy_name_is_the_object_not_the_submodule_of_its_name():

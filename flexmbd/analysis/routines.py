@@ -11,7 +11,7 @@ file's directory, with SPACAR's arguments, so that a routine ports line by line:
   each element's deformations and each node's coordinates, 1-based as in MATLAB
   (``x[lnp[n - 1, 0:3] - 1]`` is ``x(lnp(n, 1:3))``);
 * ``e``, ``ep`` ``(ne,)`` and ``x``, ``xp`` ``(nx,)``: deformations, coordinates and their
-  rates, in SPACAR's numbering (:mod:`flexmbd.numbering`).
+  rates, in SPACAR's numbering (:mod:`flexmbd.model.numbering`).
 
 It returns ``f``, rows ``[node, direction, load]`` [N, or on a rotational node in space
 the generalized force on Euler parameter ``direction`` (1 to 4, ``lam0`` to ``lam3``), a
@@ -35,8 +35,8 @@ import numpy as np
 from ..elements.base import SPATIAL_ROTATIONAL
 from ..errors import InputFileError, SimulationError
 from ..model import Model
+from ..model.numbering import SpacarNumbering
 from ..motion import Law
-from ..numbering import SpacarNumbering
 from ..orientation import moment_of
 from ..settings import RunSettings
 from .kinematics import deformations, jacobian

@@ -25,7 +25,7 @@ from ...elements.base import SPATIAL_ROTATIONAL
 from ...engine.laws import load_slots
 from ...errors import ArgumentError
 from ...model import CoordinateClass, Model
-from ...numbering import ELEMENT_CODES, LE_WIDTH, LN_WIDTH, SpacarNumbering
+from ...model.numbering import ELEMENT_CODES, LE_WIDTH, LN_WIDTH, SpacarNumbering
 from ...orientation import euler_forces, moment_of
 from ...results import KinematicResult, SimulationResult
 from .binary import write_records

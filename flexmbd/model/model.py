@@ -24,13 +24,13 @@ from enum import IntEnum
 
 import numpy as np
 
-from .elements import ElementType
-from .elements.base import SPATIAL_KINDS, SPATIAL_ROTATIONAL, is_translational
-from .errors import LabelError
-from .frozen import FrozenMap
-from .motion import Law
+from ..elements import ElementType
+from ..elements.base import SPATIAL_KINDS, SPATIAL_ROTATIONAL, is_translational
+from ..errors import LabelError
+from ..frozen import FrozenMap
+from ..motion import Law
+from ..sections import Material, Section
 from .naming import suggestion
-from .sections import Material, Section
 
 
 class CoordinateClass(IntEnum):
@@ -378,7 +378,7 @@ class Model:
 
     def __repr__(self) -> str:
         """:meth:`summary` and where to see more (never the nodes and elements in full)."""
-        from .summary import clip
+        from ..summary import clip
 
         return clip(self.summary() + "\n  more: model.nodes, model.elements, "
                     "model.coordinate_labels, model.deformation_labels, model.q_labels")
