@@ -216,7 +216,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
     print(found["statics"].model.summary())
     if args.out:
         found["statics"].save(args.out)
-        print(f"{len(found['statics'].t)} load steps written to {args.out}")
+        print(f"{len(found['statics'].load)} load steps written to {args.out}")
     describe(found)
     ok = print_checks("\nchecks:", checks(found))
 

@@ -269,7 +269,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> int:
     found = analyse(model)
     if args.out:
         found["statics"].save(args.out)
-        print(f"{len(found['statics'].t)} load steps written to {args.out}")
+        print(f"{len(found['statics'].load)} load steps written to {args.out}")
     describe(found)
     ok = print_checks("\nchecks:", checks(found))
     if args.bode:

@@ -177,7 +177,7 @@ def checks(points: int = 41) -> list[Check]:
     engine = fm.kinematic_analysis(truss, [(x_p + 2.0) / 4.0])
     out.append(Check("1: ydot_q [m/s] (4 sqrt 3)", ydot, float(engine["xd2.2"][0])))
     model = slider_crank_dynamics.build_model()
-    phi2, F_q, F_qq = slider_transfer(model)
+    phi2, F_q, F_qq = slider_transfer()   # of this model, worked out once (cached)
     x = fm.solve_position(model, np.array([0.7]))
     i = model.coordinate_index("x5.1")
     out.append(Check("2: F_q of x5 at 0.7 rad [m]", float(F_q.subs(phi2, 0.7)),

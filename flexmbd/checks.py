@@ -8,12 +8,16 @@ after minutes of computing (or never).
 
 from __future__ import annotations
 
+import functools
+import inspect
 import math
 import os
+import warnings
+from collections.abc import Iterable, Mapping
 
 import numpy as np
 
-from .errors import ArgumentError
+from .errors import ArgumentError, LabelError
 
 EPS = float(np.finfo(float).eps)
 #: Newton converges in a handful of iterations or not at all: more than this cannot help
@@ -27,15 +31,16 @@ MEMORY_SHARE = 0.5
 SMALLEST_RTOL, LARGEST_RTOL = 100 * EPS, 0.1
 
 
-def real(value, name: str) -> float:
-    """``value`` as a finite float, or an error naming ``name``."""
+def real(value, name: str, finite: bool = True) -> float:
+    """``value`` as a float, finite unless ``finite`` is false, or an error naming
+    ``name``."""
     if isinstance(value, (bool, str, bytes)) or value is None:
         raise ArgumentError(name, f"must be a number, got {value!r}")
     try:
         number = float(value)
     except (TypeError, ValueError):
         raise ArgumentError(name, f"must be a number, got {value!r}") from None
-    if not math.isfinite(number):
+    if finite and not math.isfinite(number):
         raise ArgumentError(name, f"must be finite, got {value!r}")
     return number
 
@@ -159,6 +164,50 @@ def vector(value, size: int, name: str, what: str) -> np.ndarray:
     return array
 
 
+def choice(value, name: str, options: tuple[str, ...]) -> str:
+    """``value`` if it is one of the strings ``options``, or an error naming ``name``."""
+    if not isinstance(value, str) or value not in options:
+        raise ArgumentError(name, f"must be {_either(options)}, got {value!r}")
+    return value
+
+
+def _either(options: tuple[str, ...]) -> str:
+    quoted = [repr(option) for option in options]
+    return quoted[0] if len(quoted) == 1 else f"{', '.join(quoted[:-1])} or {quoted[-1]}"
+
+
+def number_map(value, name: str) -> dict:
+    """``value``, a mapping of labels to numbers (``{"x2.1": 0.5}``), with each number a
+    finite float; or an error naming ``name`` (and the label)."""
+    if not isinstance(value, Mapping):
+        raise ArgumentError(name, f"must be a mapping of labels to numbers such as "
+                                  f"{{'x2.1': 0.5}}, got {value!r}")
+    return {label: real(number, f"{name} {label}") for label, number in value.items()}
+
+
+def coordinates_named(model, values, name: str) -> tuple[list[str], list[int]]:
+    """The coordinates named by ``values``, one label (``"x5.2"``, ``(5, 2)``) or a sequence
+    of them, as the model's labels and indices; or an error naming ``name`` with the
+    closest labels."""
+    one = isinstance(values, str) or (isinstance(values, tuple) and len(values) == 2 and
+                                      isinstance(values[0], (int, np.integer)))
+    if one:
+        values = [values]
+    elif isinstance(values, (Mapping, bytes)) or not isinstance(values, Iterable):
+        raise ArgumentError(name, f"must be coordinate labels such as ['x5.1', 'x5.2'], got "
+                                  f"{values!r}")
+    indices = []
+    for label in values:
+        try:
+            indices.append(model.coordinate_index(label))
+        except LabelError as error:
+            raise ArgumentError(name, str(error.args[0])) from None
+        except (TypeError, ValueError):
+            raise ArgumentError(name, f"{label!r} is not a coordinate label such as "
+                                      f"'x5.2'") from None
+    return [model.coordinate_labels[i] for i in indices], indices
+
+
 def flag(value, name: str, allow_none: bool = False) -> bool | None:
     """``value`` as a bool (``None`` too with ``allow_none``), or an error naming ``name``."""
     if value is None and allow_none:
@@ -167,3 +216,41 @@ def flag(value, name: str, allow_none: bool = False) -> bool | None:
         raise ArgumentError(name, f"must be True or False{' or None' if allow_none else ''}, "
                             f"got {value!r}")
     return bool(value)
+
+
+#: the release that refuses what is deprecated now
+REFUSED_FROM = "flexmbd 0.4"
+
+
+def deprecated(text: str, stacklevel: int = 3) -> None:
+    """Say that a spelling is deprecated: ``text`` says what to write instead; it goes on
+    working until :data:`REFUSED_FROM`."""
+    warnings.warn(f"{text} (the old spelling works until {REFUSED_FROM})",
+                  DeprecationWarning, stacklevel=stacklevel)
+
+
+def keyword_only(*names: str):
+    """Decorator of a public function whose parameters ``names``, once positional, are
+    keyword-only now: given by position after the function's positional parameters they
+    still arrive, in that order, with a :class:`DeprecationWarning` (flexmbd's convention:
+    the model and the grid or state are positional, everything else by name)."""
+    def decorate(function):
+        positional = sum(p.kind is inspect.Parameter.POSITIONAL_OR_KEYWORD
+                         for p in inspect.signature(function).parameters.values())
+
+        @functools.wraps(function)
+        def call(*args, **kwargs):
+            extra = args[positional:]
+            if extra:
+                if len(extra) > len(names):
+                    raise TypeError(f"{function.__name__}() takes {positional} positional "
+                                    f"arguments but {len(args)} were given")
+                for name, value in zip(names, extra, strict=False):
+                    if name in kwargs:
+                        raise TypeError(f"{function.__name__}() got {name} twice")
+                    kwargs[name] = value
+                given = ", ".join(f"{name}=..." for name in names[:len(extra)])
+                deprecated(f"{function.__name__}: give {given} by name, not by position")
+            return function(*args[:positional], **kwargs)
+        return call
+    return decorate

@@ -360,5 +360,4 @@ def conclude(result: Result, error: BaseException | None, on_failure: str,
 
 def check_on_failure(on_failure: str) -> None:
     """Reject a bad ``on_failure`` before a run does any work."""
-    if not isinstance(on_failure, str) or on_failure not in ("raise", "return"):
-        raise ArgumentError("on_failure", f"must be 'raise' or 'return', not {on_failure!r}")
+    checks.choice(on_failure, "on_failure", ("raise", "return"))

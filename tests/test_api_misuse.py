@@ -20,6 +20,22 @@ EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 MODEL = build_model(1)
 TIMES = np.linspace(0.0, 0.004, 5)
 REST = np.zeros(MODEL.n_dof)
+
+
+def _column() -> fm.Model:
+    """A cantilever of two beams along x, clamped at node 1: it can buckle."""
+    b = fm.ModelBuilder("column")
+    for k in range(3):
+        b.add_node(2 * k + 1, 0.5 * k, 0.0)
+    for k in range(2):
+        b.add_beam(k + 1, 2 * k + 1, 2 * k + 2, 2 * k + 3, 2 * k + 4)
+        b.dynamic_deformation(k + 1).set_mass(k + 1, 0.5)
+        b.set_stiffness(k + 1, axial=1e6, bending=2.0)
+    return b.fix(1).fix(2).build()
+
+
+#: the column pressed along its axis, linearized
+LINEAR = fm.linearize(_column(), loads={"x5.1": -1.0})
 #: no single call may take longer than this [s]
 BOUND = 10.0
 
@@ -30,14 +46,28 @@ BAD = [None, True, "x", "tight", -1, 0, 0.5, 2.5, 10**9, -1e-300, math.nan, math
 #: the analyses and the arguments that a user may get wrong, with what the message names
 CALLS = {
     "simulate": (lambda **kw: fm.simulate(MODEL, TIMES, **kw),
-                 ["rtol", "atol", "max_step", "method", "tolerance", "outputs", "initial",
-                  "inputs", "forces", "on_failure", "progress", "with_reactions"]),
+                 ["rtol", "atol", "max_step", "method", "tolerance", "max_iterations",
+                  "outputs", "initial", "inputs", "forces", "on_failure", "progress",
+                  "with_reactions"]),
     "simulate_alpha": (lambda **kw: fm.simulate(MODEL, TIMES, method="GeneralizedAlpha", **kw),
                        ["step", "iterations", "renew_every", "rho_inf", "rtol", "atol"]),
     "kinematic_analysis": (lambda **kw: fm.kinematic_analysis(MODEL, TIMES, **kw),
                            ["tolerance", "max_iterations", "inputs", "on_failure"]),
     "inverse_dynamics": (lambda **kw: fm.inverse_dynamics(MODEL, TIMES, **kw),
-                         ["tolerance", "inputs", "forces", "on_failure"]),
+                         ["tolerance", "max_iterations", "inputs", "forces", "on_failure",
+                          "with_reactions", "progress"]),
+    "static_equilibrium": (lambda **kw: fm.static_equilibrium(MODEL, **kw),
+                           ["loads", "load_increment", "input_increment", "steps",
+                            "tolerance", "max_iterations", "on_failure", "progress",
+                            "method"]),
+    "linearize": (lambda **kw: fm.linearize(MODEL, **kw),
+                  ["x", "qd", "qdd", "loads", "tolerance", "max_iterations", "workspace",
+                   "e"]),
+    "vibration_modes": (lambda count: fm.vibration_modes(LINEAR, count), ["count"]),
+    "buckling": (lambda count: fm.buckling(LINEAR, count), ["count"]),
+    "compliance": (lambda labels: fm.compliance(LINEAR, labels), ["labels"]),
+    "state_space": (lambda **kw: fm.state_space(LINEAR, **{"inputs": ["x5.2"], **kw}),
+                    ["inputs", "outputs", "rate_outputs", "damping_ratio"]),
     "times": (lambda times: fm.simulate(MODEL, times), ["times"]),
     "velocities": (lambda x=MODEL.x0, qd=REST: fm.velocities(MODEL, x, qd), ["x", "qd"]),
     "solve_position": (lambda q=REST, x_guess=None: fm.solve_position(MODEL, q, x_guess),

@@ -62,7 +62,7 @@ def _planar_arm() -> fm.Model:
 
 
 def _compare_rows(a: fm.StaticResult, b: fm.StaticResult, size: float) -> None:
-    assert len(a.t) == len(b.t)
+    assert len(a.load) == len(b.load)
     np.testing.assert_allclose(a.x, b.x, rtol=0, atol=1e-9 * size)
     scale = np.abs(a.sigma).max()
     np.testing.assert_allclose(a.sigma, b.sigma, rtol=0, atol=1e-7 * scale)

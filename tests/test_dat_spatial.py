@@ -129,7 +129,7 @@ def test_the_spatial_file_runs():
     assert run.success and np.all(np.isfinite(run.x))
     static = fm.static_equilibrium(model, load_increment=dict(s.load_increment),
                                    input_increment=dict(s.input_increment), steps=2)
-    assert static.success and len(static.t) == 3
+    assert static.success and len(static.load) == 3
 
 
 def test_spatial_files_round_trip(tmp_path):

@@ -60,7 +60,7 @@ def test_results_pickle_and_keep_their_numbers():
     statics = fm.static_equilibrium(guide, load_increment={"x5.1": 1.0}, steps=2)
     lin = statics.linearization(1)
     for value, names in ((run, ("t", "x", "xd", "e", "sigma")), (kinematics, ("t", "x", "e")),
-                         (statics, ("t", "x", "e", "sigma"))):
+                         (statics, ("load", "x", "e", "sigma"))):
         _same_arrays(value, _again(value), names)
     for value in (lin, fm.vibration_modes(lin, 3), fm.buckling(lin, 1),
                   fm.state_space(lin, ["x5.1"], ["x5.1"]),

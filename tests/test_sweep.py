@@ -275,13 +275,21 @@ def _interrupted(command: list[str], out: Path, sig: int) -> int:
         process.stderr.close()
 
 
-@pytest.mark.parametrize("sig, where", [(signal.SIGINT, []), (signal.SIGKILL, ["--serial"])])
-def test_an_interrupted_study_resumes_to_the_same_table(tmp_path, sig, where):
-    """Ctrl-C on a local cluster (the table is written on the way out) and a hard kill of a
-    serial run (the part files are all that is left): both resume to the full table."""
-    whole, out = tmp_path / "whole.parquet", tmp_path / "cut.parquet"
+@pytest.fixture(scope="module")
+def whole_table(tmp_path_factory) -> pd.DataFrame:
+    """The study of :func:`_sweep_command` run through, serially."""
+    whole = tmp_path_factory.mktemp("whole") / "whole.parquet"
     assert subprocess.run(_sweep_command(whole, "--serial"), capture_output=True,
                           timeout=300).returncode == 0
+    return pd.read_parquet(whole)
+
+
+@pytest.mark.xdist_group("interrupted study")   # one worker: the whole table made once
+@pytest.mark.parametrize("sig, where", [(signal.SIGINT, []), (signal.SIGKILL, ["--serial"])])
+def test_an_interrupted_study_resumes_to_the_same_table(tmp_path, whole_table, sig, where):
+    """Ctrl-C on a local cluster (the table is written on the way out) and a hard kill of a
+    serial run (the part files are all that is left): both resume to the full table."""
+    out = tmp_path / "cut.parquet"
     code = _interrupted(_sweep_command(out, *where), out, sig)
     assert code == (130 if sig == signal.SIGINT else -signal.SIGKILL)
     kept = pd.concat([pd.read_parquet(p) for p in
@@ -291,9 +299,9 @@ def test_an_interrupted_study_resumes_to_the_same_table(tmp_path, sig, where):
     resumed = subprocess.run(_sweep_command(out, *where), capture_output=True, text=True,
                              timeout=300)
     assert resumed.returncode == 0, resumed.stderr
-    a, b = pd.read_parquet(whole), pd.read_parquet(out)
     assert not out.with_name(out.name + ".partial").exists()
-    pd.testing.assert_frame_equal(a.drop(columns="wall_time"), b.drop(columns="wall_time"))
+    pd.testing.assert_frame_equal(whole_table.drop(columns="wall_time"),
+                                  pd.read_parquet(out).drop(columns="wall_time"))
 
 
 # --- a scheduler and two workers as separate processes --------------------------------------

@@ -22,7 +22,15 @@ from typing import Literal
 import numpy as np
 
 from .. import checks
-from ..engine import Forces, Workspace, initial_q, q_index, resolve_laws, workspace_of
+from ..engine import (
+    MAX_ITERATIONS,
+    Forces,
+    Workspace,
+    initial_q,
+    q_index,
+    resolve_laws,
+    workspace_of,
+)
 from ..errors import ArgumentError, ModelError, SimulationError, StiffnessError
 from ..model import Model
 from ..motion import Law
@@ -128,10 +136,11 @@ def simulate(
     rtol: float = RTOL,
     atol: float = ATOL,
     tolerance: float | None = None,
+    max_iterations: int = MAX_ITERATIONS,
     with_reactions: bool = False,
     outputs: Literal["all", "velocities", "positions"] = "all",
-    progress: bool | None = None,
     on_failure: Literal["raise", "return"] = "raise",
+    progress: bool | None = None,
     **options,
 ) -> SimulationResult:
     """Forward simulation of the dynamic degrees of freedom.
@@ -152,15 +161,18 @@ def simulate(
         rtol, atol: integrator tolerances on ``[q_d, qdot_d]`` (for GeneralizedAlpha:
             of its Newton iteration).
         tolerance: Newton tolerance of the position solve [m, rad].
-        with_reactions: keep the loads of supports and drives (``f<node>.<k>`` columns).
+        max_iterations: Newton iterations of a position solve before giving up.
+        with_reactions: keep the loads of supports and drives (``f<node>.<k>`` columns);
+            off by default, as they cost a solve at each output (on in
+            :func:`inverse_dynamics`, whose purpose they are).
         outputs: what each output time records: ``"all"`` (default: positions, rates,
             accelerations, stresses, driving loads), ``"velocities"`` (``x, e, q`` and
             their rates) or ``"positions"`` (``x, e, q``). Each output solves for these
             alone: positions skip the rates, the accelerations and the factorisations
             of each output, the larger part of a run that outputs every step.
-        progress: progress bar (default: long interactive runs only).
         on_failure: ``"raise"`` the :class:`SimulationError` (with the output so far
             as ``error.partial_result``) or ``"return"`` it with ``success=False``.
+        progress: progress bar (default: long interactive runs only).
         **options: the method's own (:data:`flexmbd.analysis.integrate.METHODS`); a
             method refuses, by name, an option it does not take.
 
@@ -230,8 +242,8 @@ def simulate(
         work = len(times)
     q0, qd0 = initial_state(model, initial)
     with progress_bar(times, f"simulating ({method})", progress, work) as advance:
-        run = _Run(model, inputs, forces, tolerance, RECORDED[outputs], spec, settings,
-                   advance)
+        run = _Run(model, inputs, forces, (tolerance, max_iterations), RECORDED[outputs],
+                   spec, settings, advance)
         arrays, done, error, stats = run.through(times, q0, qd0)
     if not with_reactions:
         arrays.pop("reactions", None)
@@ -283,9 +295,10 @@ class _Run:
     parameter calculable (:mod:`flexmbd.analysis.free_rotations`). Outputs are in the labels of
     the model the user gave."""
 
-    def __init__(self, model: Model, inputs, forces, tolerance, columns, method: Method,
-                 settings: AlphaOptions | ScipyOptions, advance):
-        self.model, self.inputs, self.forces, self.tolerance = model, inputs, forces, tolerance
+    def __init__(self, model: Model, inputs, forces, solve: tuple[float | None, int], columns,
+                 method: Method, settings: AlphaOptions | ScipyOptions, advance):
+        #: the position solve's tolerance [m, rad] and iteration limit
+        self.model, self.inputs, self.forces, self.solve = model, inputs, forces, solve
         self.columns, self.method, self.settings = columns, method, settings
         self.advance = advance
         self.laws = resolve_laws(model, inputs)  # bad inputs are reported before any work
@@ -302,7 +315,7 @@ class _Run:
             # a segment after the first starts at the time it took over; that row is the
             # last segment's last state again and is dropped
             seg_times = times[k:] if start is None else np.concatenate([[t_end], times[k:]])
-            engine = Workspace(segment, self.tolerance)
+            engine = Workspace(segment, *self.solve)
             laws = self.laws if segment is self.model else resolve_laws(segment, self.inputs)
             arrays = engine.prepare(laws, len(seg_times), integrated=True, dynamics=True,
                                     forces=self.forces, progress=self.advance,
@@ -392,13 +405,15 @@ def _scipy_run(engine: Workspace, laws, times, y0, method: str, settings: ScipyO
     return len(run.t), error, counts, run.end if run.stopped else None
 
 
+@checks.keyword_only("inputs")
 def inverse_dynamics(
     model: Model,
     times,
-    inputs: Mapping[str, Law] | None = None,
     *,
+    inputs: Mapping[str, Law] | None = None,
     forces: Forces | None = None,
     tolerance: float | None = None,
+    max_iterations: int = MAX_ITERATIONS,
     with_reactions: bool = True,
     on_failure: Literal["raise", "return"] = "raise",
     progress: bool | None = None,
@@ -415,6 +430,7 @@ def inverse_dynamics(
         inputs: laws by label (``{"x2.1": Polynomial(0, 150)}``).
         forces: applied loads ``forces(t, x, xdot)`` [N, N m] as in :func:`simulate`.
         tolerance: Newton tolerance of the position solve [m, rad].
+        max_iterations: Newton iterations of a position solve before giving up.
         with_reactions: keep the loads of supports and drives (THEORY 8); default on.
         on_failure: ``"raise"`` (with ``error.partial_result``) or ``"return"``.
         progress: progress bar (default: long interactive runs only).
@@ -431,7 +447,7 @@ def inverse_dynamics(
                          "add_point_mass() before inverse dynamics")
     checks.flag(with_reactions, "with_reactions")
     laws = resolve_laws(model, inputs)
-    engine = Workspace(model, tolerance)
+    engine = Workspace(model, tolerance, max_iterations)
     with progress_bar(times, "inverse dynamics", progress) as advance:
         arrays = engine.prepare(laws, len(times), dynamics=True, forces=forces,
                                 progress=advance)

@@ -262,11 +262,12 @@ def second_order_transfer(model: Model, x: np.ndarray) -> tuple[np.ndarray, np.n
 
 
 # --- a time grid --------------------------------------------------------------------------
+@checks.keyword_only("inputs")
 def kinematic_analysis(
     model: Model,
     times,
-    inputs: Mapping[str, Law] | None = None,
     *,
+    inputs: Mapping[str, Law] | None = None,
     tolerance: float | None = None,
     max_iterations: int = _engine.MAX_ITERATIONS,
     on_failure: Literal["raise", "return"] = "raise",

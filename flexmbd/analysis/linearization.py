@@ -42,8 +42,16 @@ from functools import cached_property
 
 import numpy as np
 
+from .. import checks
 from ..elements.base import SPATIAL_ROTATIONAL
-from ..engine import Workspace, load_vector, q_scale, unwrap_near, workspace_of
+from ..engine import (
+    MAX_ITERATIONS,
+    Workspace,
+    load_vector,
+    q_scale,
+    unwrap_near,
+    workspace_for,
+)
 from ..errors import ArgumentError
 from ..model import Model
 from ..orientation import angular_velocity, euler_forces
@@ -131,22 +139,33 @@ class Linearization:
                 F[at[0]] = 0.0
         return F
 
-    def transfer(self, labels) -> np.ndarray:
+    def transfer(self, labels, name: str = "labels") -> np.ndarray:
         """Rows of :attr:`motion_transfer` over the dynamic entries for coordinate labels
         (``"x3.2"``): how those coordinates (a rotational node's global rotations) move
-        with the degrees of freedom ``(len(labels), nd)``."""
-        rows = [self.model.coordinate_index(label) for label in labels]
+        with the degrees of freedom ``(len(labels), nd)``. ``name`` is the argument the
+        labels came by, for an error."""
+        return self.motion_transfer[np.ix_(self.rows_of(labels, name), self.dynamic)]
+
+    def rows_of(self, labels, name: str = "labels") -> np.ndarray:
+        """The coordinate indices ``(k,)`` of the labels (``"x3.2"``) of coordinates with
+        a transfer: not the ``lam0`` of a spatial rotational node.
+
+        Raises:
+            ArgumentError: a label the model lacks, or a ``lam0``; naming ``name``.
+        """
+        labels, rows = checks.coordinates_named(self.model, labels, name)
         for label, row in zip(labels, rows, strict=True):
             if row in self.model.euler_scalars:
-                raise ArgumentError("labels", f"{label} is lam0 of a spatial rotational node; "
-                                              f"its rotations are {label[:-1]}2 to "
-                                              f"{label[:-1]}4 (about x, y and z)")
-        return self.motion_transfer[np.ix_(np.asarray(rows, dtype=int), self.dynamic)]
+                raise ArgumentError(name, f"{label} is lam0 of a spatial rotational node; "
+                                          f"its rotations are {label[:-1]}2 to "
+                                          f"{label[:-1]}4 (about x, y and z)")
+        return np.asarray(rows, dtype=int)
 
 
 def linearize(model: Model, x=None, qd=None, qdd=None, *, loads=None,
-              tolerance: float | None = None, engine: Workspace | None = None,
-              e=None) -> Linearization:
+              tolerance: float | None = None, max_iterations: int = MAX_ITERATIONS,
+              workspace: Workspace | None = None, e=None,
+              engine: Workspace | None = None) -> Linearization:
     """Linearize the reduced equations at the configuration ``x`` with rates ``qd`` and
     accelerations ``qdd`` of ``q``.
 
@@ -158,7 +177,10 @@ def linearize(model: Model, x=None, qd=None, qdd=None, *, loads=None,
         loads: applied loads ``(nx,)`` [N, N m] or ``{"x3.2": value}``, on top of the
             model's own (``XF``, gravity); they set the stresses of ``G0``.
         tolerance: Newton tolerance of the position solve [m, rad].
-        engine: an engine of ``model`` to reuse (repeated calls along a motion).
+        max_iterations: Newton iterations of the position solve before giving up.
+        workspace: a :class:`~flexmbd.Workspace` of ``model`` to use (repeated calls along
+            a motion); default the model's own.
+        engine: the old name of ``workspace`` (deprecated).
         e: the deformations ``(ne,)`` at ``x`` when known (a result row): a hinge turned
             beyond half a turn keeps its rotation (from ``x`` alone it is known only
             within half a turn, and its spring's stress with it).
@@ -178,7 +200,10 @@ def linearize(model: Model, x=None, qd=None, qdd=None, *, loads=None,
         >>> print(f"{lin.block('K')[0, 0]:.4f} N m/rad, {lin.block('M0')[0, 0]:.4f} kg m^2")
         4.9050 N m/rad, 0.3333 kg m^2
     """
-    engine = engine or workspace_of(model, tolerance)
+    if engine is not None:
+        checks.deprecated("linearize: give workspace=..., not engine=...")
+        workspace = workspace or engine
+    engine = workspace_for(model, workspace, tolerance, max_iterations)
     x = coordinates(model, model.x0 if x is None else x)
     zero = np.zeros(model.n_dof)
     qd = zero if qd is None else generalized(model, qd, "qd")
@@ -187,10 +212,7 @@ def linearize(model: Model, x=None, qd=None, qdd=None, *, loads=None,
                                                                             "loads")
     near = None
     if e is not None:
-        e = np.asarray(e, dtype=float)
-        if e.shape != (model.n_deformations,):
-            raise ArgumentError("e", f"must have shape ({model.n_deformations},), got "
-                                     f"{e.shape}")
+        e = checks.vector(e, model.n_deformations, "e", "the deformations at x")
         near = np.concatenate([x[model.independent_coordinates],
                                e[model.independent_deformations]])
     state, F_q, E_q, G0 = _elastic_state(engine, x, qd, qdd, extra, near)
@@ -208,7 +230,7 @@ def linearize(model: Model, x=None, qd=None, qdd=None, *, loads=None,
         K0=E_q.T @ law("S", E_q), N0=N0, G0=G0)
 
 
-def linearize_free(model: Model, x, qd=None, *, loads=None, engine: Workspace | None = None,
+def linearize_free(model: Model, x, qd=None, *, loads=None, workspace: Workspace | None = None,
                    e=None) -> Linearization:
     """:func:`linearize` at the accelerations of the free motion: the dynamic entries of
     ``qddot`` are those the equations of motion give at ``(x, qd)`` (the prescribed ones
@@ -219,15 +241,15 @@ def linearize_free(model: Model, x, qd=None, *, loads=None, engine: Workspace | 
         model: the mechanism.
         x: coordinates ``(nx,)`` [m, rad].
         qd: rates of ``q`` ``(nq,)`` (default zero).
-        loads, engine, e: as for :func:`linearize`.
+        loads, workspace, e: as for :func:`linearize`.
     """
-    engine = engine or workspace_of(model)
-    at_rest = linearize(model, x, qd, loads=loads, engine=engine, e=e)
+    workspace = workspace_for(model, workspace)
+    at_rest = linearize(model, x, qd, loads=loads, workspace=workspace, e=e)
     dynamic = at_rest.dynamic
     qdd = np.zeros(model.n_dof)
     # Mbar qdd - g = driving, zero on the dynamic entries of the free motion
     qdd[dynamic] = -np.linalg.solve(at_rest.block("M0"), at_rest.driving[dynamic])
-    return linearize(model, at_rest.x, at_rest.qd, qdd, loads=loads, engine=engine, e=e)
+    return linearize(model, at_rest.x, at_rest.qd, qdd, loads=loads, workspace=workspace, e=e)
 
 
 def static_tangent(engine: Workspace, x: np.ndarray, loads: np.ndarray,

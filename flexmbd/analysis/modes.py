@@ -21,6 +21,7 @@ from typing import Literal
 import numpy as np
 from threadpoolctl import threadpool_limits
 
+from .. import checks
 from ..elements.base import SPATIAL_ROTATIONAL
 from ..engine import workspace_of
 from ..engine.diagnosis import MASS_ADVICE
@@ -334,7 +335,8 @@ class ModesAlong:
                                 for k in range(self.frequencies.shape[1])}}
 
 
-def modes_along(result: KinematicResult, count: int = 6, progress: bool | None = None
+@checks.keyword_only("progress")
+def modes_along(result: KinematicResult, count: int = 6, *, progress: bool | None = None
                 ) -> ModesAlong:
     """The ``count`` lowest vibration frequencies at every row of a motion (a simulation,
     an inverse-dynamics or a kinematic result): the linearization about each state
@@ -360,7 +362,7 @@ def modes_along(result: KinematicResult, count: int = 6, progress: bool | None =
         for k in range(nt):
             qd = np.concatenate([xd[k, nxm], ed[k, emd]])
             qdd = np.concatenate([xdd[k, nxm], edd[k, emd]])
-            lin = linearize(model, result.x[k], qd, qdd, engine=engine, e=e[k])
+            lin = linearize(model, result.x[k], qd, qdd, workspace=engine, e=e[k])
             omega2[k] = _eigen(lin, lin.block("K"), lin.block("M0"), count, vectors=False)[0]
             if advance is not None:
                 advance(result.t[k])
@@ -438,9 +440,7 @@ def compliance(linearization: Linearization, labels) -> np.ndarray:
 def _compliance(lin: Linearization, labels, held: bool) -> np.ndarray:
     """``T F_sel K^-1 F_sel^T T^T`` over the dynamic entries of ``q`` (``held``) or all."""
     columns = lin.dynamic if held else np.arange(lin.model.n_dof)
-    rows = [lin.model.coordinate_index(label) for label in labels]
-    lin.transfer(labels)   # refuses the lam0 of a rotational node, by label
-    F = lin.motion_transfer[np.ix_(np.asarray(rows, dtype=int), columns)]
+    F = lin.motion_transfer[np.ix_(lin.rows_of(labels), columns)]
     K = (lin.K0 + lin.G0)[np.ix_(columns, columns)]
     symmetric = 0.5 * (K + K.T)
     if not held:   # a free drive that nothing resists: name it (its pivot may round > 0)

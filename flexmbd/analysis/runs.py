@@ -49,11 +49,12 @@ def analyse(model: Model, settings: RunSettings, mode: str, times: np.ndarray,
         if forces is not None:
             raise ArgumentError("--mode", f"a kinematic analysis applies no loads: USERSIG "
                                           f"{s.user_loads} acts in --mode dynamic or inverse")
-        return kinematic_analysis(model, times, inputs, tolerance=s.tolerance,
+        return kinematic_analysis(model, times, inputs=inputs, tolerance=s.tolerance,
                                   max_iterations=s.max_iterations or MAX_ITERATIONS,
                                   on_failure="return", progress=progress)
     if mode == "inverse":
-        return inverse_dynamics(model, times, inputs, forces=forces, tolerance=s.tolerance,
+        return inverse_dynamics(model, times, inputs=inputs, forces=forces, tolerance=s.tolerance,
+                                max_iterations=s.max_iterations or MAX_ITERATIONS,
                                 on_failure="return", progress=progress)
     return simulate(model, times, inputs=inputs, forces=forces, initial=s.initial,
                     method=method, rtol=s.rtol or RTOL, atol=s.atol or ATOL,

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as linalg
 
+from .. import checks
 from ..engine import workspace_of
 from ..errors import ArgumentError, SingularConfigurationError
 from ..summary import dataclass_repr
@@ -127,9 +128,9 @@ def state_space(linearization: Linearization, inputs, outputs=(), rate_outputs=(
     """
     lin = linearization
     model, dynamic = lin.model, lin.dynamic
-    inputs, outputs, rate_outputs = (_labels(v, name) for v, name in
-                                     ((inputs, "inputs"), (outputs, "outputs"),
-                                      (rate_outputs, "rate_outputs")))
+    inputs, outputs, rate_outputs = (checks.coordinates_named(model, v, name)[0]
+                                     for v, name in ((inputs, "inputs"), (outputs, "outputs"),
+                                                     (rate_outputs, "rate_outputs")))
     nd = len(dynamic)
     M, K = lin.block("M0"), lin.block("K")
     damping = lin.block("C") if damping_ratio is None else _modal_damping(lin, damping_ratio)
@@ -138,12 +139,13 @@ def state_space(linearization: Linearization, inputs, outputs=(), rate_outputs=(
     A[nd:, :nd] = -linalg.solve(M, K, assume_a="pos")
     A[nd:, nd:] = -linalg.solve(M, damping, assume_a="pos")
     B = np.zeros((2 * nd, len(inputs)))
-    B[nd:] = linalg.solve(M, lin.transfer(inputs).T, assume_a="pos")
-    rows = [np.concatenate([lin.transfer([label])[0], np.zeros(nd)]) for label in outputs]
+    B[nd:] = linalg.solve(M, lin.transfer(inputs, "inputs").T, assume_a="pos")
+    rows = [np.concatenate([position, np.zeros(nd)])
+            for position in lin.transfer(outputs, "outputs")]
     velocity = _rate_transfer(lin) if rate_outputs else np.zeros((0, 0))
-    for label in rate_outputs:
-        i = model.coordinate_index(label)
-        rows.append(np.concatenate([velocity[i], lin.transfer([label])[0]]))
+    for i, rate in zip(lin.rows_of(rate_outputs, "rate_outputs"),
+                       lin.transfer(rate_outputs, "rate_outputs"), strict=True):
+        rows.append(np.concatenate([velocity[i], rate]))
     C = np.array(rows).reshape(len(rows), 2 * nd)
     names = [model.q_labels[j] for j in dynamic]
     return StateSpace(A, B, C, np.zeros((len(rows), len(inputs))), tuple(inputs),
@@ -151,19 +153,9 @@ def state_space(linearization: Linearization, inputs, outputs=(), rate_outputs=(
                       tuple(names + [f"d/dt {n}" for n in names]))
 
 
-def _labels(values, name: str) -> list[str]:
-    if isinstance(values, str):
-        values = [values]
-    labels = [str(v) for v in values]
-    for label in labels:
-        if not label.strip().lower().startswith("x"):
-            raise ArgumentError(name, f"names coordinates such as 'x5.2', got {label!r}")
-    return labels
-
-
 def _modal_damping(lin: Linearization, ratio: float) -> np.ndarray:
     """``M Phi diag(2 zeta omega) Phi^T M`` over the dynamic entries."""
-    if not (isinstance(ratio, (int, float)) and 0.0 <= ratio < np.inf):
+    if checks.real(ratio, "damping_ratio") < 0.0:
         raise ArgumentError("damping_ratio", f"must be a number >= 0, got {ratio!r}")
     modes = vibration_modes(lin)
     M = lin.block("M0")

@@ -12,6 +12,7 @@ by the same continuation of its loads.
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Literal
@@ -64,6 +65,25 @@ class StaticResult(SimulationResult):
     """
 
     applied: np.ndarray | None = None
+
+    @property
+    def load(self) -> np.ndarray:
+        """The load factor of each row ``(n,)``: 0 for the model's own loads, 1 with the
+        full increments (also the column ``"load"``)."""
+        return self.__dict__["t"]
+
+    def _rows(self) -> np.ndarray:
+        # ``t``, a time in every other result, is the load factor here. flexmbd's generic
+        # code (tables, plots, files) reads the rows of any result by ``t``; read from
+        # outside flexmbd it is the old spelling of ``load``
+        if not sys._getframe(1).f_globals.get("__name__", "").startswith("flexmbd."):
+            checks.deprecated("StaticResult.t is the load factor: read it as .load")
+        return self.__dict__["t"]
+
+    def _set_rows(self, value: np.ndarray) -> None:
+        self.__dict__["t"] = value
+
+    t = property(_rows, _set_rows)
 
     def __repr__(self) -> str:
         rows = len(self.t)
@@ -154,19 +174,20 @@ def static_equilibrium(
         -0.001667 m, closed form -0.001667 m
     """
     check_on_failure(on_failure)
-    if method not in ("auto", "reduced", "banded"):
-        raise ArgumentError("method", f"must be 'auto', 'reduced' or 'banded', got {method!r}")
+    checks.choice(method, "method", ("auto", "reduced", "banded"))
     base = np.zeros(model.n_coordinates) if loads is None else load_vector(model, loads,
                                                                            "loads")
     increment = (np.zeros(model.n_coordinates) if load_increment is None
                  else load_vector(model, load_increment, "load_increment"))
     inputs = np.zeros(model.n_dof)
-    for label, value in (input_increment or {}).items():
+    given_inputs = {} if input_increment is None else checks.number_map(input_increment,
+                                                                         "input_increment")
+    for label, value in given_inputs.items():
         j = q_index(model, label, "input_increment")
         if not model.q_is_input[j]:
             raise ArgumentError("input_increment", f"{label} is a dynamic degree of freedom, "
                                                    f"not a prescribed input")
-        inputs[j] = checks.real(value, f"input_increment {label}")
+        inputs[j] = value
     given = bool(np.any(increment) or np.any(inputs))
     steps = (1 if given else 0) if steps is None else steps
     steps = checks.whole(steps, "steps", 0, checks.LARGEST_STEPS)

@@ -38,6 +38,7 @@ from .workspace import (
     element_kernel,
     output_bytes,
     output_sizes,
+    workspace_for,
     workspace_of,
     write_rows,
 )
@@ -46,4 +47,4 @@ __all__ = ["CORE_BUILD", "KINEMATIC_OUTPUTS", "MAX_ITERATIONS", "OUTPUTS", "Core
            "Forces", "Workspace", "check_core", "compile_model", "deformations_and_jacobian",
            "element_kernel", "initial_q", "load_slots", "load_vector", "output_bytes",
            "output_sizes", "q_index", "q_scale", "resolve_laws", "reverse_cuthill_mckee",
-           "unwrap_near", "workspace_of", "write_rows"]
+           "unwrap_near", "workspace_for", "workspace_of", "write_rows"]

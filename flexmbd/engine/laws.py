@@ -13,6 +13,7 @@ from collections.abc import Callable, Mapping
 
 import numpy as np
 
+from .. import checks
 from ..elements.base import SPATIAL_ROTATIONAL, is_translational
 from ..errors import ArgumentError, FlexmbdError, ModelError, SimulationError
 from ..model import Model
@@ -147,28 +148,39 @@ def q_scale(model: Model) -> np.ndarray:
 Forces = Callable[[float, np.ndarray, np.ndarray], "np.ndarray | Mapping[str, float]"]
 
 
-def load_vector(model: Model, value, argument: str = "forces") -> np.ndarray:
+def load_vector(model: Model, value, argument: str = "forces", finite: bool = True
+                ) -> np.ndarray:
     """User loads (array or label mapping, see :data:`Forces`) as an array ``(nx,)``. On a
     spatial rotational node the entries of ``lam1..lam3`` (labels ``x<n>.2`` to
     ``x<n>.4``) are the global moment ``(Mx, My, Mz)`` [N m] and ``lam0``'s must be 0.
+    ``finite=False`` lets a load that is not finite through: the core refuses those of a
+    run itself, naming the coordinate and the time.
 
     Raises:
-        ArgumentError: a label the model lacks, an array of another shape, or a load on a
-            ``lam0``; the message starts with ``argument``, the name the loads came by.
+        ArgumentError: a label the model lacks, an array of another shape, a load that is
+            not finite, or a load on a ``lam0``; the message starts with ``argument``, the
+            name the loads came by.
     """
+    n = model.n_coordinates
     if isinstance(value, Mapping):
-        f = np.zeros(model.n_coordinates)
+        f = np.zeros(n)
         for label, v in value.items():
-            try:
-                f[model.coordinate_index(label)] += v
-            except KeyError as err:
-                raise ArgumentError(argument, str(err.args[0])) from None
+            f[checks.coordinates_named(model, label, argument)[1][0]] += checks.real(
+                v, f"{argument} {label}", finite=False)
     else:
-        f = np.asarray(value, dtype=float)
-        if f.shape != (model.n_coordinates,):
-            raise ArgumentError(argument, f"must be an array of shape ({model.n_coordinates},) "
-                                          f"or a mapping of coordinate labels, got shape "
+        spelled = f"an array ({n},) or a mapping such as {{'x5.2': -10.0}}"
+        try:
+            f = np.asarray(value, dtype=float)
+        except (TypeError, ValueError):
+            raise ArgumentError(argument, f"must be loads [N, N m], {spelled}; got "
+                                          f"{value!r}") from None
+        if f.shape != (n,):
+            raise ArgumentError(argument, f"must be loads [N, N m], {spelled}; got shape "
                                           f"{f.shape}")
+    if finite and not np.all(np.isfinite(f)):
+        k = int(np.flatnonzero(~np.isfinite(f))[0])
+        raise ArgumentError(argument, f"the load on {model.describe_coordinate(k)} is "
+                                      f"{f[k]}; every load must be finite")
     scalar = model.euler_scalars
     if np.any(f[scalar] != 0.0):
         label = model.coordinate_labels[scalar[np.flatnonzero(f[scalar])[0]]]

@@ -168,6 +168,28 @@ def workspace_of(model: Model, tolerance: float | None = None,
     return workspace
 
 
+def workspace_for(model: Model, workspace, tolerance: float | None = None,
+                  max_iterations: int = MAX_ITERATIONS) -> Workspace:
+    """The workspace an evaluation at one state asked for: the caller's ``workspace`` (of
+    this ``model``) or, when that is ``None``, the model's default one; either set to the
+    position solve's ``tolerance`` [m, rad] and ``max_iterations``.
+
+    Raises:
+        ArgumentError: ``workspace`` is not a :class:`Workspace` of ``model``.
+    """
+    if workspace is None:
+        return workspace_of(model, tolerance, max_iterations)
+    if not isinstance(workspace, Workspace):
+        raise ArgumentError("workspace", f"must be a flexmbd.Workspace of the model, got "
+                                         f"{type(workspace).__name__}")
+    if workspace.model is not model:
+        raise ArgumentError("workspace", f"is a workspace of {workspace.model.name!r}, not "
+                                         f"of {model.name!r}: make one with "
+                                         f"fm.Workspace(model)")
+    workspace.configure(tolerance, max_iterations)
+    return workspace
+
+
 class Workspace:
     """A model's workspace on the core (module docstring): the model compiled once, a
     run's laws and loads, its output arrays, the last configuration and factorisation,
@@ -293,7 +315,11 @@ class Workspace:
                 except Exception as error:  # the user's function: named, not lost
                     raise SimulationError(f"forces raised {type(error).__name__}: {error} "
                                           f"{at_time(t)}", t) from error
-                f[:] = load_vector(model, given)
+                try:
+                    # one that is not finite the core reports, with its label and time
+                    f[:] = load_vector(model, given, finite=False)
+                except ArgumentError as error:  # what it returned, and when
+                    raise SimulationError(f"{error}, returned {at_time(t)}", t) from None
 
             options.update(forces=apply_forces, force_x=x, force_xd=xd, force_f=f)
         if progress is not None:
