@@ -309,10 +309,13 @@ def test_an_interrupted_study_resumes_to_the_same_table(tmp_path, whole_table, s
 @pytest.fixture(scope="module")
 def scheduler(tmp_path_factory):
     """``dask scheduler`` and two ``dask worker`` processes on the loopback address, stopped
-    at the end; a failed case is not retried (a worker that dies fails its case at once)."""
+    at the end; a failed case is not retried (a worker that dies fails its case at once).
+    Each worker holds one case at a time: with dask's default saturation a worker also
+    holds the next case, which a death without retries would fail along with its own."""
     folder = tmp_path_factory.mktemp("cluster")
     info = folder / "scheduler.json"
-    env = {**os.environ, "DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES": "0"}
+    env = {**os.environ, "DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES": "0",
+           "DASK_DISTRIBUTED__SCHEDULER__WORKER_SATURATION": "1.0"}
     bin_dir = Path(sys.executable).parent
     processes = [subprocess.Popen(
         [str(bin_dir / "dask"), "scheduler", "--host", "127.0.0.1", "--port", "0",
