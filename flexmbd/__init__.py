@@ -13,6 +13,7 @@ linearized analyses and parameter studies for instance only when it uses them.
 """
 
 from .errors import (
+    AnalysisWarning,
     ArgumentError,
     ColumnError,
     ConvergenceError,
@@ -24,6 +25,7 @@ from .errors import (
     SimulationError,
     SingularConfigurationError,
     StiffnessError,
+    UnstressedError,
 )
 
 __version__ = "0.2.0"
@@ -50,6 +52,7 @@ _NAMES = {
                             "quadratic_velocity", "second_order_transfer", "solve_position",
                             "velocities"),
     "analysis.energy": ("energy",),
+    "analysis.eigen": ("EigenPath",),
     "analysis.linearization": ("Linearization", "linearize"),
     "analysis.load_steps": ("load_step_table",),
     "analysis.modes": ("Buckling", "Modes", "ModesAlong", "buckling", "compliance",
@@ -63,9 +66,10 @@ _NAMES = {
 }
 _MODULE_OF = {name: module for module, names in _NAMES.items() for name in names}
 
-__all__ = ["ArgumentError", "ColumnError", "ConvergenceError", "FlexmbdError",
-           "InputFileError", "LabelError", "ModelError", "ModelWarning", "SimulationError",
-           "SingularConfigurationError", "StiffnessError", "__version__"]
+__all__ = ["AnalysisWarning", "ArgumentError", "ColumnError", "ConvergenceError",
+           "FlexmbdError", "InputFileError", "LabelError", "ModelError", "ModelWarning",
+           "SimulationError", "SingularConfigurationError", "StiffnessError",
+           "UnstressedError", "__version__"]
 __all__ += sorted(_MODULE_OF)
 
 

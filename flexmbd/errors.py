@@ -104,6 +104,11 @@ class ArgumentError(FlexmbdError, ValueError):
         self.argument = argument
 
 
+class UnstressedError(ArgumentError):
+    """A state without stresses has no buckling load factor: no multiple of its loads
+    makes it buckle."""
+
+
 class LabelError(FlexmbdError, KeyError):
     """No coordinate, deformation or result column has that label; a ``KeyError``, so that
     look-ups behave like those of a mapping."""
@@ -127,6 +132,11 @@ class OutputError(FlexmbdError, ValueError):
 class SandboxError(FlexmbdError, RuntimeError):
     """The operating-system sandbox that a graded run needs cannot be made here; names what
     is missing and what to do instead."""
+
+
+class AnalysisWarning(UserWarning):
+    """An analysis took another way than its default one (LAPACK where ARPACK could not
+    tell the modes), or its result needs a caveat; the message says which and why."""
 
 
 class ModelWarning(UserWarning):

@@ -10,7 +10,6 @@ import numpy as np
 import pytest
 
 import flexmbd as fm
-import flexmbd.analysis.load_steps as load_steps
 
 STEEL = fm.Material.from_poisson(210e9, 0.3, 7800.0)
 LEAF = fm.Rectangle(0.03, 0.5e-3)
@@ -105,13 +104,21 @@ def test_a_spring_hinge_turns_through_two_turns_in_all_coordinates():
 
 
 def _table(model, statics, monkeypatch, banded: bool, **given):
-    monkeypatch.setattr(load_steps, "BANDED_FROM", 0 if banded else 10**9)
-    return fm.load_step_table(statics, **given)
+    """The table by the banded tangent and ARPACK (``banded``), or by the reduced
+    matrices and LAPACK, whatever the model's size."""
+    from flexmbd.analysis import eigen, linearization
+
+    monkeypatch.setattr(linearization, "BANDED_FROM", 0 if banded else 10**9)
+    monkeypatch.setattr(eigen, "FEW_MODES_FROM", 0 if banded else 10**9)
+    table = fm.load_step_table(statics, **given)
+    ways = " ".join(way for ways in table.paths.values() for way in ways)
+    assert ("banded" in ways) == banded and ("arpack" in ways) == banded, ways
+    return table
 
 
 def test_frequencies_and_compliance_along_the_steps_are_the_dense_ones(monkeypatch):
-    """Every step of the loaded pivot: the six lowest frequencies by subspace iteration
-    on the banded tangent equal the dense reduced eigenproblem's to 1e-8, and the stage's
+    """Every step of the loaded pivot: the six lowest frequencies by ARPACK on the banded
+    tangent equal the dense reduced eigenproblem's to 1e-8, and the stage's
     6x6 compliance (global and body axes) the dense solve's to 1e-8 of its largest."""
     model = _pivot()
     statics = fm.static_equilibrium(model, load_increment=TURN, steps=4)

@@ -126,15 +126,15 @@ def test_a_singular_stiffness_that_factors_by_rounding_is_not_taken_as_regular()
     reduced path would give a rigid mode of omega^2 ~ 1e-16 and swamp the other
     eigenvalues, so it must take the general one. Every number is exact in binary, so
     every BLAS kernel factors it alike."""
-    from flexmbd.analysis.modes import _cholesky, _well_posed
+    from flexmbd.analysis.eigen import cholesky, well_posed
 
     v = np.array([1.0, 0.5, 0.75])
     K = np.outer(v, v) + np.diag([0.0, 0.0, 2.0])
     K[1, 1] += 2.0**-54
-    factor = _cholesky(K)
+    factor = cholesky(K)
     assert factor[1, 1] ** 2 == 2.0**-54
-    assert factor is not None and not _well_posed(factor, K)
-    assert _well_posed(np.linalg.cholesky(np.diag([1.0, 1e-10])), np.diag([1.0, 1e-10]))
+    assert factor is not None and not well_posed(factor, K)
+    assert well_posed(np.linalg.cholesky(np.diag([1.0, 1e-10])), np.diag([1.0, 1e-10]))
 
 
 def test_a_column_beyond_its_euler_load_vibrates_with_negative_omega_squared():
@@ -514,7 +514,7 @@ def test_a_few_lowest_modes_by_iteration_are_the_whole_spectrum_s():
     by a moment of fixed direction, whose load stiffness is not symmetric)."""
     from flexmbd.examples import flexures
 
-    from flexmbd.analysis import modes as modes_module
+    from flexmbd.analysis import eigen as modes_module
 
     wires = flexures.wire_buckling().statics.linearization(0)
     from flexmbd import light
@@ -545,7 +545,8 @@ def test_modes_too_stiff_for_the_reduction_stay_positive():
     """A cross hinge of 0.1 x 0.1 mm leaves of 10 beams spans 1e8 in frequency: the
     stiffest modes fall below the rounding of 1/omega^2. They come from the generalized
     solver instead, never as negative omega^2 of a stable structure: all frequencies
-    positive and ascending, the lowest as before, the highest those of eigh(K, M)."""
+    positive and ascending, the lowest as ARPACK finds them, the highest those of eigh(K,
+    M)."""
     import scipy.linalg
     from flexmbd.examples import flexures
 
@@ -563,4 +564,8 @@ def test_modes_too_stiff_for_the_reduction_stay_positive():
     K, M = lin.block("K"), lin.block("M0")
     generalized = np.sqrt(scipy.linalg.eigh(K, M, eigvals_only=True)) / (2 * np.pi)
     np.testing.assert_allclose(f[-5:], generalized[-5:], rtol=1e-9)
-    np.testing.assert_allclose(f[:3], fm.vibration_modes(lin, 3).frequencies, rtol=1e-12)
+    # three of 114 take ARPACK on the banded tangent, whose solves lose half the digits
+    # to this stiffness span (1e16); Rayleigh-Ritz with exact products takes most back
+    few = fm.vibration_modes(lin, 3)
+    assert few.path.method == "arpack" and modes.path.method == "dense"
+    np.testing.assert_allclose(f[:3], few.frequencies, rtol=1e-7)

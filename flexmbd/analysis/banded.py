@@ -17,10 +17,10 @@ factorisation costs ``O(n b^2)`` for ``n`` unknowns and band ``b``.
 
 On the null space of ``D_c`` this ``K`` is the reduced tangent ``K0 + G0`` (``T^T K T``
 with ``T = F_q`` restricted to the dynamic entries), so the same factorisation gives the
-linearized analyses at an equilibrium: the compliance solves it for unit loads, and the
-vibration modes ``K z = omega^2 M z`` with ``D_c z = 0`` are the largest ``1/omega^2`` of
-its inverse times ``M``, found by subspace iteration. Both agree with the reduced path
-to rounding.
+linearized analyses at an equilibrium (:class:`BandedTangent`): the compliance solves it
+for unit loads, and the vibration modes ``K z = omega^2 M z`` with ``D_c z = 0`` are the
+largest ``1/omega^2`` of its inverse times ``M``, found by ARPACK
+(:mod:`flexmbd.analysis.eigen`). Both agree with the reduced path to rounding.
 """
 
 from __future__ import annotations
@@ -33,13 +33,18 @@ from ..errors import ArgumentError, ConvergenceError, SingularConfigurationError
 from ..model import CoordinateClass, DeformationClass, Model
 from ..orientation import angular_velocity
 
-__all__ = ["BandedStatics"]
+__all__ = ["BANDED_FROM", "BandedStatics", "BandedTangent"]
 
-#: subspace iteration: relative change of the wanted ``1/omega^2`` between sweeps that
-#: counts as converged (the banded solves' rounding moves them by about 1e-11 from sweep to
-#: sweep on thin leaves, whose axial stiffness is 1e6 times their bending stiffness), and
-#: the sweeps before it gives up (the caller then takes the dense path)
-MODES_TOLERANCE, MODES_SWEEPS = 1e-9, 300
+#: degrees of freedom from which the static analyses and the linearized ones at an
+#: equilibrium work in all coordinates on the banded saddle-point system: the reduced
+#: tangent is dense, and its cost grows with the cube of the degrees of freedom (at 90, a
+#: flexure pivot of 16 beams, already 7 times the banded)
+BANDED_FROM = 40
+
+#: a state counts as an equilibrium when one Newton step from it moves no free coordinate
+#: by more than this share of the model size: the banded tangent (elastic stresses on the
+#: released deformations) is then the reduced one (balancing stresses)
+EQUILIBRIUM = 1e-7
 
 
 class BandedStatics:
@@ -85,6 +90,7 @@ class BandedStatics:
             numpy.linalg.LinAlgError: the tangent is singular (a mechanism, buckling) or
                 not finite.
         """
+        self.engine.static_owner = None   # the core's kept factorisation changes hands
         try:
             return self.engine.static_residual(x, q, mu, loads)
         except CoreError:
@@ -162,8 +168,9 @@ class BandedStatics:
         rhs = np.zeros((self.size, len(labels)))
         rhs[:nf] = rows[:, self.free].T
         C = rhs[:nf].T @ self.solve(rhs)[:nf]
+        moving = np.flatnonzero(np.any(rhs[:nf] != 0.0, axis=0))   # held inputs do not
         try:
-            np.linalg.cholesky(0.5 * (C + C.T))
+            np.linalg.cholesky(0.5 * (C + C.T)[np.ix_(moving, moving)])
         except np.linalg.LinAlgError:
             raise SingularConfigurationError(
                 "the compliance is not positive definite: the dynamic degrees of freedom "
@@ -171,55 +178,64 @@ class BandedStatics:
             ) from None
         return C
 
-    def lowest_modes(self, count: int, start: np.ndarray | None = None
-                     ) -> tuple[np.ndarray, np.ndarray] | None:
-        """The ``count`` lowest ``omega^2`` [rad^2/s^2] of ``K z = omega^2 M z`` with ``D_c
-        z = 0`` at the factorised state, and their shapes ``z`` over the free coordinates
-        ``(nf, count)``, mass-normalized.
 
-        Subspace iteration on ``A = K^-1 M`` from the columns of ``start`` (the last load
-        step's shapes) and random ones: each sweep solves ``Y = A X`` for an
-        ``M``-orthonormal block ``X``, takes the eigenvalues ``mu = 1/omega^2`` of ``X^T M
-        A X`` (Rayleigh-Ritz, unsymmetric: a global moment's load stiffness makes ``K``
-        so, and symmetrizing it would shift the modes) and goes on with ``Y``
-        orthonormalized. ``None`` when it cannot tell them (an unstable, massless or
-        complex mode among them, or no convergence): the dense path decides then."""
-        nf = len(self.free)
-        width = min(nf, max(2 * count, count + 8))
-        if count < 1 or width < count:
-            return None
-        guess = np.random.default_rng(0).standard_normal((nf, width))
-        if start is not None:
-            guess[:, :start.shape[1]] = start[:, :width]
-        X = self._orthonormal(guess)
-        rhs = np.zeros((self.size, width))
-        last = None
-        for _ in range(MODES_SWEEPS):
-            if X is None:
-                return None
-            MX = self.mass_times(X)
-            rhs[:nf], rhs[nf:] = MX, 0.0
-            Y = self.solve(rhs)[:nf]
-            mu, V = np.linalg.eig(MX.T @ Y)
-            order = np.argsort(-np.abs(mu))[:count]
-            mu, V = mu[order], V[:, order]
-            if last is not None and np.all(np.abs(mu - last) <= MODES_TOLERANCE * np.abs(mu)):
-                if np.any(np.abs(mu.imag) > 1e-9 * np.abs(mu)) or not np.all(mu.real > 0.0):
-                    return None
-                shapes = X @ V.real
-                norms = np.sqrt(np.einsum("ik,ik->k", shapes, self.mass_times(shapes)))
-                return 1.0 / mu.real, shapes / norms
-            last = mu
-            X = self._orthonormal(Y)
-        return None
+class BandedTangent:
+    """The banded tangent at one static equilibrium, for its linearized analyses: the
+    compliance and the lowest vibration modes over the free coordinates. The workspace's
+    core keeps one factorisation at a time; this one is made again when another state
+    has taken it.
 
-    def _orthonormal(self, Y: np.ndarray) -> np.ndarray | None:
-        """An ``M``-orthonormal basis of the columns of ``Y`` (``None`` when they are
-        dependent or massless)."""
-        Y = np.linalg.qr(Y)[0]   # first a well-conditioned basis of the same span
-        gram = Y.T @ self.mass_times(Y)
-        try:
-            factor = np.linalg.cholesky(0.5 * (gram + gram.T))
-        except np.linalg.LinAlgError:
-            return None
-        return np.linalg.solve(factor, Y.T).T
+    Args:
+        banded: the model's saddle-point system on a workspace.
+        x: the equilibrium's coordinates ``(nx,)``; ``q`` ``(nq,)`` with the inputs.
+        mu: the constraint stresses ``(nc,)`` [N, N m]; ``loads`` applied on top of the
+            model's ``(nx,)``.
+    """
+
+    def __init__(self, banded: BandedStatics, x: np.ndarray, q: np.ndarray, mu: np.ndarray,
+                 loads: np.ndarray):
+        self.banded, self.x, self.q, self.mu, self.loads = banded, x, q, mu, loads
+        self._residual: np.ndarray | None = None
+
+    def ready(self) -> None:
+        """Factorise (again, when another state holds the workspace's factorisation).
+
+        Raises:
+            numpy.linalg.LinAlgError: the tangent is singular or not finite.
+        """
+        engine = self.banded.engine
+        if engine.static_owner is not self:
+            self._residual = self.banded.factor(self.x, self.q, self.mu, self.loads)
+            engine.static_owner = self
+
+    def off_balance(self) -> float:
+        """How far the state is from an equilibrium: the largest change of a free
+        coordinate of one Newton step from it, in model sizes (angles times the size)."""
+        self.ready()
+        assert self._residual is not None
+        step = self.banded.solve(self._residual)[:len(self.banded.free)]
+        size = self.banded.model.characteristic_length
+        return float(np.max(np.abs(step) * self.banded.metres, initial=0.0)) / size
+
+    def solve(self, rhs: np.ndarray) -> np.ndarray:
+        """:meth:`BandedStatics.solve` on this state's factorisation."""
+        self.ready()
+        return self.banded.solve(rhs)
+
+    def mass_times(self, V: np.ndarray) -> np.ndarray:
+        """``M V`` over the free coordinates at this state, ``V`` ``(nf, k)``."""
+        self.ready()
+        return self.banded.mass_times(V)
+
+    def compliance(self, labels) -> np.ndarray:
+        """:meth:`BandedStatics.compliance` at this state."""
+        self.ready()
+        return self.banded.compliance(self.x, labels)
+
+    def inverse_times_mass(self, v: np.ndarray) -> np.ndarray:
+        """``K^-1 M v`` over the free coordinates with ``D_c`` held: the displacement
+        ``z`` ``(nf,)`` under the loads ``M v`` with the constraints kept (``D_c z = 0``)."""
+        nf = len(self.banded.free)
+        rhs = np.zeros(self.banded.size)
+        rhs[:nf] = self.mass_times(np.asarray(v, dtype=float).reshape(nf, 1))[:, 0]
+        return self.solve(rhs)[:nf]

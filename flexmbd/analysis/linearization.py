@@ -51,23 +51,31 @@ from ..engine import (
     q_scale,
     unwrap_near,
     workspace_for,
+    workspace_of,
 )
 from ..errors import ArgumentError
-from ..model import Model
+from ..model import DeformationClass, Model
 from ..orientation import angular_velocity, euler_forces
+from ..results import KinematicResult
 from ..summary import dataclass_repr
+from .banded import BANDED_FROM, EQUILIBRIUM, BandedStatics, BandedTangent
 from .kinematics import coordinates, generalized
 
 #: central-difference step of N0, relative to a coordinate's size (model size or 1 rad):
 #: the cube root of the rounding error balances truncation (1e-10 relative in all)
 DIFFERENCE_STEP = 5e-6
 
-__all__ = ["Linearization", "linearize", "linearize_free"]
+__all__ = ["Linearization", "linearize", "linearize_free", "motion_rates"]
 
 
 @dataclass(frozen=True, eq=False)
 class Linearization:
     """The linearized reduced equations at one state (module docstring).
+
+    The state is solved at once; the matrices are formed when first read, so an
+    analysis that needs only the engine's banded tangent (:attr:`tangent`: the
+    compliance and a few lowest modes of a large model at an equilibrium) never forms
+    them.
 
     Attributes:
         model: the mechanism.
@@ -79,6 +87,7 @@ class Linearization:
         driving: ``tau = Mbar qddot - g`` ``(nq,)``: the load each entry of ``q`` needs to
             follow the state; zero on dynamic entries at an equilibrium or along a solution.
         reactions: loads of supports and drives ``(nx,)`` (THEORY 8).
+        loads: the loads applied on top of the model's own ``(nx,)`` [N, N m].
         F_q: ``dx/dq`` ``(nx, nq)``.
         E_q: ``de/dq`` ``(ne, nq)``.
         M0, C0, D0, K0, N0, G0: ``(nq, nq)``, see the module docstring.
@@ -97,14 +106,89 @@ class Linearization:
     sigma: np.ndarray
     driving: np.ndarray
     reactions: np.ndarray
-    F_q: np.ndarray
-    E_q: np.ndarray
-    M0: np.ndarray
-    C0: np.ndarray
-    D0: np.ndarray
-    K0: np.ndarray
-    N0: np.ndarray
-    G0: np.ndarray
+    loads: np.ndarray
+
+    # --- the matrices, formed on first use ------------------------------------------------
+    @cached_property
+    def _matrices(self) -> dict[str, np.ndarray]:
+        engine = self.workspace()
+        F_q, E_q, G0 = geometric_stiffness(engine, self.x, self.sigma, self.loads)
+        state = {"x": self.x, "q": self.q, "qd": self.qd, "qdd": self.qdd}
+        N0, C0 = inertia_derivatives(engine, state, F_q, E_q)
+        M = engine.mass(self.x, self.xd)[0]
+        law = engine.assembly.law_times
+        damped = law("C", E_q)   # an undamped model (most) skips its product
+        nq = self.model.n_dof
+        return {"F_q": F_q, "E_q": E_q, "M0": F_q.T @ M @ F_q, "C0": C0,
+                "D0": E_q.T @ damped if np.any(damped) else np.zeros((nq, nq)),
+                "K0": E_q.T @ law("S", E_q), "N0": N0, "G0": G0}
+
+    F_q = property(lambda self: self._matrices["F_q"], doc="``dx/dq`` ``(nx, nq)``.")
+    E_q = property(lambda self: self._matrices["E_q"], doc="``de/dq`` ``(ne, nq)``.")
+    M0 = property(lambda self: self._matrices["M0"], doc="Reduced mass ``(nq, nq)``.")
+    C0 = property(lambda self: self._matrices["C0"], doc="Gyroscopic matrix ``(nq, nq)``.")
+    D0 = property(lambda self: self._matrices["D0"], doc="Damping matrix ``(nq, nq)``.")
+    K0 = property(lambda self: self._matrices["K0"], doc="Elastic stiffness ``(nq, nq)``.")
+    N0 = property(lambda self: self._matrices["N0"], doc="Dynamic stiffness ``(nq, nq)``.")
+    G0 = property(lambda self: self._matrices["G0"], doc="Geometric stiffness ``(nq, nq)``.")
+
+    def workspace(self) -> Workspace:
+        """The workspace the state was solved in (``linearize(..., workspace=)``), or the
+        model's own (also after unpickling): where the matrices and the banded tangent
+        are formed."""
+        return self.__dict__.get("_given_workspace") or workspace_of(self.model)
+
+    def __getstate__(self) -> dict:
+        # a workspace holds the compiled core, which stays in its process
+        return {key: value for key, value in self.__dict__.items()
+                if key not in ("_given_workspace", "_banded_choice")}
+
+    @property
+    def at_rest(self) -> bool:
+        """Whether the state has no rates (a static state: ``N0 = C0 = 0``)."""
+        return not (np.any(self.qd) or np.any(self.qdd))
+
+    @property
+    def tangent(self) -> BandedTangent | None:
+        """The engine's banded tangent ``[[K, D_c^T], [D_c, 0]]`` in all coordinates at
+        this state, factorised (:class:`~flexmbd.analysis.banded.BandedTangent`), or
+        ``None`` where the reduced matrices serve: a model below
+        :data:`~flexmbd.analysis.banded.BANDED_FROM` degrees of freedom, a state in
+        motion, a state that is not an equilibrium, or a singular tangent
+        (:attr:`tangent_reason` says which)."""
+        return self._banded()[0]
+
+    @property
+    def tangent_reason(self) -> str:
+        """Why :attr:`tangent` is or is not the banded one, in words."""
+        return self._banded()[1]
+
+    def _banded(self) -> tuple[BandedTangent | None, str]:
+        known = self.__dict__.get("_banded_choice")
+        if known is not None:
+            return known
+        choice: tuple[BandedTangent | None, str]
+        model = self.model
+        if model.n_dof < BANDED_FROM:
+            choice = (None, f"{model.n_dof} degrees of freedom: the reduced tangent "
+                            f"(banded from {BANDED_FROM})")
+        elif not self.at_rest:
+            choice = (None, "a state in motion: the reduced tangent with its inertia terms")
+        else:
+            banded = BandedStatics(model, self.workspace())
+            tangent = BandedTangent(banded, self.x, self.q, self.sigma[banded.constrained],
+                                    self.loads)
+            try:
+                off = tangent.off_balance()
+            except np.linalg.LinAlgError:
+                choice = (None, "the banded tangent is singular here: the reduced tangent")
+            else:
+                choice = ((tangent, f"{model.n_dof} degrees of freedom at an equilibrium: "
+                                    f"the banded tangent") if off <= EQUILIBRIUM else
+                          (None, f"not an equilibrium (one Newton step moves {off:.2g} of "
+                                 f"the model size): the reduced tangent"))
+        self.__dict__["_banded_choice"] = choice
+        return choice
 
     @property
     def dynamic(self) -> np.ndarray:
@@ -131,13 +215,7 @@ class Linearization:
         them [m, rad]. On a spatial rotational node the rows of ``lam1..lam3`` are its
         global rotation ``dtheta = 2 E(lam) dlam`` (the spatial theory, section 6), the
         conjugate of a moment on those entries, and the row of ``lam0`` is zero."""
-        F = np.array(self.F_q)
-        for node in self.model.nodes.values():
-            if node.kind == SPATIAL_ROTATIONAL:
-                at = list(node.coordinates)
-                F[at[1:]] = angular_velocity(self.x[at], F[at].T).T
-                F[at[0]] = 0.0
-        return F
+        return coordinate_motions(self.model, self.x, self.F_q)
 
     def transfer(self, labels, name: str = "labels") -> np.ndarray:
         """Rows of :attr:`motion_transfer` over the dynamic entries for coordinate labels
@@ -215,19 +293,30 @@ def linearize(model: Model, x=None, qd=None, qdd=None, *, loads=None,
         e = checks.vector(e, model.n_deformations, "e", "the deformations at x")
         near = np.concatenate([x[model.independent_coordinates],
                                e[model.independent_deformations]])
-    state, F_q, E_q, G0 = _elastic_state(engine, x, qd, qdd, extra, near)
-    x = state["x"]
-    M = engine.mass(x, state["xd"])[0]
-    N0, C0 = inertia_derivatives(engine, state, F_q, E_q)
-    law = engine.assembly.law_times
-    damped = law("C", E_q)   # an undamped model (most) skips its product
-    return Linearization(
-        model=model, x=x, xd=state["xd"], xdd=state["xdd"], e=state["e"], q=state["q"],
-        qd=qd, qdd=qdd, sigma=state["sigma"], driving=state["driving"],
-        reactions=state["reactions"], F_q=F_q, E_q=E_q,
-        M0=F_q.T @ M @ F_q, C0=C0,
-        D0=E_q.T @ damped if np.any(damped) else np.zeros((model.n_dof, model.n_dof)),
-        K0=E_q.T @ law("S", E_q), N0=N0, G0=G0)
+    state = equilibrium_state(engine, x, qd, qdd, extra, near)
+    lin = Linearization(
+        model=model, x=state["x"], xd=state["xd"], xdd=state["xdd"], e=state["e"],
+        q=state["q"], qd=qd, qdd=qdd, sigma=state["sigma"], driving=state["driving"],
+        reactions=state["reactions"], loads=extra)
+    if workspace is not None:
+        lin.__dict__["_given_workspace"] = engine
+    return lin
+
+
+def motion_rates(result: KinematicResult, row: int) -> tuple[np.ndarray, np.ndarray]:
+    """``qd`` and ``qdd`` ``(nq,)`` of a motion's row, from its coordinates' and
+    deformations' rates.
+
+    Raises:
+        ArgumentError: the result has no rates (``outputs='all'`` keeps them).
+    """
+    model = result.model
+    if result.xd is None or result.xdd is None or result.ed is None or result.edd is None:
+        raise ArgumentError("result", "needs the rates of the motion: simulate(..., "
+                                      "outputs='all')")
+    nxm, emd = model.independent_coordinates, model.independent_deformations
+    return (np.concatenate([result.xd[row, nxm], result.ed[row, emd]]),
+            np.concatenate([result.xdd[row, nxm], result.edd[row, emd]]))
 
 
 def linearize_free(model: Model, x, qd=None, *, loads=None, workspace: Workspace | None = None,
@@ -260,25 +349,64 @@ def static_tangent(engine: Workspace, x: np.ndarray, loads: np.ndarray,
     ``near``) and the tangent stiffness ``K0 + G0`` ``(nq, nq)``: what static Newton needs
     of :func:`linearize`, without the mass and inertia terms."""
     zero = np.zeros(engine.model.n_dof)
-    state, _, E_q, G0 = _elastic_state(engine, x, zero, zero, loads, near)
+    state = equilibrium_state(engine, x, zero, zero, loads, near)
+    _, E_q, G0 = geometric_stiffness(engine, state["x"], state["sigma"], loads)
     return state, E_q.T @ engine.assembly.law_times("S", E_q) + G0
 
 
 # --- the pieces ---------------------------------------------------------------------------
-def _elastic_state(engine: Workspace, x: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
-                   loads: np.ndarray, near: np.ndarray | None = None
-                   ) -> tuple[dict, np.ndarray, np.ndarray, np.ndarray]:
-    """The state (:func:`equilibrium_state`), ``F_q``, ``E_q = D_x F_q`` and the geometric
-    stiffness ``G0 = F_q^T (sum_i sigma_i D_xx,i) F_q``."""
-    state = equilibrium_state(engine, x, qd, qdd, loads, near)
-    assembly, x = engine.assembly, state["x"]
+def geometric_stiffness(engine: Workspace, x: np.ndarray, sigma: np.ndarray,
+                        loads: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``F_q``, ``E_q = D_x F_q`` and the geometric stiffness ``G0 = F_q^T (sum_i sigma_i
+    D_xx,i - df/dx) F_q`` at ``x`` with the stresses ``sigma`` ``(ne,)`` under ``loads``
+    ``(nx,)`` on top of the model's."""
+    assembly = engine.assembly
     F_q = engine.transfer(x, assembly.deformations_and_jacobian(x)[1])
-    slopes = load_stiffness_times(engine, loads, F_q)
-    weight = assembly.gravity_slopes_times(x, F_q)
+    G0 = F_q.T @ geometric_times(engine, x, sigma, loads, F_q)
+    return F_q, assembly.jacobian_times(x, F_q), G0
+
+
+def geometric_times(engine: Workspace, x: np.ndarray, sigma: np.ndarray, loads: np.ndarray,
+                    Z: np.ndarray) -> np.ndarray:
+    """``(sum_i sigma_i D_xx,i - df/dx) Z`` ``(nx, k)`` for coordinate changes ``Z`` ``(nx,
+    k)``: the stresses' and the loads' share of the tangent in all coordinates, element
+    by element (``df/dx``: a global moment's and a turning weight's load stiffness)."""
+    assembly = engine.assembly
+    slopes = load_stiffness_times(engine, loads, Z)
+    weight = assembly.gravity_slopes_times(x, Z)
     if weight is not None:
         slopes += weight
-    G0 = F_q.T @ (assembly.stress_hessian_times(x, state["sigma"], F_q) - slopes)
-    return state, F_q, assembly.jacobian_times(x, F_q), G0
+    return assembly.stress_hessian_times(x, sigma, Z) - slopes
+
+
+def stiffness_products(lin: Linearization, Z: np.ndarray) -> np.ndarray:
+    """``Z^T (K0 + G0) Z`` ``(k, k)`` for coordinate changes ``Z`` ``(nx, k)`` that keep the
+    constraints (``Z = F_q Phi``): ``(D Z)^T S (D Z) + Z^T (sum sigma D_xx - df/dx) Z``,
+    element by element. Exact products with no solve: with them a basis found to
+    ``delta`` gives values good to ``delta^2`` (Rayleigh-Ritz), however poorly
+    conditioned the factorisation that found it."""
+    engine, model = lin.workspace(), lin.model
+    strain = engine.assembly.jacobian_times(lin.x, Z)
+    kinds = np.asarray(model.deformation_class)
+    # E_q's rows of the rigid and the prescribed deformations are zero (inputs held)
+    strain[(kinds == DeformationClass.RIGID) | (kinds == DeformationClass.INPUT)] = 0.0
+    return strain.T @ engine.assembly.law_times("S", strain) + Z.T @ geometric_times(
+        engine, lin.x, lin.sigma, lin.loads, Z)
+
+
+def coordinate_motions(model: Model, x: np.ndarray, Z: np.ndarray) -> np.ndarray:
+    """Coordinate changes ``Z`` ``(nx, k)`` at ``x`` as a user reads them [m, rad]: on a
+    spatial rotational node the rows of ``lam1..lam3`` become its global rotation
+    ``dtheta = 2 E(lam) dlam`` (the spatial theory, section 6) and the row of ``lam0``
+    zero."""
+    Z = np.array(Z, dtype=float)
+    at = np.array([list(node.coordinates) for node in model.nodes.values()
+                   if node.kind == SPATIAL_ROTATIONAL], dtype=int).reshape(-1, 4)
+    if len(at) and Z.shape[1]:   # all nodes at once: (nodes, k, 3) from (nodes, k, 4)
+        turned = angular_velocity(x[at][:, None, :], Z[at].transpose(0, 2, 1))
+        Z[at[:, 1:]] = turned.transpose(0, 2, 1)
+    Z[at[:, 0]] = 0.0
+    return Z
 
 
 def load_stiffness(engine: Workspace, loads: np.ndarray) -> np.ndarray:

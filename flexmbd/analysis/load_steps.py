@@ -3,12 +3,14 @@ designer follows them: frequencies, buckling load factors and support compliance
 linearized at that step's equilibrium (never at the unloaded state: a loaded structure's
 buckling load and frequencies are those of its loaded state).
 
-From :data:`~flexmbd.analysis.statics.BANDED_FROM` degrees of freedom the frequencies and
-the compliance with the drives held come from the banded tangent in all coordinates
-(:mod:`flexmbd.analysis.banded`; the lowest modes by subspace iteration, each step
-starting from the last step's shapes), whose cost grows linearly with the elements;
-buckling, free drives and whatever the banded path cannot tell take the dense
-linearization of the reduced equations.
+Every cell is the public analysis of the step's linearization
+(:meth:`~flexmbd.StaticResult.linearization`: :func:`~flexmbd.vibration_modes`,
+:func:`~flexmbd.buckling`, :func:`~flexmbd.node_compliance`), so the table and a loop a
+user writes give the same numbers by the same path: the engine's banded tangent for a
+large model (a few modes by ARPACK, the compliance by its solves), the reduced matrices
+otherwise. A cell a step cannot have is NaN with its reason in the table's notes: fewer
+modes than asked, a state without stresses (buckling), a singular tangent (a
+mechanism, or past buckling). Any other error propagates.
 """
 
 from __future__ import annotations
@@ -18,22 +20,51 @@ from typing import Literal
 
 import numpy as np
 
-from ..engine import workspace_of
 from ..errors import ArgumentError
 from ..progress import progress_bar
 from ..summary import Columns
-from .banded import BandedStatics
-from .modes import buckling, compliance_labels, in_frame, node_compliance, vibration_modes
-from .statics import BANDED_FROM, StaticResult
+from .modes import NO_VALUE, buckling, compliance_labels, node_compliance, vibration_modes
+from .statics import StaticResult
 
-__all__ = ["load_step_table"]
+__all__ = ["StepTable", "load_step_table"]
+
+class StepTable(Columns):
+    """Columns over the load steps (a ``dict`` of arrays), with why a cell is NaN and how
+    each analysis ran.
+
+    Attributes:
+        notes: one line per NaN cell group: the columns, the step and the reason.
+        paths: per analysis (``"modes"``, ``"buckling"``, ``"compliance"``), the ways it
+            ran over the steps (:class:`~flexmbd.analysis.eigen.EigenPath` as text).
+    """
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.notes: list[str] = []
+        self.paths: dict[str, list[str]] = {}
+
+    def __repr__(self) -> str:
+        lines = [super().__repr__()]
+        lines += [f"  {name}: {'; '.join(ways)}" for name, ways in self.paths.items()]
+        lines += [f"  note: {note}" for note in self.notes[:5]]
+        if len(self.notes) > 5:
+            lines.append(f"  ... {len(self.notes) - 5} more notes (table.notes)")
+        return "\n".join(lines)
+
+    __str__ = __repr__
+
+    def ran(self, analysis: str, path) -> None:
+        """Record that ``analysis`` ran by ``path`` (once per distinct way)."""
+        ways = self.paths.setdefault(analysis, [])
+        if str(path) not in ways:
+            ways.append(str(path))
 
 
 def load_step_table(statics: StaticResult, *, modes: int = 0, buckle: int = 0,
                     compliance: Sequence[tuple[int, int | None]] = (),
                     frame: Literal["global", "body"] = "global",
                     drive: Literal["held", "free"] = "held",
-                    progress: bool | None = None) -> dict[str, np.ndarray]:
+                    progress: bool | None = None) -> StepTable:
     """Columns over the load steps of a static equilibrium: ``load`` (the load factor);
     ``f1`` to ``f<modes>`` the lowest vibration frequencies [Hz]; ``buckling1``, ... the load
     factors of the step's loads at which it buckles, smallest in size first, with their
@@ -41,8 +72,10 @@ def load_step_table(statics: StaticResult, *, modes: int = 0, buckle: int = 0,
     of ``compliance`` the entries ``C<node>.<i><j>`` of its compliance
     (:func:`~flexmbd.analysis.modes.node_compliance`, ``frame`` and ``drive`` as there).
 
-    A value a step cannot have (fewer modes than asked, a state without stresses for
-    buckling, a mechanism for compliance) is NaN.
+    Returns a :class:`StepTable`: the columns, and in ``notes`` the reason of every NaN
+    (a value a step cannot have: fewer modes than asked, a state without stresses for
+    buckling, a mechanism or a state past buckling for compliance); ``paths`` says how
+    each analysis ran.
 
     Examples:
         The cantilever's lowest frequency falls as a compressive tip load grows towards
@@ -69,98 +102,62 @@ def load_step_table(statics: StaticResult, *, modes: int = 0, buckle: int = 0,
         if isinstance(count, bool) or not isinstance(count, int | np.integer) or count < 0:
             raise ArgumentError(name, f"must be a whole number >= 0, got {count!r}")
     rows = len(statics.t)
-    columns = Columns({"load": np.asarray(statics.t, dtype=float).copy()})
+    columns = StepTable({"load": np.asarray(statics.t, dtype=float).copy()})
     for k in range(modes):
         columns[f"f{k + 1}"] = np.full(rows, np.nan)
     for k in range(buckle):
         columns[f"buckling{k + 1}"] = np.full(rows, np.nan)
-    sizes = {}
+    names = {}
     for node, rotational in compliance:
         labels = compliance_labels(statics.model, node, rotational, frame, drive)
         size = len(labels) if rows else 0
-        sizes[node] = size
-        for i in range(size):
-            for j in range(size):
-                columns[f"C{node}.{i + 1}{j + 1}"] = np.full(rows, np.nan)
-    steps = _Steps(statics, banded=drive == "held" and (modes > 0 or bool(compliance)))
+        names[node] = [[f"C{node}.{i + 1}{j + 1}" for j in range(size)] for i in range(size)]
+        for name in np.ravel(names[node]):
+            columns[name] = np.full(rows, np.nan)
     with progress_bar(statics.t, "linearized load steps", progress) as advance:
         for row in range(rows):
-            steps.go_to(row)
+            lin = statics.linearization(row)
+            where = f"step {row} (load {statics.load[row]:.6g})"
             if modes:
-                _fill(columns, "f", row, lambda: steps.frequencies(modes))
+                try:
+                    found = vibration_modes(lin, modes)
+                except NO_VALUE as error:
+                    columns.notes.append(f"f1..f{modes} at {where}: {error}")
+                else:
+                    columns.ran("modes", found.path)
+                    _put(columns, "f", row, found.frequencies, modes, where,
+                         "degrees of freedom")
             if buckle:
-                _fill(columns, "buckling", row, lambda: buckling(steps.dense(), buckle).factors)
+                try:
+                    factors = buckling(lin, buckle)
+                except NO_VALUE as error:
+                    columns.notes.append(f"buckling1..buckling{buckle} at {where}: {error}")
+                else:
+                    columns.ran("buckling", factors.path)
+                    _put(columns, "buckling", row, factors.factors, buckle, where,
+                         "load factors (modes with geometric stiffness)")
             for node, rotational in compliance:
                 try:
-                    C = steps.compliance(node, rotational, frame, drive)
-                except (ArithmeticError, ValueError, RuntimeError):
+                    C = node_compliance(lin, node, rotational, frame=frame, drive=drive)
+                except NO_VALUE as error:
+                    columns.notes.append(f"C{node}.* at {where}: {error}")
                     continue
-                for i in range(sizes[node]):
-                    for j in range(sizes[node]):
-                        columns[f"C{node}.{i + 1}{j + 1}"][row] = C[i, j]
+                columns.ran("compliance", "the engine's banded tangent" if drive == "held"
+                            and lin.tangent is not None else "the reduced tangent")
+                for i, line in enumerate(names[node]):
+                    for j, name in enumerate(line):
+                        columns[name][row] = C[i, j]
             if advance is not None:
                 advance(statics.t[row])
     return columns
 
 
-class _Steps:
-    """The linearizations of a static result's rows, one row at a time: the banded tangent
-    when the model is large enough and the row has its stresses (``banded``), the dense
-    reduced linearization when asked or needed."""
-
-    def __init__(self, statics: StaticResult, banded: bool):
-        model = statics.model
-        self.statics, self.row = statics, 0
-        self.banded = (BandedStatics(model, workspace_of(model)) if banded
-                       and model.n_dof >= BANDED_FROM and statics.sigma is not None
-                       and statics.applied is not None else None)
-        self.factored = False
-        self.shapes: np.ndarray | None = None   # the last step's modes: the next one's start
-        self._dense = None
-
-    def go_to(self, row: int) -> None:
-        self.row, self._dense, self.factored = row, None, False
-        if self.banded is not None:
-            s = self.statics
-            assert s.sigma is not None and s.applied is not None  # checked in __init__
-            try:
-                self.banded.factor(s.x[row], s.q[row], s.sigma[row][self.banded.constrained],
-                                   s.applied[row])
-                self.factored = True
-            except np.linalg.LinAlgError:
-                self.shapes = None
-
-    def dense(self):
-        if self._dense is None:
-            self._dense = self.statics.linearization(self.row)
-        return self._dense
-
-    def frequencies(self, count: int) -> np.ndarray:
-        if self.factored:
-            assert self.banded is not None
-            found = self.banded.lowest_modes(count, self.shapes)
-            if found is not None:
-                omega2, self.shapes = found
-                return np.sqrt(omega2) / (2 * np.pi)
-            self.shapes = None
-        return vibration_modes(self.dense(), count).frequencies
-
-    def compliance(self, node: int, rotational: int | None, frame, drive) -> np.ndarray:
-        if not self.factored or drive != "held":
-            return node_compliance(self.dense(), node, rotational, frame=frame, drive=drive)
-        assert self.banded is not None
-        model, x = self.statics.model, self.statics.x[self.row]
-        labels = compliance_labels(model, node, rotational, frame, drive)
-        return in_frame(model, x, rotational, self.banded.compliance(x, labels), frame)
-
-
-def _fill(columns: dict, prefix: str, row: int, values) -> None:
-    """Put ``values()`` into the columns ``<prefix>1, ..`` of ``row``; NaN where the step
-    has fewer or none (its analysis refused)."""
-    try:
-        found = np.asarray(values(), dtype=float)
-    except (ArithmeticError, ValueError, RuntimeError):
-        return
-    for k, value in enumerate(found):
-        if f"{prefix}{k + 1}" in columns:
-            columns[f"{prefix}{k + 1}"][row] = value
+def _put(columns: StepTable, prefix: str, row: int, values: np.ndarray, asked: int,
+         where: str, what: str) -> None:
+    """Put ``values`` into the columns ``<prefix>1..`` of ``row``; note the ones a step
+    does not have."""
+    for k, value in enumerate(values[:asked]):
+        columns[f"{prefix}{k + 1}"][row] = value
+    if len(values) < asked:
+        columns.notes.append(f"{prefix}{len(values) + 1}..{prefix}{asked} at {where}: the "
+                             f"state has {len(values)} {what}")

@@ -15,6 +15,7 @@ All three are eigen- or linear problems of one
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 from typing import Literal
 
@@ -25,33 +26,47 @@ from .. import checks
 from ..elements.base import SPATIAL_ROTATIONAL
 from ..engine import workspace_of
 from ..engine.diagnosis import MASS_ADVICE
-from ..errors import ArgumentError, SingularConfigurationError
+from ..errors import (
+    AnalysisWarning,
+    ArgumentError,
+    SingularConfigurationError,
+    UnstressedError,
+)
+from ..model import Model
 from ..orientation import rotation_matrix
 from ..progress import progress_bar
 from ..results import KinematicResult
 from ..summary import dataclass_repr
-from .linearization import Linearization, linearize
+from .banded import BandedTangent
+from .eigen import (
+    EigenError,
+    EigenPath,
+    arpack_pays,
+    cholesky,
+    lowest_arpack_dense,
+    lowest_dense,
+    reduced_by,
+    ritz_basis,
+    ritz_values,
+    size_reason,
+    well_posed,
+)
+from .linearization import (
+    Linearization,
+    coordinate_motions,
+    linearize,
+    motion_rates,
+    stiffness_products,
+)
+from .statics import StaticResult
 
-__all__ = ["Buckling", "Modes", "ModesAlong", "buckling", "compliance", "modes_along",
-           "node_compliance",
-           "vibration_modes"]
+#: the physical failures that leave a linearized analysis without a value at a state (a
+#: singular tangent: a mechanism, a state past buckling; a state without stresses for
+#: buckling): a table over many states records them as NaN with the reason
+NO_VALUE = (SingularConfigurationError, UnstressedError)
 
-#: relative asymmetry below which a stiffness block counts as symmetric (rounding of the
-#: products that make it); above it, as along a motion with N0, the general solver runs
-SYMMETRIC = 1e-9
-
-#: a generalized eigensolver's eigenvalues carry rounding of about ``n eps`` times the
-#: largest; this many times that is taken as zero (a rigid-body mode), so that rounding
-#: never reads as an unstable direction whatever the CPU's BLAS kernels
-ROUNDING_MARGIN = 100.0
-
-#: a few lowest modes of a model this large take ARPACK's iterations on the factored
-#: stiffness (O(n^2) per step) instead of the whole spectrum (O(n^3)): at most this share
-#: of the degrees of freedom, from this many on
-FEW_MODES_SHARE, FEW_MODES_FROM = 0.25, 60
-#: the extra modes ARPACK iterates for, so that a multiple eigenvalue is found whole
-FEW_MODES_EXTRA = 4
-
+__all__ = ["Buckling", "Modes", "ModesAlong", "buckling", "compliance", "frequencies_of",
+           "linearization_of", "modes_along", "node_compliance", "vibration_modes"]
 
 @dataclass(frozen=True, eq=False)
 class Modes:
@@ -66,6 +81,7 @@ class Modes:
         motion: the shapes as coordinate motions ``F_q phi`` ``(nx, k)`` [m, rad]; on a
             spatial rotational node the global rotations ``dtheta`` in the entries of
             ``lam1..lam3`` (:attr:`~flexmbd.Linearization.motion_transfer`).
+        path: how they were found and why (:class:`~flexmbd.analysis.eigen.EigenPath`).
     """
 
     __repr__ = dataclass_repr
@@ -75,6 +91,7 @@ class Modes:
     frequencies: np.ndarray
     shapes: np.ndarray
     motion: np.ndarray
+    path: EigenPath
 
 
 @dataclass(frozen=True, eq=False)
@@ -88,6 +105,7 @@ class Buckling:
         shapes: buckled shapes over the dynamic entries of ``q`` ``(nd, k)``, largest entry 1.
         motion: the shapes as coordinate motions ``(nx, k)`` (rotations as in
             :class:`Modes`).
+        path: how they were found (:class:`~flexmbd.analysis.eigen.EigenPath`).
     """
 
     __repr__ = dataclass_repr
@@ -96,12 +114,27 @@ class Buckling:
     factors: np.ndarray
     shapes: np.ndarray
     motion: np.ndarray
+    path: EigenPath
 
 
-def vibration_modes(linearization: Linearization, count: int | None = None) -> Modes:
+def vibration_modes(linearization, count: int | None = None, *, row: int | None = None
+                    ) -> Modes:
     """The ``count`` lowest vibration modes (all by default) of a linearized state: a
     :class:`Modes` with ``frequencies`` ``(k,)`` [Hz] and ``shapes`` ``(nd, k)`` over the
     ``nd`` dynamic degrees of freedom.
+
+    Args:
+        linearization: the state: a :class:`~flexmbd.Linearization`, a ``Model`` (its
+            reference configuration), a static result (its last row, or ``row``) or a
+            motion's result with its rates (:func:`linearization_of`).
+        count: modes wanted; default all.
+        row: the result's row, for a result.
+
+    The way is chosen by size alone (:mod:`flexmbd.analysis.eigen`): a few modes of a
+    large model come from ARPACK on the engine's banded tangent (at an equilibrium) or on
+    the reduced one; the rest from LAPACK. ``Modes.path`` says which ran and why; where
+    ARPACK cannot tell the modes, LAPACK runs and a :class:`~flexmbd.AnalysisWarning`
+    says so.
 
     Raises:
         SingularConfigurationError: the reduced mass matrix is not positive definite (a
@@ -115,199 +148,122 @@ def vibration_modes(linearization: Linearization, count: int | None = None) -> M
         >>> pendulum = (fm.ModelBuilder("pendulum").add_node(1, 0, 0).add_node(3, 0, -1)
         ...             .add_rigid_beam(1, 1, 2, 3).set_mass(1, 1.0).fix(1)
         ...             .dynamic_coordinate(2).set_gravity(0, -9.81).build())
-        >>> modes = fm.vibration_modes(fm.linearize(pendulum), 1)
+        >>> modes = fm.vibration_modes(pendulum, 1)
         >>> print(f"{modes.frequencies[0]:.4f} Hz")
         0.6105 Hz
     """
-    lin = linearization
-    K, M = lin.block("K"), lin.block("M0")
-    count = _count(count, len(K))
-    if not len(K):
+    lin = linearization_of(linearization, row)
+    nd = len(lin.dynamic)
+    count = _count(count, nd)
+    if not nd:
         empty = np.zeros(0)
-        return Modes(lin, empty, empty, np.zeros((0, 0)), np.zeros((len(lin.x), 0)))
-    omega2, shapes = _eigen(lin, K, M, count, vectors=True)
-    assert shapes is not None  # asked for: vectors=True
-    frequencies = np.sign(omega2) * np.sqrt(np.abs(omega2)) / (2 * np.pi)
-    return Modes(lin, omega2, frequencies, shapes, lin.motion_transfer[:, lin.dynamic] @ shapes)
+        return Modes(lin, empty, empty, np.zeros((0, 0)), np.zeros((len(lin.x), 0)),
+                     EigenPath("dense", "reduced", "no degrees of freedom"))
+    omega2, shapes, motion, path = _lowest_modes(lin, count)
+    return Modes(lin, omega2, frequencies_of(omega2), shapes, motion, path)
 
 
-def _eigen(lin: Linearization, K: np.ndarray, M: np.ndarray, count: int, vectors: bool
-           ) -> tuple[np.ndarray, np.ndarray | None]:
-    """The ``count`` lowest ``omega^2`` of ``K phi = omega^2 M phi``, with mass-normalized
-    shapes ``phi`` when ``vectors``.
+def linearization_of(what, row: int | None = None, name: str = "linearization"
+                     ) -> Linearization:
+    """The linearized state a linearized analysis was given, from what a user holds:
 
-    A symmetric positive definite ``K`` (a structure at rest, a stable equilibrium) gives
-    the largest ``mu = 1/omega^2`` of ``L^-1 M L^-T`` with ``K = L L^T``: rounding then
-    scales with the lowest frequencies, where reducing by ``M`` (the generalized
-    solvers) scales it with the highest, the stiff axial ones of flexures (1e-5 of a
-    200-beam column's first frequency). An unsymmetric ``K`` (``N0`` and ``C0`` in
-    motion) gives ``mu`` of ``K^-1 M`` likewise. Only a symmetric indefinite ``K``
-    (mechanisms, unstable states) or a singular one takes SciPy's generalized solvers."""
-    _check_mass(lin, M)
-    asymmetry = np.abs(K - K.T).max() / max(np.abs(K).max(), np.finfo(float).tiny)
-    few = len(K) >= FEW_MODES_FROM and count <= FEW_MODES_SHARE * len(K)
-    if asymmetry <= SYMMETRIC:
-        K = 0.5 * (K + K.T)
-        factor = _cholesky(K)
-        if factor is not None and _well_posed(factor, K) and few:
-            return _few_symmetric(factor, M, count, vectors)
-        if factor is not None and _well_posed(factor, K):
-            reduced, inverse = _reduced(factor, M)
-            mu, y = np.linalg.eigh(reduced)
-            mu, y = mu[::-1][:count], y[:, ::-1][:, :count]
-            resolved = mu > ROUNDING_MARGIN * len(K) * np.finfo(float).eps * mu[0]
-            if not np.all(resolved):   # modes too stiff for this reduction: see below
-                return _stiffest(K, M, mu[resolved], inverse.T @ y[:, resolved], count,
-                                 vectors)
-            # phi = L^-T y has phi^T K phi = 1 and phi^T M phi = mu
-            return 1.0 / mu, (inverse.T @ y / np.sqrt(mu) if vectors else None)
-    else:
-        if few:
-            found = _few_unsymmetric(K, M, count)
-            if found is not None:
-                return found if vectors else (found[0], None)
-        try:  # K regular: the eigenvalues mu = 1/omega^2 of K^-1 M, as above
-            inverse = np.linalg.solve(K, M)
-        except np.linalg.LinAlgError:
-            inverse = None
-        if inverse is not None and np.all(np.isfinite(inverse)):
-            if not vectors:
-                return np.sort((1.0 / np.linalg.eigvals(inverse)).real)[:count], None
-            mu, right = np.linalg.eig(inverse)
-            return _lowest(1.0 / mu, right, M, count)
-    import scipy.linalg as linalg  # only here: its import alone costs 0.2 s
+    * a :class:`Linearization`: itself;
+    * a :class:`~flexmbd.Model`: its reference configuration at rest (:func:`linearize`);
+    * a :class:`~flexmbd.StaticResult`: its row ``row`` (default the last), linearized at
+      that equilibrium with its loads;
+    * a kinematic, dynamic or inverse-dynamics result: its row ``row`` (default the last)
+      with its rates and accelerations (``outputs='all'``), inertia terms included.
 
-    # all eigenvalues: the largest sets the rounding level of the lowest
-    if asymmetry <= SYMMETRIC:
-        if not vectors:
-            return _rounded_to_zero(linalg.eigh(K, M, eigvals_only=True), len(K))[:count], None
-        omega2, shapes = linalg.eigh(K, M)
-        return _rounded_to_zero(omega2, len(K))[:count], shapes[:, :count]
-    if not vectors:
-        return np.sort(_rounded_to_zero(linalg.eigvals(K, M).real, len(K)))[:count], None
-    values, right = linalg.eig(K, M)
-    omega2, shapes = _lowest(values, right, M, count)
-    return _rounded_to_zero(omega2, len(K), linalg.eigvals(K, M).real), shapes
+    Raises:
+        ArgumentError: anything else (naming ``name``, and saying what to pass), a row
+            outside the result, ``row`` with a model or a linearization, or a motion
+            without its rates.
+    """
+    if isinstance(what, Linearization | Model):
+        if row is not None:
+            raise ArgumentError("row", f"is for a result's rows; a {type(what).__name__} is "
+                                       f"one state already")
+        return what if isinstance(what, Linearization) else linearize(what)
+    if not isinstance(what, KinematicResult):
+        raise ArgumentError(name, f"must be a linearized state (fm.linearize(model) or "
+                                  f"statics.linearization(row)), a Model (its reference "
+                                  f"configuration), a static_equilibrium result or a row of "
+                                  f"a motion's result (row=...), got {type(what).__name__}")
+    rows = len(what.x)
+    if not rows:
+        raise ArgumentError(name, "the result has no rows to linearize at")
+    row = -1 if row is None else checks.whole(row, "row", -rows, rows - 1)
+    if isinstance(what, StaticResult):
+        return what.linearization(row)
+    return linearize(what.model, what.x[row], *motion_rates(what, row),
+                     e=None if what.e is None else what.e[row])
 
 
-def _stiffest(K: np.ndarray, M: np.ndarray, mu: np.ndarray, phi: np.ndarray, count: int,
-              vectors: bool) -> tuple[np.ndarray, np.ndarray | None]:
-    """The ``count`` lowest modes when the highest lie below the rounding of ``mu =
-    1/omega^2`` (stiff axial modes of thin leaves, ``omega`` ratios beyond 1e7): the
-    resolved ones ``mu`` (shapes ``phi = L^-T y``) as they are, the rest from SciPy's
-    generalized solver, whose rounding scales with the highest frequency instead; never
-    a stable structure's mode turned into a negative ``omega^2`` by rounding."""
-    import scipy.linalg as linalg
-
-    omega2, shapes = linalg.eigh(K, M)
-    kept = len(mu)
-    values = np.concatenate([1.0 / mu, omega2[kept:count]])
-    if not vectors:
-        return values, None
-    return values, np.hstack([phi / np.sqrt(mu), shapes[:, kept:count]])
+def frequencies_of(omega2: np.ndarray) -> np.ndarray:
+    """``sign(omega^2) sqrt(|omega^2|) / (2 pi)`` [Hz]: negative for an unstable
+    direction."""
+    return np.sign(omega2) * np.sqrt(np.abs(omega2)) / (2 * np.pi)
 
 
-def _start(n: int) -> np.ndarray:
-    """ARPACK's start vector: fixed, so runs repeat, and with every mode in it (a vector
-    of ones misses the antisymmetric modes of a symmetric structure)."""
-    return np.random.default_rng(0).standard_normal(n)
+def _lowest_modes(lin: Linearization, count: int, start: np.ndarray | None = None
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray, EigenPath]:
+    """``omega2`` ``(k,)``, shapes over the dynamic entries of ``q`` ``(nd, k)``, their
+    coordinate motions ``(nx, k)`` and the path (:func:`vibration_modes`); ``start``: a
+    start vector over the free coordinates for ARPACK on the banded tangent."""
+    nd = len(lin.dynamic)
+    system, why = "reduced", ""
+    if arpack_pays(nd, count):
+        tangent = lin.tangent
+        system = "banded" if tangent is not None else "reduced"
+        try:
+            if tangent is not None:
+                return _banded_modes(lin, tangent, count, start)
+            omega2, shapes = lowest_arpack_dense(lin.block("K"), _mass(lin), count)
+            return (omega2, shapes, lin.motion_transfer[:, lin.dynamic] @ shapes,
+                    EigenPath("arpack", "reduced", size_reason(nd, count)))
+        except EigenError as failure:
+            why = f"ARPACK on the {system} tangent failed ({failure}); LAPACK instead"
+            warnings.warn(f"vibration modes: {why}", AnalysisWarning, stacklevel=3)
+    omega2, found = lowest_dense(lin.block("K"), _mass(lin), count, vectors=True)
+    assert found is not None  # asked for: vectors=True
+    return (omega2, found, lin.motion_transfer[:, lin.dynamic] @ found,
+            EigenPath("dense", "reduced", why or size_reason(nd, count)))
 
 
-def _few_symmetric(factor: np.ndarray, M: np.ndarray, count: int, vectors: bool
-                   ) -> tuple[np.ndarray, np.ndarray | None]:
-    """The ``count`` largest ``mu = 1/omega^2`` of ``L^-1 M L^-T`` by Lanczos (ARPACK's
-    ``eigsh``), the operator applied with two triangular solves: the lowest modes of a
-    symmetric positive definite ``K = L L^T`` to machine precision."""
-    from scipy.linalg import solve_triangular
-    from scipy.sparse.linalg import LinearOperator, eigsh
-
-    n = len(M)
-
-    def apply(v):
-        return solve_triangular(factor, M @ solve_triangular(factor, v, trans="T",
-                                                             lower=True), lower=True)
-
-    k = min(count + FEW_MODES_EXTRA, n - 1)
-    mu, y = eigsh(LinearOperator((n, n), matvec=apply, dtype=float), k=k, which="LA",
-                  tol=0.0, v0=_start(n))
-    order = np.argsort(mu)[::-1][:count]
-    mu, y = mu[order], y[:, order]
-    if not vectors:
-        return 1.0 / mu, None
-    return 1.0 / mu, solve_triangular(factor, y, trans="T", lower=True) / np.sqrt(mu)
+def _banded_modes(lin: Linearization, tangent: BandedTangent, count: int,
+                  start: np.ndarray | None) -> tuple[np.ndarray, np.ndarray, np.ndarray,
+                                                     EigenPath]:
+    """:func:`_lowest_modes` by ARPACK on the banded tangent and Rayleigh-Ritz with the
+    exact element products: shapes ``z`` over the free coordinates, then as entries of
+    ``q`` (the dynamic coordinates and deformations they move) and as coordinate
+    motions."""
+    model, free = lin.model, tangent.banded.free
+    basis = ritz_basis(tangent.inverse_times_mass, len(free), count, start)
+    Z = np.zeros((model.n_coordinates, basis.shape[1]))
+    Z[free] = basis
+    omega2, y = ritz_values(stiffness_products(lin, Z), basis.T @ tangent.mass_times(basis),
+                            count)
+    Z = Z @ y
+    moved = np.concatenate([Z[model.independent_coordinates],
+                            lin.workspace().assembly.jacobian_times(lin.x, Z)[
+                                model.independent_deformations]])
+    return (omega2, moved[lin.dynamic], coordinate_motions(model, lin.x, Z),
+            EigenPath("arpack", "banded", size_reason(len(lin.dynamic), count)))
 
 
-def _few_unsymmetric(K: np.ndarray, M: np.ndarray, count: int
-                     ) -> tuple[np.ndarray, np.ndarray] | None:
-    """The ``count`` largest ``mu = 1/omega^2`` of ``K^-1 M`` by Arnoldi (ARPACK's
-    ``eigs``) on the LU factors of ``K``; None for a singular ``K``."""
-    from scipy.linalg import lu_factor, lu_solve
-    from scipy.sparse.linalg import LinearOperator, eigs
+def _mass(lin: Linearization) -> np.ndarray:
+    """The reduced mass over the dynamic entries, checked positive definite.
 
-    n = len(K)
-    with np.errstate(all="ignore"):
-        lu = lu_factor(K, check_finite=False)
-    if not np.all(np.isfinite(lu[0])) or np.any(np.abs(np.diag(lu[0])) <= n * np.finfo(
-            float).eps * np.abs(K).max()):
-        return None
-    k = min(count + FEW_MODES_EXTRA, n - 2)
-    mu, right = eigs(LinearOperator((n, n), matvec=lambda v: lu_solve(lu, M @ v),
-                                    dtype=float), k=k, which="LM", tol=0.0, v0=_start(n))
-    return _lowest(1.0 / mu, right, M, count)
-
-
-def _rounded_to_zero(omega2: np.ndarray, n: int, spectrum: np.ndarray | None = None
-                     ) -> np.ndarray:
-    """``omega2`` with the values within the rounding of a generalized eigensolver of size
-    ``n`` (``ROUNDING_MARGIN n eps`` times the largest magnitude of ``spectrum``, by
-    default ``omega2`` itself) set to exactly 0: a rigid-body mode, not a tiny
-    unstable or stable one."""
-    largest = np.abs(omega2 if spectrum is None else spectrum).max(initial=0.0)
-    zero = np.abs(omega2) <= ROUNDING_MARGIN * n * np.finfo(float).eps * largest
-    return np.where(zero, 0.0, omega2)
-
-
-def _well_posed(factor: np.ndarray, A: np.ndarray) -> bool:
-    """Whether the Cholesky factor ``L`` of ``A`` shows ``A`` regular to working precision:
-    no pivot ``L_ii^2`` collapsed to rounding of its diagonal ``A_ii``. A singular ``A``
-    (a rigid-body mode) can factor with a pivot of rounding size, by chance of the BLAS
-    kernels; its inverse would then swamp every other eigenvalue."""
-    pivots = np.diag(factor) ** 2
-    return bool(np.all(pivots > len(A) * np.finfo(float).eps * np.abs(np.diag(A))))
-
-
-def _lowest(values: np.ndarray, right: np.ndarray, M: np.ndarray, count: int
-            ) -> tuple[np.ndarray, np.ndarray]:
-    """The ``count`` eigenpairs of lowest real ``omega^2``, shapes mass-normalized."""
-    order = np.argsort(values.real)[:count]
-    shapes = right.real[:, order]
-    return values.real[order], shapes / np.sqrt(np.einsum("ik,ij,jk->k", shapes, M, shapes))
-
-
-def _check_mass(lin: Linearization, M: np.ndarray) -> None:
-    """Raise, naming the degree of freedom, when ``M0`` is not positive definite."""
-    if _cholesky(M) is None:
+    Raises:
+        SingularConfigurationError: naming a degree of freedom without mass.
+    """
+    M = lin.block("M0")
+    if cholesky(M) is None:
         weak = int(lin.dynamic[np.argmin(np.diag(M))])
         raise SingularConfigurationError(
             f"the reduced mass matrix M0 is not positive definite: "
             f"{lin.model.describe_q(weak)} moves without mass; {MASS_ADVICE}")
-
-
-def _cholesky(A: np.ndarray) -> np.ndarray | None:
-    """The lower Cholesky factor of a symmetric ``A``, or ``None`` when ``A`` is not
-    positive definite."""
-    try:
-        return np.linalg.cholesky(A)
-    except np.linalg.LinAlgError:
-        return None
-
-
-def _reduced(factor: np.ndarray, A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``L^-1 A L^-T`` (symmetrized) for a Cholesky factor ``L`` and a symmetric ``A``,
-    and ``L^-1``, which turns the reduced problem's vectors back (``L^-T y``)."""
-    inverse = np.linalg.inv(factor)
-    reduced = inverse @ A @ inverse.T
-    return 0.5 * (reduced + reduced.T), inverse
+    return M
 
 
 @dataclass(frozen=True, eq=False)
@@ -346,37 +302,42 @@ def modes_along(result: KinematicResult, count: int = 6, *, progress: bool | Non
         raise ArgumentError("result", f"must be a flexmbd result (simulate, "
                                       f"kinematic_analysis, ...), got {type(result).__name__}")
     model = result.model
-    if result.xd is None or result.xdd is None or result.ed is None or result.edd is None \
-            or result.e is None:
-        raise ArgumentError("result", "needs the rates of the motion: simulate(..., "
+    if result.e is None:
+        raise ArgumentError("result", "needs the deformations of the motion: simulate(..., "
                                       "outputs='all')")
     count = _count(count, int(np.sum(~np.asarray(model.q_is_input))))
-    nxm = model.independent_coordinates
-    emd = model.independent_deformations
     engine = workspace_of(model)
     nt = len(result.t)
     omega2 = np.full((nt, count), np.nan)
     # many small problems: BLAS threads would cost more in hand-over than they gain
     with progress_bar(result.t, "modes", progress) as advance, threadpool_limits(1, "blas"):
-        e, xd, xdd, ed, edd = result.e, result.xd, result.xdd, result.ed, result.edd  # there
         for k in range(nt):
-            qd = np.concatenate([xd[k, nxm], ed[k, emd]])
-            qdd = np.concatenate([xdd[k, nxm], edd[k, emd]])
-            lin = linearize(model, result.x[k], qd, qdd, workspace=engine, e=e[k])
-            omega2[k] = _eigen(lin, lin.block("K"), lin.block("M0"), count, vectors=False)[0]
+            qd, qdd = motion_rates(result, k)
+            lin = linearize(model, result.x[k], qd, qdd, workspace=engine, e=result.e[k])
+            omega2[k] = _lowest_values(lin, count)
             if advance is not None:
                 advance(result.t[k])
-    frequencies = np.sign(omega2) * np.sqrt(np.abs(omega2)) / (2 * np.pi)
-    return ModesAlong(result, result.t.copy(), frequencies, omega2)
+    return ModesAlong(result, result.t.copy(), frequencies_of(omega2), omega2)
 
 
-def buckling(linearization: Linearization, count: int | None = None) -> Buckling:
+def _lowest_values(lin: Linearization, count: int) -> np.ndarray:
+    """The ``count`` lowest ``omega^2`` of a state, as :func:`vibration_modes` finds them,
+    without the shapes where LAPACK runs."""
+    if arpack_pays(len(lin.dynamic), count):
+        return _lowest_modes(lin, count)[0]
+    return lowest_dense(lin.block("K"), _mass(lin), count, vectors=False)[0]
+
+
+def buckling(linearization, count: int | None = None, *, row: int | None = None
+             ) -> Buckling:
     """Load factors ``lambda`` with ``(K0 + lambda G0) phi = 0`` (``eig(-K0, G0)``): the
     multiples of the state's loads at which the structure buckles: a :class:`Buckling`
-    with ``count`` factors ``(k,)`` [-], ascending, and their shapes.
+    with ``count`` factors ``(k,)`` [-], ascending, and their shapes. ``linearization``
+    and ``row`` as for :func:`vibration_modes`. It pairs ``K0`` with ``G0``, so it runs
+    on the reduced matrices (LAPACK, the whole spectrum).
 
     Raises:
-        ArgumentError: the state has no geometric stiffness (no loads, no stresses).
+        UnstressedError: the state has no geometric stiffness (no loads, no stresses).
 
     Examples:
         The cantilever pressed by 1 N along its axis buckles at about ``pi^2 EI /
@@ -395,17 +356,17 @@ def buckling(linearization: Linearization, count: int | None = None) -> Buckling
         >>> print(f"{fm.buckling(statics.linearization(), 1).factors[0]:.2f}")
         5.00
     """
-    lin = linearization
+    lin = linearization_of(linearization, row)
     K, G = lin.block("K0"), lin.block("G0")
     if not len(K) or not np.any(G):
-        raise ArgumentError("loads", "the state carries no stresses, so no load factor makes "
-                                     "it buckle: apply loads (XF, gravity, loads=...)")
+        raise UnstressedError("loads", "the state carries no stresses, so no load factor "
+                                       "makes it buckle: apply loads (XF, gravity, loads=...)")
     # 1/lambda are the eigenvalues of (G, K): finite for every mode even where G0 vanishes
     K = 0.5 * (K + K.T)
-    factor = _cholesky(K)
+    factor = cholesky(K)
     # a stable state: a symmetric problem L^-1 G L^-T y = y / lambda
-    if factor is not None and _well_posed(factor, K):
-        reduced, inverse_factor = _reduced(factor, 0.5 * (G + G.T))
+    if factor is not None and well_posed(factor, K):
+        reduced, inverse_factor = reduced_by(factor, 0.5 * (G + G.T))
         inverse, y = np.linalg.eigh(reduced)
         vectors = inverse_factor.T @ y
     else:
@@ -418,10 +379,12 @@ def buckling(linearization: Linearization, count: int | None = None) -> Buckling
     order = np.argsort(np.abs(factors))[:_count(count, int(keep.sum()))]
     shapes = vectors[:, keep][:, order]
     shapes = shapes / shapes[np.abs(shapes).argmax(axis=0), np.arange(shapes.shape[1])]
-    return Buckling(lin, factors[order], shapes, lin.motion_transfer[:, lin.dynamic] @ shapes)
+    return Buckling(lin, factors[order], shapes, lin.motion_transfer[:, lin.dynamic] @ shapes,
+                    EigenPath("dense", "reduced", f"buckling pairs K0 with G0 "
+                                                  f"({len(K)} degrees of freedom)"))
 
 
-def compliance(linearization: Linearization, labels) -> np.ndarray:
+def compliance(linearization, labels, *, row: int | None = None) -> np.ndarray:
     """The compliance ``F_sel (K0 + G0)^-1 F_sel^T`` ``(k, k)`` [m/N, rad/(N m), ...] seen at
     the coordinates ``labels`` (``["x5.1", "x5.2"]``): entry ``(i, j)`` is the static
     displacement of coordinate ``i`` per unit load on coordinate ``j``. It is symmetric
@@ -429,16 +392,21 @@ def compliance(linearization: Linearization, labels) -> np.ndarray:
     (the moment keeps its axis while the node turns). On a spatial
     rotational node the labels of ``lam1..lam3`` stand for its global rotations about x,
     y and z and the moments about them (``T = diag(I, 2 E)``, the spatial theory,
-    section 6). The prescribed entries of ``q`` are held.
+    section 6). The prescribed entries of ``q`` are held. ``linearization`` and ``row``
+    as for :func:`vibration_modes`; a large model at an equilibrium solves on the
+    engine's banded tangent, the others on the reduced one.
 
     Raises:
         SingularConfigurationError: ``K0 + G0`` is singular (a mechanism, or buckling).
     """
-    return _compliance(linearization, labels, held=True)
+    return _compliance(linearization_of(linearization, row), labels, held=True)
 
 
 def _compliance(lin: Linearization, labels, held: bool) -> np.ndarray:
     """``T F_sel K^-1 F_sel^T T^T`` over the dynamic entries of ``q`` (``held``) or all."""
+    if held and lin.tangent is not None:
+        named = [lin.model.coordinate_labels[i] for i in lin.rows_of(labels)]
+        return lin.tangent.compliance(named)
     columns = lin.dynamic if held else np.arange(lin.model.n_dof)
     F = lin.motion_transfer[np.ix_(lin.rows_of(labels), columns)]
     K = (lin.K0 + lin.G0)[np.ix_(columns, columns)]
@@ -451,8 +419,8 @@ def _compliance(lin: Linearization, labels, held: bool) -> np.ndarray:
                     f"with the drives free, the drive of {lin.model.q_labels[j]} has no "
                     f"stiffness: a drive without stiffness is a mechanism (its compliance "
                     f"is infinite)")
-    factor = _cholesky(symmetric)
-    if factor is None or not _well_posed(factor, symmetric):
+    factor = cholesky(symmetric)
+    if factor is None or not well_posed(factor, symmetric):
         what = ("the dynamic degrees of freedom include a mechanism (no stiffness) or the "
                 "loads buckle the structure" if held else
                 "with the drives free, a drive without stiffness is a mechanism (its "
@@ -468,9 +436,10 @@ def _compliance(lin: Linearization, labels, held: bool) -> np.ndarray:
     return F @ np.linalg.solve(K, F.T)
 
 
-def node_compliance(linearization: Linearization, node: int, rotational: int | None = None,
+def node_compliance(linearization, node: int, rotational: int | None = None,
                     *, frame: Literal["global", "body"] = "global",
-                    drive: Literal["held", "free"] = "held") -> np.ndarray:
+                    drive: Literal["held", "free"] = "held", row: int | None = None
+                    ) -> np.ndarray:
     """The compliance of a node (and its rotational node): its displacement and rotation
     per unit force and moment on it, ``(6, 6)`` in space (``(3, 3)`` in the plane; the
     translations only without ``rotational``) [m/N, m/(N m), rad/(N m)], FLEXURES 6.
@@ -485,6 +454,8 @@ def node_compliance(linearization: Linearization, node: int, rotational: int | N
         drive: ``"held"``: the prescribed inputs stay (SPACAR Light's static mode);
             ``"free"``: they become degrees of freedom, loaded by their drive force as a
             dead load (``C_free - C_held`` is positive semidefinite).
+        row: the result's row, when ``linearization`` is a result (as for
+            :func:`vibration_modes`).
 
     Raises:
         SingularConfigurationError: a mechanism, buckling, or a free drive without
@@ -507,9 +478,10 @@ def node_compliance(linearization: Linearization, node: int, rotational: int | N
         >>> print(f"{C[1, 1]:.4f} {C[1, 2]:.4f} {C[2, 2]:.4f}")
         0.1667 0.2500 0.5000
     """
-    labels = compliance_labels(linearization.model, node, rotational, frame, drive)
-    C = _compliance(linearization, labels, held=drive == "held")
-    return in_frame(linearization.model, linearization.x, rotational, C, frame)
+    lin = linearization_of(linearization, row)
+    labels = compliance_labels(lin.model, node, rotational, frame, drive)
+    C = _compliance(lin, labels, held=drive == "held")
+    return in_frame(lin.model, lin.x, rotational, C, frame)
 
 
 def compliance_labels(model, node: int, rotational: int | None, frame: str, drive: str

@@ -26,7 +26,7 @@ from ..engine import workspace_of
 from ..errors import ArgumentError, SingularConfigurationError
 from ..summary import dataclass_repr
 from .linearization import Linearization, central_differences
-from .modes import vibration_modes
+from .modes import linearization_of, vibration_modes
 
 __all__ = ["StateSpace", "state_space"]
 
@@ -109,24 +109,27 @@ class StateSpace:
         return StateSpace(A, B, C, D, self.inputs, self.outputs, states)
 
 
-def state_space(linearization: Linearization, inputs, outputs=(), rate_outputs=(), *,
-                damping_ratio: float | None = None) -> StateSpace:
+def state_space(linearization, inputs, outputs=(), rate_outputs=(), *,
+                damping_ratio: float | None = None, row: int | None = None) -> StateSpace:
     """The state-space model of a linearized state.
 
     Args:
-        linearization: the state (:func:`flexmbd.analysis.linearization.linearize`).
+        linearization: the state: a :class:`~flexmbd.Linearization`, a ``Model`` (its
+            reference configuration), a static result or a motion's result (its last
+            row, or ``row``), as for :func:`~flexmbd.vibration_modes`.
         inputs: coordinates loaded by the force inputs (``["x5.2"]``, INPUTF).
         outputs: coordinates given as outputs (OUTX).
         rate_outputs: coordinates whose rates are outputs (OUTXP).
         damping_ratio: modal damping ratio ``zeta`` of every mode, replacing ``C0 + D0``
             by ``M Phi diag(2 zeta omega) Phi^T M``; default the model's damping.
+        row: the result's row, for a result.
 
     Returns:
         :class:`StateSpace` with ``A`` ``(2 nd, 2 nd)``, ``B`` ``(2 nd, ni)``, ``C``
         ``(no, 2 nd)`` and ``D`` ``(no, ni)``; inputs in [N, N m], outputs in [m, rad] and
         rates in [m/s, rad/s].
     """
-    lin = linearization
+    lin = linearization_of(linearization, row)
     model, dynamic = lin.model, lin.dynamic
     inputs, outputs, rate_outputs = (checks.coordinates_named(model, v, name)[0]
                                      for v, name in ((inputs, "inputs"), (outputs, "outputs"),

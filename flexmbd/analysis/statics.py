@@ -38,18 +38,17 @@ from ..progress import progress_bar
 from ..results import SimulationResult, check_on_failure, conclude, first_rows
 from ..settings import RunSettings
 from ..summary import Columns, clip
-from .banded import BandedStatics
+from .banded import BANDED_FROM, BandedStatics
 from .linearization import Linearization, equilibrium_state, linearize, static_tangent
 
 __all__ = ["StaticResult", "static_equilibrium"]
 
 #: halvings of a load step before a static analysis gives up
 MAX_HALVINGS = 12
+#: halvings of a load step after which the banded solver lets the reduced one try: a
+#: smaller step in all coordinates costs less than a reduced Newton on a large model
+REDUCED_AFTER = 2
 
-#: degrees of freedom from which ``method="auto"`` solves in all coordinates on the banded
-#: saddle-point system: the reduced tangent is dense, and its cost grows with the cube of
-#: the degrees of freedom (at 90, a flexure pivot of 16 beams, already 7 times the banded)
-BANDED_FROM = 40
 
 
 @dataclass(eq=False)
@@ -281,6 +280,7 @@ class _Solver:
         self.dynamic = np.flatnonzero(~np.asarray(model.q_is_input))
         self.x = np.asarray(model.x0, dtype=float)
         self.state: dict[str, np.ndarray] = {}
+        self.halvings = 0   #: of the stretch being followed, so far
 
     def follow(self, target, where) -> None:
         """Converge at ``target(1)`` (loads ``(nx,)``, ``q`` with the prescribed entries)
@@ -289,6 +289,7 @@ class _Solver:
         s, step, halvings = 0.0, 1.0, 0
         while s < 1.0:
             trial = min(1.0, s + step)
+            self.halvings = halvings
             try:
                 self.solve(*target(trial))
             except (SimulationError, np.linalg.LinAlgError) as failure:
@@ -353,8 +354,10 @@ class _BandedSolver(_Solver):
 
     def solve(self, loads: np.ndarray, q_target: np.ndarray) -> None:
         """Newton in all coordinates; where it fails (a step too large for constraints
-        linearized in all coordinates), the reduced solver's Newton, which solves the
-        constraints at every iteration, before the caller halves the step."""
+        linearized in all coordinates), the caller halves the step, and from
+        :data:`REDUCED_AFTER` halvings on the reduced solver's Newton, which solves the
+        constraints at every iteration (but costs the cube of the degrees of freedom),
+        takes the step before the next halving."""
         model = self.model
         q = self.state["q"].copy() if self.state else q_target.copy()
         inputs = np.asarray(model.q_is_input, dtype=bool)
@@ -363,6 +366,8 @@ class _BandedSolver(_Solver):
             x, mu = self.banded.equilibrium(self.x, q, self.mu, loads, self.tolerance,
                                             self.max_iterations)
         except (SimulationError, np.linalg.LinAlgError):
+            if self.halvings < REDUCED_AFTER:
+                raise
             super().solve(loads, q_target)   # raises as the reduced solver does
             self.mu = self.state["sigma"][self.banded.constrained]
             return

@@ -228,6 +228,9 @@ class Workspace:
             self.tolerance / model.characteristic_length)) * self.reference_conditioning
         self.arrays: dict[str, np.ndarray] = {}
         self.integrated = False  #: whether the run integrates dynamic degrees of freedom
+        #: the holder of the static saddle-point factorisation the core keeps (one at a
+        #: time): a banded tangent re-factorises when another state has taken it
+        self.static_owner: object | None = None
         self._core.settings(self.tolerance, self.max_iterations, self.regularity_limit,
                            self.reference_conditioning)
 

@@ -33,7 +33,8 @@ ELEMENT_FIELDS = ("elems", "emod", "smod", "dens", "cshape", "dim", "orien", "nb
 #: options; ``filename`` and ``spavisual`` are accepted for ported scripts (no file is
 #: written, nothing is shown)
 OPTION_FIELDS = ("gravity", "loadsteps", "rls", "mode", "transfer", "calcbuck", "calccompl",
-                 "rigidstress", "stressperelement", "silent", "filename", "spavisual")
+                 "rigidstress", "stressperelement", "silent", "filename", "spavisual",
+                 "nmodes")
 
 #: SPACAR Light options flexmbd does not take, with what to use instead
 UNSUPPORTED_OPTIONS = {
@@ -391,6 +392,9 @@ class Options:
     stressperelement: bool = False
     silent: bool = False
     filename: str | None = None
+    #: eigenfrequencies per step, flexmbd's option: a count, "all", or None (SPACAR
+    #: Light's whole spectrum for a small model, the lowest few of a large one)
+    nmodes: int | str | None = None
 
 
 def options(opt, n_elements: int, notes: list[str]) -> Options:
@@ -425,6 +429,8 @@ def options(opt, n_elements: int, notes: list[str]) -> Options:
     if _given(opt, "calccompl"):
         o.calccompl = _flag(opt, "calccompl", "opt")
     _flag(opt, "spavisual", "opt")
+    if _given(opt, "nmodes"):
+        o.nmodes = _mode_count(opt["nmodes"])
     if _given(opt, "filename"):
         if not isinstance(opt["filename"], str):
             raise ArgumentError("opt.filename", f"must be a str, got {opt['filename']!r}")
@@ -432,6 +438,17 @@ def options(opt, n_elements: int, notes: list[str]) -> Options:
     _transfer(opt, o, notes)
     o.rls = _releases(opt.get("rls"), n_elements)
     return o
+
+
+def _mode_count(value) -> int | str:
+    """``nmodes``: a whole number >= 1, or ``"all"``."""
+    if value == "all":
+        return "all"
+    if isinstance(value, bool) or not isinstance(value, int | np.integer | float) or \
+            not value == round(value) or value < 1:
+        raise ArgumentError("opt.nmodes", f"must be a whole number >= 1 (the lowest "
+                                          f"eigenfrequencies per step) or 'all', got {value!r}")
+    return int(value)
 
 
 def _transfer(opt, o: Options, notes: list[str]) -> None:

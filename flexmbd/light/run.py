@@ -7,12 +7,13 @@ import math
 
 import numpy as np
 
+from ..analysis.eigen import FEW_MODES_FROM
 from ..analysis.linearization import Linearization
-from ..analysis.modes import buckling, node_compliance, vibration_modes
+from ..analysis.modes import NO_VALUE, buckling, in_frame, node_compliance, vibration_modes
 from ..analysis.statespace import StateSpace, state_space
 from ..analysis.statics import StaticResult, static_equilibrium
 from ..analysis.stresses import beam_stresses
-from ..errors import ArgumentError, FlexmbdError
+from ..errors import ArgumentError
 from ..progress import progress_bar
 from .build import LightModel, assemble, rotational, translational
 from .fields import DEFAULT_LOADSTEPS, ElementSet, element_sets, node_props, options
@@ -20,6 +21,8 @@ from .results import ElementResult, LightResult, NodeResult, OneBased
 
 #: SPACAR Light refuses elements whose lengths differ more than this; flexmbd notes it
 LENGTH_RATIO = 1000.0
+#: eigenfrequencies per step of a model too large for the whole spectrum (opt.nmodes)
+DEFAULT_MODES = 12
 
 
 def _older(opt, more: tuple):
@@ -172,28 +175,27 @@ def _geometry(nodes, elements, notes: list[str]) -> tuple[np.ndarray, np.ndarray
 def _results(lm: LightModel, statics: StaticResult, show: bool) -> LightResult:
     model, opt = lm.model, lm.options
     rows = len(statics.t)
-    lins = []
-    with progress_bar(statics.t, "linearized load steps", None if show else False) as advance:
-        for row in range(rows):
-            lins.append(statics.linearization(row))
-            if advance is not None:
-                advance(statics.t[row])
+    lins = [statics.linearization(row) for row in range(rows)]   # each formed on use
     ndof = len(lins[0].dynamic) if lins else 0
-    freq = np.full((ndof, rows), np.nan)
+    count = _mode_count(opt.nmodes, ndof, lm.notes)
+    freq = np.full((count, rows), np.nan)
     buck = np.full((ndof, rows), np.nan) if opt.calcbuck else None
     if opt.calcbuck and not lm.load_increment and not model.nodal_forces \
             and not any(model.gravity):
         lm.notes.append("opt.calcbuck: no loads are applied, so there are no buckling load "
                         "factors")
     shapes: list[dict] = [{} for _ in lins]
-    for row, lin in enumerate(lins):
-        _fill(freq, row, lambda lin=lin, row=row: _kept(shapes[row], "freqmodes",
-                                                        vibration_modes(lin)),
-              lm.notes, "eigenfrequencies")
-        if buck is not None:
-            _fill(buck, row, lambda lin=lin, row=row: _kept(shapes[row], "buckmodes",
-                                                            buckling(lin)),
-                  lm.notes, "buckling")
+    with progress_bar(statics.t, "linearized load steps", None if show else False) as advance:
+        for row, lin in enumerate(lins):
+            _fill(freq, row, lambda lin=lin, row=row: _kept(
+                shapes[row], "freqmodes", vibration_modes(lin, count)),
+                lm.notes, "eigenfrequencies")
+            if buck is not None:
+                _fill(buck, row, lambda lin=lin, row=row: _kept(shapes[row], "buckmodes",
+                                                                buckling(lin)),
+                      lm.notes, "buckling")
+            if advance is not None:
+                advance(statics.t[row])
     stress, per_beam = _stresses(lm, lins)
     nodes = [_node(lm, j, statics, lins) for j in range(1, len(lm.positions) + 1)]
     elements = []
@@ -214,6 +216,23 @@ def _results(lm: LightModel, statics: StaticResult, show: bool) -> LightResult:
                        lm.notes, model, statics, space, lm.styles, shapes)
 
 
+def _mode_count(nmodes: int | str | None, ndof: int, notes: list[str]) -> int:
+    """Eigenfrequencies per step: ``opt.nmodes``, else SPACAR Light's whole spectrum of a
+    model below :data:`~flexmbd.analysis.eigen.FEW_MODES_FROM` degrees of freedom and the
+    :data:`DEFAULT_MODES` lowest of a larger one (noted: the whole spectrum's cost grows
+    with the cube of the degrees of freedom, the lowest few's linearly)."""
+    if nmodes == "all":
+        return ndof
+    if nmodes is not None:
+        return min(int(nmodes), ndof)
+    if ndof < FEW_MODES_FROM or ndof <= DEFAULT_MODES:
+        return ndof
+    notes.append(f"eigenfrequencies: the {DEFAULT_MODES} lowest of {ndof} per step "
+                 f"(opt.nmodes: another count, or 'all' for the whole spectrum, whose cost "
+                 f"grows with the cube of the degrees of freedom)")
+    return DEFAULT_MODES
+
+
 def _kept(shapes: dict, name: str, found) -> np.ndarray:
     """Keep the shapes (over the degrees of freedom) of modes or buckling under ``name``;
     return their frequencies or factors."""
@@ -222,10 +241,11 @@ def _kept(shapes: dict, name: str, found) -> np.ndarray:
 
 
 def _fill(table: np.ndarray, row: int, values, notes: list[str], what: str) -> None:
-    """Put ``values()`` into column ``row``; a step whose analysis fails keeps NaN, noted."""
+    """Put ``values()`` into column ``row``; a step whose analysis has no value (a
+    singular tangent, a state without stresses) keeps NaN, noted with the reason."""
     try:
         found = np.asarray(values(), dtype=float)
-    except (FlexmbdError, ArithmeticError, ValueError) as error:
+    except NO_VALUE as error:
         notes.append(f"{what} at step {row + 1}: {error}")
         return
     table[:len(found), row] = found[:table.shape[0]]
@@ -277,9 +297,10 @@ def _node(lm: LightModel, j: int, statics: StaticResult, lins: list[Linearizatio
         for row, lin in enumerate(lins):
             try:
                 glob[:, :, row] = node_compliance(lin, t, r, frame="global")
-                loc[:, :, row] = node_compliance(lin, t, r, frame="body")
-            except (FlexmbdError, ArithmeticError, ValueError):
+            except NO_VALUE as error:
+                lm.notes.append(f"compliance of node {j} at step {row + 1}: {error}")
                 continue
+            loc[:, :, row] = in_frame(model, lin.x, r, glob[:, :, row], "body")
     return NodeResult(p, quat, axang, euler, force, moment, glob, loc, (t, r))
 
 

@@ -1,0 +1,302 @@
+"""The one eigen path of the linearized analyses: the lowest ``omega^2`` of ``K phi =
+omega^2 M phi`` (vibration) and, by the same means, of other pencils.
+
+Two ways, chosen by size alone (:func:`arpack_pays`):
+
+* **dense** (LAPACK) for small problems or many modes. A symmetric positive definite
+  ``K`` (a structure at rest, a stable equilibrium) gives the largest ``mu =
+  1/omega^2`` of ``L^-1 M L^-T`` with ``K = L L^T``: rounding then scales with the
+  lowest frequencies, where reducing by ``M`` (the generalized solvers) scales it with
+  the highest, the stiff axial ones of flexures (1e-5 of a 200-beam column's first
+  frequency). An unsymmetric regular ``K`` (``N0`` and ``C0`` in motion, a global
+  moment's load stiffness) gives ``mu`` of ``K^-1 M`` likewise. A symmetric
+  indefinite or singular ``K`` (mechanisms, unstable states) takes SciPy's generalized
+  solvers, whose values within their rounding are rigid-body modes (exactly 0).
+* **ARPACK in shift-invert at 0** for a few lowest modes of a large problem: Arnoldi
+  on ``v -> K^-1 M v`` with the factorisation the caller already holds (the engine's
+  banded tangent, or an LU of the reduced one): ``O(n b^2)`` per iteration instead of
+  the whole spectrum's ``O(n^3)``. The values then come from Rayleigh-Ritz on the
+  basis found, with exact products of ``K`` and ``M``: solves lose digits to the
+  stiffness contrast of thin leaves (axial against bending stiffness), the quotients
+  take them back, and a pair of equal frequencies that rounding split into complex
+  values comes out whole.
+
+Where ARPACK cannot tell the modes (a singular tangent, no convergence, complex
+eigenvalues) the caller falls back to the dense way and warns: never silently.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["EigenPath", "arpack_pays", "lowest_arpack_dense", "lowest_dense", "ritz_basis",
+           "ritz_values"]
+
+#: relative asymmetry below which a stiffness block counts as symmetric (rounding of the
+#: products that make it); above it, as along a motion with N0, the general solver runs
+SYMMETRIC = 1e-9
+
+#: a generalized eigensolver's eigenvalues carry rounding of about ``n eps`` times the
+#: largest; this many times that is taken as zero (a rigid-body mode), so that rounding
+#: never reads as an unstable direction whatever the CPU's BLAS kernels
+ROUNDING_MARGIN = 100.0
+
+#: a few lowest modes of a problem this large take ARPACK (``O(n b^2)`` per iteration on a
+#: factorisation) instead of the whole spectrum (``O(n^3)``): at most this share of the
+#: unknowns, from this many on
+FEW_MODES_SHARE, FEW_MODES_FROM = 0.25, 60
+#: the extra modes ARPACK iterates for, so that a multiple eigenvalue is found whole
+FEW_MODES_EXTRA = 4
+#: an eigenvalue ``mu`` of ``K^-1 M`` whose imaginary part exceeds this share of its size is
+#: complex (a flutter-like state): ARPACK's result is then not a set of vibration modes
+COMPLEX = 1e-8
+
+
+class EigenError(ArithmeticError):
+    """ARPACK could not tell the lowest modes; the message says why (the caller falls
+    back to the dense way, with a warning)."""
+
+
+@dataclass(frozen=True)
+class EigenPath:
+    """Which way an eigenproblem was solved, and why.
+
+    Attributes:
+        method: ``"dense"`` (LAPACK, the whole spectrum) or ``"arpack"`` (shift-invert on
+            a factorisation).
+        system: ``"reduced"`` (the tangent over the degrees of freedom) or ``"banded"``
+            (the engine's saddle-point tangent in all coordinates).
+        reason: a sentence: the sizes that chose it, or the failure that forced it.
+    """
+
+    method: str
+    system: str
+    reason: str
+
+    def __str__(self) -> str:
+        return f"{self.method} on the {self.system} tangent: {self.reason}"
+
+
+def arpack_pays(n: int, count: int) -> bool:
+    """Whether ``count`` lowest modes of ``n`` unknowns take ARPACK: at least
+    :data:`FEW_MODES_FROM` unknowns and at most :data:`FEW_MODES_SHARE` of them asked."""
+    return n >= FEW_MODES_FROM and count <= FEW_MODES_SHARE * n
+
+
+def size_reason(n: int, count: int) -> str:
+    """Why :func:`arpack_pays` chose as it did, in words."""
+    if arpack_pays(n, count):
+        return (f"{count} lowest of {n} unknowns (ARPACK from {FEW_MODES_FROM} unknowns "
+                f"and at most {FEW_MODES_SHARE:.0%} of them)")
+    if n < FEW_MODES_FROM:
+        return f"{n} unknowns (the whole spectrum below {FEW_MODES_FROM})"
+    return f"{count} of {n} modes asked (the whole spectrum above {FEW_MODES_SHARE:.0%})"
+
+
+# --- ARPACK -----------------------------------------------------------------------------
+def start_vector(n: int) -> np.ndarray:
+    """ARPACK's start vector: fixed, so runs repeat, and with every mode in it (a vector
+    of ones misses the antisymmetric modes of a symmetric structure)."""
+    return np.random.default_rng(0).standard_normal(n)
+
+
+def ritz_basis(inverse_times_mass: Callable[[np.ndarray], np.ndarray], n: int, count: int,
+               start: np.ndarray | None = None) -> np.ndarray:
+    """An orthonormal real basis ``(n, m)`` of the ``count`` (and
+    :data:`FEW_MODES_EXTRA` more) eigenvectors of ``K^-1 M`` with the largest ``mu =
+    1/omega^2``, by Arnoldi (ARPACK's ``eigs``, shift-invert at 0): the real and
+    imaginary parts of complex ones (a pair of equal frequencies that rounding split).
+
+    Args:
+        inverse_times_mass: ``v -> K^-1 M v`` for ``v`` ``(n,)`` (the caller's
+            factorisation; on a constrained system its result keeps the constraints).
+        n: unknowns.
+        count: modes wanted, at most ``n - FEW_MODES_EXTRA - 2``.
+        start: a start vector ``(n,)``, else a fixed random one.
+
+    Raises:
+        EigenError: no convergence, or a failure of the solves.
+    """
+    from scipy.sparse.linalg import ArpackError, ArpackNoConvergence, LinearOperator, eigs
+
+    k = min(count + FEW_MODES_EXTRA, n - 2)
+    operator = LinearOperator((n, n), matvec=inverse_times_mass, dtype=float)
+    v0 = start_vector(n) if start is None else np.asarray(start, dtype=float)
+    try:
+        mu, right = eigs(operator, k=k, which="LM", tol=0.0, v0=v0)
+    except ArpackNoConvergence:
+        raise EigenError(f"ARPACK did not converge to the {k} lowest modes") from None
+    except ArpackError as error:
+        raise EigenError(f"ARPACK failed ({error}): the tangent is singular or not "
+                           f"finite") from None
+    if not np.all(np.isfinite(mu)) or not np.all(np.isfinite(right)):
+        raise EigenError("ARPACK found values that are not finite")
+    parts = np.hstack([right.real, right.imag[:, np.abs(mu.imag) > 0.0]])
+    basis, triangle = np.linalg.qr(parts)
+    diagonal = np.abs(np.diag(triangle))
+    return basis[:, diagonal > 1e-10 * diagonal.max()]
+
+
+def ritz_values(stiffness: np.ndarray, mass: np.ndarray, count: int
+                ) -> tuple[np.ndarray, np.ndarray]:
+    """The ``count`` lowest ``omega^2`` ``(count,)`` of the projected pencil ``Z^T K Z y =
+    omega^2 Z^T M Z y`` (``(m, m)`` each) and their ``y`` ``(m, count)`` with ``y^T (Z^T M
+    Z) y = 1`` (Rayleigh-Ritz: with exact products ``K Z`` and ``M Z`` the values are good
+    to the square of the basis's error).
+
+    Raises:
+        EigenError: complex values among the lowest (not a set of vibration modes), or
+            a basis vector without mass.
+    """
+    import scipy.linalg as linalg
+
+    mass = 0.5 * (mass + mass.T)
+    if cholesky(mass) is None:
+        raise EigenError("a mode without mass among the lowest")
+    asymmetry = np.abs(stiffness - stiffness.T).max() / max(np.abs(stiffness).max(),
+                                                            np.finfo(float).tiny)
+    if asymmetry <= SYMMETRIC:
+        omega2, y = linalg.eigh(0.5 * (stiffness + stiffness.T), mass)
+        return omega2[:count], y[:, :count]
+    values, y = linalg.eig(stiffness, mass)
+    order = np.argsort(values.real)[:count]
+    values, y = values[order], y[:, order]
+    if np.any(np.abs(values.imag) > COMPLEX * np.abs(values)):
+        raise EigenError("complex eigenvalues among the lowest (not a set of vibration "
+                           "modes)")
+    y = y.real
+    return values.real, y / np.sqrt(np.einsum("ik,ik->k", y, mass @ y))
+
+
+def lowest_arpack_dense(K: np.ndarray, M: np.ndarray, count: int
+                        ) -> tuple[np.ndarray, np.ndarray]:
+    """The ``count`` lowest ``omega^2`` ``(count,)`` of a dense ``K`` ``(n, n)`` with mass
+    ``M`` and their mass-normalized shapes ``(n, count)``: ARPACK on the LU factors of
+    ``K`` (:func:`ritz_basis`), then Rayleigh-Ritz with ``K`` and ``M``.
+
+    Raises:
+        EigenError: ``K`` is singular to working precision, or as :func:`ritz_basis`
+            and :func:`ritz_values`.
+    """
+    from scipy.linalg import lu_factor, lu_solve
+
+    n = len(K)
+    with np.errstate(all="ignore"):
+        lu = lu_factor(K, check_finite=False)
+    pivots = np.abs(np.diag(lu[0]))
+    if not np.all(np.isfinite(lu[0])) or np.any(
+            pivots <= n * np.finfo(float).eps * np.abs(K).max()):
+        raise EigenError("the tangent is singular (a mechanism or a rigid-body mode)")
+    Z = ritz_basis(lambda v: lu_solve(lu, M @ v), n, count)
+    omega2, y = ritz_values(Z.T @ K @ Z, Z.T @ M @ Z, count)
+    return omega2, Z @ y
+
+
+# --- LAPACK -----------------------------------------------------------------------------
+def lowest_dense(K: np.ndarray, M: np.ndarray, count: int, vectors: bool
+                 ) -> tuple[np.ndarray, np.ndarray | None]:
+    """The ``count`` lowest ``omega^2`` of ``K phi = omega^2 M phi`` ``(count,)``, with
+    mass-normalized shapes ``(n, count)`` when ``vectors`` (module docstring); ``M``
+    symmetric positive definite."""
+    asymmetry = np.abs(K - K.T).max() / max(np.abs(K).max(), np.finfo(float).tiny)
+    if asymmetry <= SYMMETRIC:
+        K = 0.5 * (K + K.T)
+        factor = cholesky(K)
+        if factor is not None and well_posed(factor, K):
+            reduced, inverse = reduced_by(factor, M)
+            mu, y = np.linalg.eigh(reduced)
+            mu, y = mu[::-1][:count], y[:, ::-1][:, :count]
+            resolved = mu > ROUNDING_MARGIN * len(K) * np.finfo(float).eps * mu[0]
+            if not np.all(resolved):   # modes too stiff for this reduction: see below
+                return _stiffest(K, M, mu[resolved], inverse.T @ y[:, resolved], count,
+                                 vectors)
+            # phi = L^-T y has phi^T K phi = 1 and phi^T M phi = mu
+            return 1.0 / mu, (inverse.T @ y / np.sqrt(mu) if vectors else None)
+    else:
+        try:  # K regular: the eigenvalues mu = 1/omega^2 of K^-1 M, as above
+            inverse = np.linalg.solve(K, M)
+        except np.linalg.LinAlgError:
+            inverse = None
+        if inverse is not None and np.all(np.isfinite(inverse)):
+            if not vectors:
+                return np.sort((1.0 / np.linalg.eigvals(inverse)).real)[:count], None
+            mu, right = np.linalg.eig(inverse)
+            return _lowest(1.0 / mu, right, M, count)
+    import scipy.linalg as linalg  # only here: its import alone costs 0.2 s
+
+    # all eigenvalues: the largest sets the rounding level of the lowest
+    if asymmetry <= SYMMETRIC:
+        if not vectors:
+            return _rounded_to_zero(linalg.eigh(K, M, eigvals_only=True), len(K))[:count], None
+        omega2, shapes = linalg.eigh(K, M)
+        return _rounded_to_zero(omega2, len(K))[:count], shapes[:, :count]
+    if not vectors:
+        return np.sort(_rounded_to_zero(linalg.eigvals(K, M).real, len(K)))[:count], None
+    values, right = linalg.eig(K, M)
+    omega2, shapes = _lowest(values, right, M, count)
+    return _rounded_to_zero(omega2, len(K), linalg.eigvals(K, M).real), shapes
+
+
+def _stiffest(K: np.ndarray, M: np.ndarray, mu: np.ndarray, phi: np.ndarray, count: int,
+              vectors: bool) -> tuple[np.ndarray, np.ndarray | None]:
+    """The ``count`` lowest modes when the highest lie below the rounding of ``mu =
+    1/omega^2`` (stiff axial modes of thin leaves, ``omega`` ratios beyond 1e7): the
+    resolved ones ``mu`` (shapes ``phi = L^-T y``) as they are, the rest from SciPy's
+    generalized solver, whose rounding scales with the highest frequency instead; never
+    a stable structure's mode turned into a negative ``omega^2`` by rounding."""
+    import scipy.linalg as linalg
+
+    omega2, shapes = linalg.eigh(K, M)
+    kept = len(mu)
+    values = np.concatenate([1.0 / mu, omega2[kept:count]])
+    if not vectors:
+        return values, None
+    return values, np.hstack([phi / np.sqrt(mu), shapes[:, kept:count]])
+
+
+def _rounded_to_zero(omega2: np.ndarray, n: int, spectrum: np.ndarray | None = None
+                     ) -> np.ndarray:
+    """``omega2`` with the values within the rounding of a generalized eigensolver of size
+    ``n`` (``ROUNDING_MARGIN n eps`` times the largest magnitude of ``spectrum``, by
+    default ``omega2`` itself) set to exactly 0: a rigid-body mode, not a tiny
+    unstable or stable one."""
+    largest = np.abs(omega2 if spectrum is None else spectrum).max(initial=0.0)
+    zero = np.abs(omega2) <= ROUNDING_MARGIN * n * np.finfo(float).eps * largest
+    return np.where(zero, 0.0, omega2)
+
+
+def _lowest(values: np.ndarray, right: np.ndarray, M: np.ndarray, count: int
+            ) -> tuple[np.ndarray, np.ndarray]:
+    """The ``count`` eigenpairs of lowest real ``omega^2``, shapes mass-normalized."""
+    order = np.argsort(values.real)[:count]
+    shapes = right.real[:, order]
+    return values.real[order], shapes / np.sqrt(np.einsum("ik,ik->k", shapes, M @ shapes))
+
+
+def well_posed(factor: np.ndarray, A: np.ndarray) -> bool:
+    """Whether the Cholesky factor ``L`` of ``A`` shows ``A`` regular to working precision:
+    no pivot ``L_ii^2`` collapsed to rounding of its diagonal ``A_ii``. A singular ``A``
+    (a rigid-body mode) can factor with a pivot of rounding size, by chance of the BLAS
+    kernels; its inverse would then swamp every other eigenvalue."""
+    pivots = np.diag(factor) ** 2
+    return bool(np.all(pivots > len(A) * np.finfo(float).eps * np.abs(np.diag(A))))
+
+
+def cholesky(A: np.ndarray) -> np.ndarray | None:
+    """The lower Cholesky factor of a symmetric ``A``, or ``None`` when ``A`` is not
+    positive definite."""
+    try:
+        return np.linalg.cholesky(A)
+    except np.linalg.LinAlgError:
+        return None
+
+
+def reduced_by(factor: np.ndarray, A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``L^-1 A L^-T`` (symmetrized) for a Cholesky factor ``L`` and a symmetric ``A``,
+    and ``L^-1``, which turns the reduced problem's vectors back (``L^-T y``)."""
+    inverse = np.linalg.inv(factor)
+    reduced = inverse @ A @ inverse.T
+    return 0.5 * (reduced + reduced.T), inverse
