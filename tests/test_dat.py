@@ -289,7 +289,8 @@ def test_rigid_slider_crank_file_gives_the_lagrange_torque(tmp_path):
     out = tmp_path / "torque.npz"
     assert cli(["run", str(EXAMPLES / "slider_crank_rigid.dat"), "--mode", "inverse",
                 "--out", str(out), "--plot", str(tmp_path / "t.png")]) == 0
-    data = np.load(out)
+    with np.load(out) as stored:
+        data = dict(stored)
     assert "f2.1" in data["columns"] and len(data["t"]) == 73
     expected = slider_crank_dynamics.lagrange_torque(data["x2.1"], 150.0, 0.0, gravity=True)
     np.testing.assert_allclose(data["f2.1"], expected, atol=1e-9 * np.abs(expected).max())
@@ -342,8 +343,8 @@ def test_results_export_and_plot(tmp_path):
                                    np.linspace(0, 0.5, 6))
     frame = result.to_pandas()
     assert list(frame.columns) == list(result.columns()) and len(frame) == 6
-    np.testing.assert_array_equal(np.load(result.save(tmp_path / "r.npz"))["xd2.2"],
-                                  result["xd2.2"])
+    with np.load(result.save(tmp_path / "r.npz")) as saved:
+        np.testing.assert_array_equal(saved["xd2.2"], result["xd2.2"])
     with pytest.raises(fm.FlexmbdError, match=r"use \.csv"):
         result.save(tmp_path / "r.txt")
     with pytest.raises(fm.FlexmbdError, match="cannot write"):

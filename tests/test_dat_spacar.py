@@ -91,7 +91,8 @@ def test_a_transfer_function_file_runs_as_statespace(tmp_path, capsys):
     path.write_text(CANTILEVER.format(block2=TRANSFER).replace("10.0\t20.0\t30.0",
                                                                 "10.0\t20.0\t20.0"))
     assert cli(["statespace", str(path), "--out", str(tmp_path / "ss.npz")]) == 0
-    system = np.load(tmp_path / "ss.npz")
+    with np.load(tmp_path / "ss.npz") as stored:
+        system = dict(stored)
     assert list(system["outputs"]) == ["xd5.3", "x5.3"]
     gain = -system["C"] @ np.linalg.solve(system["A"], system["B"])
     np.testing.assert_allclose(gain[:, 0], [0.0, 0.2**3 / (3 * 20.0)], rtol=1e-9, atol=1e-15)

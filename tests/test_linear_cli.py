@@ -94,8 +94,9 @@ def test_modes_buckling_and_statespace_print_tables_and_write_files(column, tmp_
     assert "load factor" in capsys.readouterr().out
     assert main(["statespace", str(column), "--out", str(tmp_path / "ss.npz"), "--bode",
                  str(tmp_path / "bode.png"), "--damping", "0.01"]) == 0
-    matrices = np.load(tmp_path / "ss.npz")
-    assert matrices["A"].shape == (12, 12) and list(matrices["outputs"]) == ["x5.2", "xd5.2"]
+    with np.load(tmp_path / "ss.npz") as matrices:
+        assert matrices["A"].shape == (12, 12)
+        assert list(matrices["outputs"]) == ["x5.2", "xd5.2"]
 
 
 def test_statespace_without_inputs_is_a_usage_error(tmp_path, capsys):
