@@ -88,9 +88,10 @@ class Linearization:
             follow the state; zero on dynamic entries at an equilibrium or along a solution.
         reactions: loads of supports and drives ``(nx,)`` (THEORY 8).
         loads: the loads applied on top of the model's own ``(nx,)`` [N, N m].
-        F_q: ``dx/dq`` ``(nx, nq)``.
-        E_q: ``de/dq`` ``(ne, nq)``.
-        M0, C0, D0, K0, N0, G0: ``(nq, nq)``, see the module docstring.
+
+    The matrices (properties, formed on first read): ``F_q = dx/dq`` ``(nx, nq)``,
+    ``E_q = de/dq`` ``(ne, nq)``, and ``M0``, ``C0``, ``D0``, ``K0``, ``N0``, ``G0``
+    ``(nq, nq)`` (module docstring).
     """
 
     __repr__ = dataclass_repr

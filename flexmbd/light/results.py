@@ -150,7 +150,8 @@ class LightResult:
         step: per load step (1-based), :class:`StepResult`; ``res.step[i].freqmodes``
             and ``.buckmodes`` are the mass-normalized mode shapes and the buckled shapes
             over the degrees of freedom ``(ndof, k)``, as SPACAR Light gives them.
-        freq: eigenfrequencies ``(ndof, nsteps)`` [Hz], lowest first.
+        freq: eigenfrequencies ``(k, nsteps)`` [Hz], lowest first: all ``ndof`` of a
+            model below 60 degrees of freedom, else the 12 lowest (``opt.nmodes``).
         buck: buckling load factors ``(ndof, nsteps)`` (with ``opt.calcbuck``), smallest
             magnitude first, with their sign (negative: it buckles with the loads reversed).
         stressmax: the largest von Mises stress per step ``(nsteps,)`` [Pa] over the
