@@ -17,7 +17,7 @@ static equilibrium over the steps, and the per-step table
 beams).
 
 Run: ``python benchmarks/flexure_pivot.py [--beams 8 16 32] [--alone 64 128]
-[--repeat 3]``.
+[--repeat 3] [--door table|per-step]``.
 """
 
 from __future__ import annotations
@@ -37,8 +37,11 @@ LENGTH, WIDTH, THICKNESS, GAP = 0.1, 0.03, 0.5e-3, 0.04   #: [m]
 STAGE_MASS, ROTATION, STEPS = 0.25, 0.3, 20
 
 
-def job(nbeams: int) -> dict[str, float]:
-    """The job at ``nbeams`` beams per leaf; wall times [s] of its parts."""
+def job(nbeams: int, door: str = "table") -> dict[str, float]:
+    """The job at ``nbeams`` beams per leaf, its linearized analyses through ``door``:
+    ``"table"`` (:func:`flexmbd.load_step_table`) or ``"per-step"`` (a loop over the
+    steps with the public analyses, as the linearized-analyses guide writes it); wall
+    times [s] of its parts."""
     start = time.perf_counter()
     import flexmbd as fm
 
@@ -65,11 +68,18 @@ def job(nbeams: int) -> dict[str, float]:
     statics = fm.static_equilibrium(model, load_increment={"x10.3": ROTATION * stiffness},
                                     steps=STEPS, progress=False)
     solved = time.perf_counter()
-    table = fm.load_step_table(statics, modes=6, compliance=[(9, 10)], progress=False)
+    if door == "table":
+        table = fm.load_step_table(statics, modes=6, compliance=[(9, 10)], progress=False)
+        f1 = float(table["f1"][-1])
+    else:
+        for row in range(len(statics.load)):
+            lin = statics.linearization(row)
+            f1 = float(fm.vibration_modes(lin, 6).frequencies[0])
+            fm.node_compliance(lin, 9, 10)
     done = time.perf_counter()
     return {"import": imported - start, "build": built - imported, "statics": solved - built,
             "table": done - solved, "compute": done - imported, "dof": model.n_dof,
-            "f1": float(table["f1"][-1]), "angle": 2 * math.asin(statics["x10.3"][-1])}
+            "f1": f1, "angle": 2 * math.asin(statics["x10.3"][-1])}
 
 
 def _cpu() -> str:
@@ -101,16 +111,20 @@ def main() -> None:
     parser.add_argument("--beams", type=int, nargs="*", default=[8, 16, 32])
     parser.add_argument("--alone", type=int, nargs="*", default=[64, 128])
     parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--door", choices=("table", "per-step"), default="table",
+                        help="flexmbd's linearized analyses: load_step_table, or the "
+                             "public analyses step by step")
     parser.add_argument("--child", type=int, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.child:
-        print(json.dumps(job(args.child)))
+        print(json.dumps(job(args.child, args.door)))
         return
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1",
                MKL_NUM_THREADS="1")
     peer = os.path.join(os.path.dirname(os.path.abspath(__file__)), "exudyn_pivot.py")
     print(f"CPU: {_cpu()}, Python "
-          f"{platform.python_version()}, one BLAS thread, median of {args.repeat}")
+          f"{platform.python_version()}, one BLAS thread, median of {args.repeat}, "
+          f"flexmbd's door: {args.door}")
     print("| beams per leaf | flexmbd [s] | Exudyn [s] | ratio (run by run; of medians) | "
           "Exudyn, own Jacobian [s] | flexmbd build / statics / table [s] | "
           "f1 flexmbd / Exudyn [Hz] |")
@@ -118,7 +132,8 @@ def main() -> None:
     for n in args.beams:
         ours, theirs, own = [], [], []
         for _ in range(args.repeat):
-            ours.append(_process([sys.executable, __file__, "--child", str(n)], env))
+            ours.append(_process([sys.executable, __file__, "--child", str(n), "--door",
+                                  args.door], env))
             theirs.append(_process([sys.executable, peer, "--beams", str(n)], env))
             own.append(_process([sys.executable, peer, "--beams", str(n), "--own-tangent"],
                                 env))
@@ -135,7 +150,8 @@ def main() -> None:
               "f1 [Hz] |")
         print("|---|---|---|---|---|---|---|")
     for n in args.alone:
-        a = _median([_process([sys.executable, __file__, "--child", str(n)], env)
+        a = _median([_process([sys.executable, __file__, "--child", str(n), "--door",
+                                  args.door], env)
                      for _ in range(args.repeat)])
         print(f"| {n} | {int(a['dof'])} | {a['process']:.3f} | {a['build']:.3f} | "
               f"{a['statics']:.3f} | {a['table']:.3f} | {a['f1']:.4f} |")

@@ -169,9 +169,9 @@ def test_the_compliance_under_a_moment_is_the_equilibrium_s_own_slope():
 
 def test_where_newton_in_all_coordinates_fails_the_reduced_newton_takes_the_step(
         monkeypatch):
-    """A step the all-coordinate Newton cannot take (here forced) is taken by the reduced
-    solver's Newton, which solves the constraints at every iteration, before any
-    halving: the same equilibria."""
+    """A step the all-coordinate Newton cannot take (here forced) is taken, after two
+    halvings, by the reduced solver's Newton, which solves the constraints at every
+    iteration: the same equilibria, and the result says so (method="banded" warns)."""
     from flexmbd.analysis import banded
 
     model = _pivot()
@@ -181,5 +181,10 @@ def test_where_newton_in_all_coordinates_fails_the_reduced_newton_takes_the_step
         raise fm.ConvergenceError("forced")
 
     monkeypatch.setattr(banded.BandedStatics, "equilibrium", fails)
-    rescued = fm.static_equilibrium(model, load_increment=TURN, steps=2, method="banded")
+    with pytest.warns(fm.AnalysisWarning, match="by the reduced Newton"):
+        rescued = fm.static_equilibrium(model, load_increment=TURN, steps=2, method="banded")
     _compare_rows(reduced, rescued, L)
+    # row 0 and two steps, each after two halvings in a quarter, a half and a quarter
+    assert "9 stretches by the reduced Newton" in rescued.message
+    quiet = fm.static_equilibrium(model, load_increment=TURN, steps=2)   # auto: no warning
+    assert "by the reduced Newton" in quiet.message

@@ -507,7 +507,7 @@ def test_the_layers_of_a_scatter_hold_each_index_once():
     assert len(layers) == np.bincount(indices).max()
 
 
-def test_a_few_lowest_modes_by_iteration_are_the_whole_spectrum_s():
+def test_a_few_lowest_modes_by_iteration_are_the_whole_spectrum_s(monkeypatch):
     """A few modes of a large model come from ARPACK on the factored stiffness: the same
     frequencies and shapes as the whole spectrum, for a symmetric stiffness (at rest) with
     pairs of equal frequencies (four round wires) and an unsymmetric one (a pivot turned
@@ -515,6 +515,8 @@ def test_a_few_lowest_modes_by_iteration_are_the_whole_spectrum_s():
     from flexmbd.examples import flexures
 
     from flexmbd.analysis import eigen as modes_module
+
+    monkeypatch.setattr(modes_module, "FEW_MODES_FROM", 60)   # ARPACK for these sizes
 
     wires = flexures.wire_buckling().statics.linearization(0)
     from flexmbd import light
@@ -541,7 +543,7 @@ def test_a_few_lowest_modes_by_iteration_are_the_whole_spectrum_s():
     assert pair[1] == pytest.approx(pair[0], rel=1e-9)      # the wires' sway pair, whole
 
 
-def test_modes_too_stiff_for_the_reduction_stay_positive():
+def test_modes_too_stiff_for_the_reduction_stay_positive(monkeypatch):
     """A cross hinge of 0.1 x 0.1 mm leaves of 10 beams spans 1e8 in frequency: the
     stiffest modes fall below the rounding of 1/omega^2. They come from the generalized
     solver instead, never as negative omega^2 of a stable structure: all frequencies
@@ -551,7 +553,9 @@ def test_modes_too_stiff_for_the_reduction_stay_positive():
     from flexmbd.examples import flexures
 
     from flexmbd import light
+    from flexmbd.analysis import eigen
 
+    monkeypatch.setattr(eigen, "FEW_MODES_FROM", 60)   # ARPACK for a few of these 114
     leaf = dict(flexures.HINGE_LEAF, dim=[0.1e-3, 0.1e-3], nbeams=10, warping=False)
     body = dict(flexures.HINGE_BODY, warping=False)
     res = light.run(flexures.HINGE_NODES, flexures.HINGE_ELEMENTS,

@@ -15,9 +15,9 @@ from tests.test_banded import TURN, _pivot
 
 @pytest.fixture(scope="module")
 def loaded():
-    """The pivot of eight beams per leaf (90 degrees of freedom: the banded tangent and
+    """The pivot of twelve beams per leaf (138 degrees of freedom: the banded tangent and
     ARPACK by size) turned in three load steps."""
-    model = _pivot(8)
+    model = _pivot(12)
     return fm.static_equilibrium(model, load_increment=TURN, steps=3)
 
 
@@ -176,10 +176,10 @@ def test_a_column_past_buckling_has_no_compliance_and_says_so():
 
 
 def test_light_run_computes_a_large_model_s_lowest_frequencies():
-    """SPACAR Light's cross hinge at 8 beams per leaf: the 12 lowest frequencies by
+    """SPACAR Light's cross hinge at 10 beams per leaf: the 12 lowest frequencies by
     default (noted), every one with opt.nmodes = 'all', the same lowest ones either way;
     a bad count is refused by name."""
-    leaf = dict(flexures.HINGE_LEAF, nbeams=8)
+    leaf = dict(flexures.HINGE_LEAF, nbeams=10)
     args = (flexures.HINGE_NODES, flexures.HINGE_ELEMENTS,
             {1: {"fix": True}, 4: {"fix": True}, 3: {"mass": 0.1}}, [leaf, flexures.HINGE_BODY])
     few = light.run(*args, {"silent": True})

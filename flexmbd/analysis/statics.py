@@ -13,6 +13,7 @@ by the same continuation of its loads.
 from __future__ import annotations
 
 import sys
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Literal
@@ -32,7 +33,13 @@ from ..engine import (
     q_scale,
     workspace_of,
 )
-from ..errors import ArgumentError, ConvergenceError, FlexmbdError, SimulationError
+from ..errors import (
+    AnalysisWarning,
+    ArgumentError,
+    ConvergenceError,
+    FlexmbdError,
+    SimulationError,
+)
 from ..model import Model
 from ..progress import progress_bar
 from ..results import SimulationResult, check_on_failure, conclude, first_rows
@@ -147,7 +154,10 @@ def static_equilibrium(
             G0``; ``"banded"``: Newton in all coordinates and the constraint stresses on
             the banded saddle-point system (:mod:`flexmbd.analysis.banded`), whose cost
             grows linearly with the number of elements; ``"auto"``: banded from
-            :data:`BANDED_FROM` degrees of freedom. Both reach the same equilibria.
+            :data:`BANDED_FROM` degrees of freedom. Both reach the same equilibria. Where
+            the banded Newton fails on a stretch halved :data:`REDUCED_AFTER` times, the
+            reduced one tries it: the result's ``message`` counts those stretches, and
+            ``method="banded"`` warns (:class:`~flexmbd.AnalysisWarning`).
 
     Returns:
         :class:`StaticResult`, one row per load step.
@@ -230,8 +240,16 @@ def static_equilibrium(
         error = caught
     result = StaticResult(model, factors[:done], applied=applied[:done],
                           **first_rows(arrays, done))
+    how = ""
+    rescued = getattr(solver, "rescued", 0)
+    if rescued:   # never silent: the banded Newton failed where the reduced one converged
+        how = (f"; {rescued} stretch{'es' if rescued != 1 else ''} by the reduced Newton, "
+               f"where the banded one failed after {REDUCED_AFTER} halvings")
+        if method == "banded":
+            warnings.warn(f"static_equilibrium(method='banded'){how[1:]}", AnalysisWarning,
+                          stacklevel=2)
     return conclude(result, error, on_failure,
-                    f"converged {done} load step{'s' if done != 1 else ''}")
+                    f"converged {done} load step{'s' if done != 1 else ''}{how}")
 
 
 def file_equilibrium(model: Model, settings: RunSettings, steps: int | None = None
@@ -351,6 +369,7 @@ class _BandedSolver(_Solver):
         super().__init__(model, engine, tolerance, max_iterations)
         self.banded = BandedStatics(model, engine)
         self.mu = np.zeros(len(self.banded.constrained))
+        self.rescued = 0   #: stretches the reduced Newton took (the result says so)
 
     def solve(self, loads: np.ndarray, q_target: np.ndarray) -> None:
         """Newton in all coordinates; where it fails (a step too large for constraints
@@ -369,6 +388,7 @@ class _BandedSolver(_Solver):
             if self.halvings < REDUCED_AFTER:
                 raise
             super().solve(loads, q_target)   # raises as the reduced solver does
+            self.rescued += 1
             self.mu = self.state["sigma"][self.banded.constrained]
             return
         zero = np.zeros(model.n_dof)

@@ -151,7 +151,7 @@ class LightResult:
             and ``.buckmodes`` are the mass-normalized mode shapes and the buckled shapes
             over the degrees of freedom ``(ndof, k)``, as SPACAR Light gives them.
         freq: eigenfrequencies ``(k, nsteps)`` [Hz], lowest first: all ``ndof`` of a
-            model below 60 degrees of freedom, else the 12 lowest (``opt.nmodes``).
+            model below 120 degrees of freedom, else the 12 lowest (``opt.nmodes``).
         buck: buckling load factors ``(ndof, nsteps)`` (with ``opt.calcbuck``), smallest
             magnitude first, with their sign (negative: it buckles with the loads reversed).
         stressmax: the largest von Mises stress per step ``(nsteps,)`` [Pa] over the
