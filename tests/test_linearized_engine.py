@@ -126,7 +126,7 @@ def test_arpack_that_cannot_tell_the_modes_falls_back_with_a_warning(loaded, mon
 
     from flexmbd.analysis import modes
 
-    monkeypatch.setattr(modes, "ritz_basis", fails)
+    monkeypatch.setattr(modes, "lowest_arpack", fails)
     with pytest.warns(fm.AnalysisWarning, match="ARPACK on the banded tangent failed"):
         found = fm.vibration_modes(loaded, 4)
     assert found.path.method == "dense" and "did not converge" in found.path.reason

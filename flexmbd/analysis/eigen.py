@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["EigenPath", "arpack_pays", "lowest_arpack_dense", "lowest_dense", "ritz_basis",
+__all__ = ["EigenPath", "arpack_pays", "lowest_arpack", "lowest_arpack_dense", "lowest_dense",
            "ritz_values"]
 
 #: relative asymmetry below which a stiffness block counts as symmetric (rounding of the
@@ -53,6 +53,12 @@ ROUNDING_MARGIN = 100.0
 FEW_MODES_SHARE, FEW_MODES_FROM = 0.25, 120
 #: the extra modes ARPACK iterates for, so that a multiple eigenvalue is found whole
 FEW_MODES_EXTRA = 4
+#: deflated ARPACK runs that look for further copies of a multiple eigenvalue
+MAX_DEFLATIONS = 8
+#: a basis vector whose part independent of the others is below this share of the
+#: largest is dropped (:func:`_orthonormal`): the constraints' rounding grows by at most
+#: its inverse, to 1e-10 of a vector
+INDEPENDENT = 1e-6
 #: an eigenvalue ``mu`` of ``K^-1 M`` whose imaginary part exceeds this share of its size is
 #: complex (a flutter-like state): ARPACK's result is then not a set of vibration modes
 COMPLEX = 1e-8
@@ -106,41 +112,113 @@ def start_vector(n: int) -> np.ndarray:
     return np.random.default_rng(0).standard_normal(n)
 
 
-def ritz_basis(inverse_times_mass: Callable[[np.ndarray], np.ndarray], n: int, count: int,
-               start: np.ndarray | None = None) -> np.ndarray:
-    """An orthonormal real basis ``(n, m)`` of the ``count`` (and
-    :data:`FEW_MODES_EXTRA` more) eigenvectors of ``K^-1 M`` with the largest ``mu =
-    1/omega^2``, by Arnoldi (ARPACK's ``eigs``, shift-invert at 0): the real and
-    imaginary parts of complex ones (a pair of equal frequencies that rounding split).
-
-    Args:
-        inverse_times_mass: ``v -> K^-1 M v`` for ``v`` ``(n,)`` (the caller's
-            factorisation; on a constrained system its result keeps the constraints).
-        n: unknowns.
-        count: modes wanted, at most ``n - FEW_MODES_EXTRA - 2``.
-        start: a start vector ``(n,)``, else a fixed random one.
+def _arpack(operator_times: Callable[[np.ndarray], np.ndarray], n: int, k: int,
+            v0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The ``k`` eigenpairs of largest magnitude of ``v -> operator_times(v)`` (ARPACK's
+    ``eigs``, to machine precision): ``mu`` ``(k,)`` and their vectors ``(n, k)``.
 
     Raises:
         EigenError: no convergence, or a failure of the solves.
     """
     from scipy.sparse.linalg import ArpackError, ArpackNoConvergence, LinearOperator, eigs
 
-    k = min(count + FEW_MODES_EXTRA, n - 2)
-    operator = LinearOperator((n, n), matvec=inverse_times_mass, dtype=float)
-    v0 = start_vector(n) if start is None else np.asarray(start, dtype=float)
+    operator = LinearOperator((n, n), matvec=operator_times, dtype=float)
     try:
         mu, right = eigs(operator, k=k, which="LM", tol=0.0, v0=v0)
     except ArpackNoConvergence:
         raise EigenError(f"ARPACK did not converge to the {k} lowest modes") from None
     except ArpackError as error:
         raise EigenError(f"ARPACK failed ({error}): the tangent is singular or not "
-                           f"finite") from None
+                         f"finite") from None
     if not np.all(np.isfinite(mu)) or not np.all(np.isfinite(right)):
         raise EigenError("ARPACK found values that are not finite")
-    parts = np.hstack([right.real, right.imag[:, np.abs(mu.imag) > 0.0]])
+    return mu, right
+
+
+def _refuse_complex(mu: np.ndarray, reach: float) -> None:
+    """Raise where a value ``mu`` of at least ``reach`` is complex: a multiple eigenvalue
+    that rounding split into a complex pair, whose vectors come from an ill-conditioned
+    eigenproblem of ARPACK's small matrix and may lie far from the modes (LAPACK then
+    tells them, with a warning).
+
+    Raises:
+        EigenError: such a value.
+    """
+    wanted = np.abs(mu) >= reach * (1.0 - 1e-6)
+    if np.any(mu.imag[wanted] != 0.0):
+        raise EigenError("a multiple eigenvalue among the lowest came out of ARPACK as a "
+                         "complex pair")
+
+
+def _orthonormal(parts: np.ndarray) -> np.ndarray:
+    """An orthonormal basis of the columns of ``parts``, nearly dependent ones dropped:
+    ARPACK may return two copies of a multiple eigenvalue's vector that differ by
+    rounding, and their difference, normalized, would blow the rounding of the
+    constraints up by the inverse of that difference (a vector that breaks the
+    constraints has too little strain energy, and would pull a Ritz value down)."""
     basis, triangle = np.linalg.qr(parts)
     diagonal = np.abs(np.diag(triangle))
-    return basis[:, diagonal > 1e-10 * diagonal.max()]
+    return basis[:, diagonal > INDEPENDENT * diagonal.max(initial=0.0)]
+
+
+def lowest_arpack(inverse_times_mass: Callable[[np.ndarray], np.ndarray],
+                  mass_times: Callable[[np.ndarray], np.ndarray],
+                  stiffness_products: Callable[[np.ndarray], np.ndarray], n: int, count: int,
+                  start: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """The ``count`` lowest ``omega^2`` ``(count,)`` and their shapes ``(n, count)``
+    (``phi^T M phi = 1``): ARPACK's Arnoldi on ``K^-1 M`` (shift-invert at 0), then
+    Rayleigh-Ritz with exact products.
+
+    A Krylov space grown from one vector holds one vector per distinct eigenvalue: the
+    further copies of a multiple one (the sway pairs of a symmetric structure) enter
+    only by rounding, so whether ARPACK finds them depends on the CPU's BLAS kernels.
+    So ARPACK runs again on the operator with the modes found taken out (``P K^-1 M P``,
+    ``P`` the ``M``-orthogonal complement), until its largest ``1/omega^2`` lies below
+    the ``count``-th found: every copy among the lowest is then in the basis.
+
+    Args:
+        inverse_times_mass: ``v -> K^-1 M v`` for ``v`` ``(n,)`` (the caller's
+            factorisation; on a constrained system its result keeps the constraints).
+        mass_times: ``Z -> M Z`` for ``Z`` ``(n, k)``.
+        stiffness_products: ``Z -> Z^T K Z`` ``(k, k)``, exact (no solve).
+        n: unknowns.
+        count: modes wanted, at most ``n - FEW_MODES_EXTRA - 2``.
+        start: a start vector ``(n,)``, else a fixed random one.
+
+    Raises:
+        EigenError: no convergence, a failure of the solves, complex values among the
+            lowest, or a mode without mass.
+    """
+    k = min(count + FEW_MODES_EXTRA, n - 2)
+    # in the operator's range: on a constrained system a start vector that breaks the
+    # constraints would stay in the Krylov basis, and in the Ritz vectors
+    v0 = inverse_times_mass(start_vector(n) if start is None else np.asarray(start, float))
+    mu, right = _arpack(inverse_times_mass, n, k, v0)
+    _refuse_complex(mu, np.sort(np.abs(mu))[::-1][count - 1])
+    basis = _orthonormal(right.real)
+    for _ in range(MAX_DEFLATIONS):
+        omega2, y = ritz_values(stiffness_products(basis),
+                                basis.T @ mass_times(basis), basis.shape[1])
+        found = basis @ y   # M-orthonormal
+
+        def deflated(v, found=found):
+            v = v - found @ (found.T @ mass_times(v[:, None])[:, 0])
+            w = inverse_times_mass(v)
+            return w - found @ (found.T @ mass_times(w[:, None])[:, 0])
+
+        room = n - basis.shape[1] - 2
+        if room < 1:
+            break
+        mu, more = _arpack(deflated, n, min(FEW_MODES_EXTRA, room), deflated(v0))
+        reach = (1.0 - 1e-6) / omega2[count - 1]
+        if np.abs(mu).max(initial=0.0) < reach:
+            break   # nothing the basis lacks reaches the count lowest
+        _refuse_complex(mu, reach)
+        basis = _orthonormal(np.hstack([basis, more.real]))
+    else:
+        raise EigenError(f"a multiple eigenvalue kept adding copies after "
+                         f"{MAX_DEFLATIONS} deflated runs")
+    return omega2[:count], found[:, :count]
 
 
 def ritz_values(stiffness: np.ndarray, mass: np.ndarray, count: int
@@ -176,13 +254,10 @@ def ritz_values(stiffness: np.ndarray, mass: np.ndarray, count: int
 
 def lowest_arpack_dense(K: np.ndarray, M: np.ndarray, count: int
                         ) -> tuple[np.ndarray, np.ndarray]:
-    """The ``count`` lowest ``omega^2`` ``(count,)`` of a dense ``K`` ``(n, n)`` with mass
-    ``M`` and their mass-normalized shapes ``(n, count)``: ARPACK on the LU factors of
-    ``K`` (:func:`ritz_basis`), then Rayleigh-Ritz with ``K`` and ``M``.
+    """:func:`lowest_arpack` on the LU factors of a dense ``K`` ``(n, n)`` with mass ``M``.
 
     Raises:
-        EigenError: ``K`` is singular to working precision, or as :func:`ritz_basis`
-            and :func:`ritz_values`.
+        EigenError: ``K`` is singular to working precision, or as :func:`lowest_arpack`.
     """
     from scipy.linalg import lu_factor, lu_solve
 
@@ -193,9 +268,8 @@ def lowest_arpack_dense(K: np.ndarray, M: np.ndarray, count: int
     if not np.all(np.isfinite(lu[0])) or np.any(
             pivots <= n * np.finfo(float).eps * np.abs(K).max()):
         raise EigenError("the tangent is singular (a mechanism or a rigid-body mode)")
-    Z = ritz_basis(lambda v: lu_solve(lu, M @ v), n, count)
-    omega2, y = ritz_values(Z.T @ K @ Z, Z.T @ M @ Z, count)
-    return omega2, Z @ y
+    return lowest_arpack(lambda v: lu_solve(lu, M @ v), lambda Z: M @ Z,
+                         lambda Z: Z.T @ K @ Z, n, count)
 
 
 # --- LAPACK -----------------------------------------------------------------------------

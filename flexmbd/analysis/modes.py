@@ -43,11 +43,10 @@ from .eigen import (
     EigenPath,
     arpack_pays,
     cholesky,
+    lowest_arpack,
     lowest_arpack_dense,
     lowest_dense,
     reduced_by,
-    ritz_basis,
-    ritz_values,
     size_reason,
     well_posed,
 )
@@ -238,12 +237,16 @@ def _banded_modes(lin: Linearization, tangent: BandedTangent, count: int,
     ``q`` (the dynamic coordinates and deformations they move) and as coordinate
     motions."""
     model, free = lin.model, tangent.banded.free
-    basis = ritz_basis(tangent.inverse_times_mass, len(free), count, start)
-    Z = np.zeros((model.n_coordinates, basis.shape[1]))
-    Z[free] = basis
-    omega2, y = ritz_values(stiffness_products(lin, Z), basis.T @ tangent.mass_times(basis),
-                            count)
-    Z = Z @ y
+
+    def in_all(z: np.ndarray) -> np.ndarray:
+        Z = np.zeros((model.n_coordinates, z.shape[1]))
+        Z[free] = z
+        return Z
+
+    omega2, z = lowest_arpack(tangent.inverse_times_mass, tangent.mass_times,
+                              lambda z: stiffness_products(lin, in_all(z)), len(free),
+                              count, start)
+    Z = in_all(z)
     moved = np.concatenate([Z[model.independent_coordinates],
                             lin.workspace().assembly.jacobian_times(lin.x, Z)[
                                 model.independent_deformations]])
