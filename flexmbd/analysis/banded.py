@@ -232,10 +232,17 @@ class BandedTangent:
         self.ready()
         return self.banded.compliance(self.x, labels)
 
+    def inverse_times(self, v: np.ndarray) -> np.ndarray:
+        """``K^-1 v`` over the free coordinates with ``D_c`` held: the displacement ``z``
+        ``(nf,)`` under the loads ``v`` with the constraints kept (``D_c z = 0``)."""
+        nf = len(self.banded.free)
+        rhs = np.zeros(self.banded.size)
+        rhs[:nf] = v
+        return self.solve(rhs)[:nf]
+
     def inverse_times_mass(self, v: np.ndarray) -> np.ndarray:
         """``K^-1 M v`` over the free coordinates with ``D_c`` held: the displacement
         ``z`` ``(nf,)`` under the loads ``M v`` with the constraints kept (``D_c z = 0``)."""
         nf = len(self.banded.free)
-        rhs = np.zeros(self.banded.size)
-        rhs[:nf] = self.mass_times(np.asarray(v, dtype=float).reshape(nf, 1))[:, 0]
-        return self.solve(rhs)[:nf]
+        return self.inverse_times(
+            self.mass_times(np.asarray(v, dtype=float).reshape(nf, 1))[:, 0])

@@ -161,20 +161,58 @@ def _orthonormal(parts: np.ndarray) -> np.ndarray:
     return basis[:, diagonal > INDEPENDENT * diagonal.max(initial=0.0)]
 
 
+def _lanczos(inverse_times: Callable[[np.ndarray], np.ndarray],
+             mass_times: Callable[[np.ndarray], np.ndarray], n: int, k: int,
+             v0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The ``k`` eigenpairs of ``K x = omega^2 M x`` with ``omega^2`` nearest 0 by
+    ARPACK's Lanczos in shift-invert mode (``eigsh``, the ``M`` inner product, ``M``
+    positive semidefinite): ``mu = 1/omega^2`` ``(k,)`` and the vectors ``(n, k)``.
+
+    Raises:
+        EigenError: no convergence, or a failure of the solves.
+    """
+    from scipy.sparse.linalg import ArpackError, ArpackNoConvergence, LinearOperator, eigsh
+
+    def unused(v):   # shift-invert mode applies K^-1 and M only
+        raise AssertionError("K itself is not needed")
+
+    operator = LinearOperator((n, n), matvec=unused, dtype=float)
+    try:
+        omega2, vectors = eigsh(
+            operator, k=k, M=LinearOperator((n, n), matvec=mass_times, dtype=float),
+            sigma=0.0, OPinv=LinearOperator((n, n), matvec=inverse_times, dtype=float),
+            which="LM", tol=0.0, v0=v0)
+    except ArpackNoConvergence:
+        raise EigenError(f"ARPACK did not converge to the {k} lowest modes") from None
+    except ArpackError as error:
+        raise EigenError(f"ARPACK failed ({error}): the tangent is singular or not "
+                         f"finite") from None
+    if not np.all(np.isfinite(omega2)) or not np.all(np.isfinite(vectors)) or \
+            np.any(omega2 == 0.0):
+        raise EigenError("ARPACK found values that are not finite")
+    return 1.0 / omega2, vectors
+
+
 def lowest_arpack(inverse_times_mass: Callable[[np.ndarray], np.ndarray],
                   mass_times: Callable[[np.ndarray], np.ndarray],
                   stiffness_products: Callable[[np.ndarray], np.ndarray], n: int, count: int,
-                  start: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+                  start: np.ndarray | None = None,
+                  inverse_times: Callable[[np.ndarray], np.ndarray] | None = None
+                  ) -> tuple[np.ndarray, np.ndarray]:
     """The ``count`` lowest ``omega^2`` ``(count,)`` and their shapes ``(n, count)``
-    (``phi^T M phi = 1``): ARPACK's Arnoldi on ``K^-1 M`` (shift-invert at 0), then
-    Rayleigh-Ritz with exact products.
+    (``phi^T M phi = 1``): ARPACK in shift-invert at 0, then Rayleigh-Ritz with exact
+    products. A symmetric ``K`` (``inverse_times`` given) takes Lanczos in the ``M``
+    inner product (``eigsh``), whose vectors are accurate in a cluster of equal
+    frequencies; an unsymmetric one Arnoldi on ``K^-1 M`` (``eigs``), which hands a
+    complex pair among the lowest (a multiple eigenvalue split by rounding, its vectors
+    unreliable) to the caller's LAPACK.
 
     A Krylov space grown from one vector holds one vector per distinct eigenvalue: the
     further copies of a multiple one (the sway pairs of a symmetric structure) enter
     only by rounding, so whether ARPACK finds them depends on the CPU's BLAS kernels.
-    So ARPACK runs again on the operator with the modes found taken out (``P K^-1 M P``,
-    ``P`` the ``M``-orthogonal complement), until its largest ``1/omega^2`` lies below
-    the ``count``-th found: every copy among the lowest is then in the basis.
+    So ARPACK runs again with the modes found taken out (``P K^-1 M P``, ``P`` the
+    ``M``-orthogonal complement), until its largest ``1/omega^2`` lies below the
+    ``count``-th found: every copy among the lowest is then in the basis.
 
     Args:
         inverse_times_mass: ``v -> K^-1 M v`` for ``v`` ``(n,)`` (the caller's
@@ -184,32 +222,48 @@ def lowest_arpack(inverse_times_mass: Callable[[np.ndarray], np.ndarray],
         n: unknowns.
         count: modes wanted, at most ``n - FEW_MODES_EXTRA - 2``.
         start: a start vector ``(n,)``, else a fixed random one.
+        inverse_times: ``v -> K^-1 v`` for a symmetric ``K``.
 
     Raises:
         EigenError: no convergence, a failure of the solves, complex values among the
             lowest, or a mode without mass.
     """
     k = min(count + FEW_MODES_EXTRA, n - 2)
+
+    def mass_of(v: np.ndarray) -> np.ndarray:
+        return mass_times(v[:, None])[:, 0]
+
+    def run(found: np.ndarray, k: int, v0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """ARPACK with the modes ``found`` (M-orthonormal) taken out."""
+        weighted = mass_times(found)
+
+        def deflated_inverse(x):
+            assert inverse_times is not None
+            w = inverse_times(x - weighted @ (found.T @ x))
+            return w - found @ (weighted.T @ w)
+
+        def deflated(v):
+            w = inverse_times_mass(v - found @ (weighted.T @ v))
+            return w - found @ (weighted.T @ w)
+
+        if inverse_times is not None:
+            return _lanczos(deflated_inverse, mass_of, n, k, v0)
+        return _arpack(deflated, n, k, v0)
+
     # in the operator's range: on a constrained system a start vector that breaks the
     # constraints would stay in the Krylov basis, and in the Ritz vectors
     v0 = inverse_times_mass(start_vector(n) if start is None else np.asarray(start, float))
-    mu, right = _arpack(inverse_times_mass, n, k, v0)
+    mu, right = run(np.zeros((n, 0)), k, v0)
     _refuse_complex(mu, np.sort(np.abs(mu))[::-1][count - 1])
     basis = _orthonormal(right.real)
     for _ in range(MAX_DEFLATIONS):
         omega2, y = ritz_values(stiffness_products(basis),
                                 basis.T @ mass_times(basis), basis.shape[1])
         found = basis @ y   # M-orthonormal
-
-        def deflated(v, found=found):
-            v = v - found @ (found.T @ mass_times(v[:, None])[:, 0])
-            w = inverse_times_mass(v)
-            return w - found @ (found.T @ mass_times(w[:, None])[:, 0])
-
         room = n - basis.shape[1] - 2
         if room < 1:
             break
-        mu, more = _arpack(deflated, n, min(FEW_MODES_EXTRA, room), deflated(v0))
+        mu, more = run(found, min(FEW_MODES_EXTRA, room), v0)
         reach = (1.0 - 1e-6) / omega2[count - 1]
         if np.abs(mu).max(initial=0.0) < reach:
             break   # nothing the basis lacks reaches the count lowest
@@ -268,8 +322,10 @@ def lowest_arpack_dense(K: np.ndarray, M: np.ndarray, count: int
     if not np.all(np.isfinite(lu[0])) or np.any(
             pivots <= n * np.finfo(float).eps * np.abs(K).max()):
         raise EigenError("the tangent is singular (a mechanism or a rigid-body mode)")
+    symmetric = np.abs(K - K.T).max() <= SYMMETRIC * np.abs(K).max()
     return lowest_arpack(lambda v: lu_solve(lu, M @ v), lambda Z: M @ Z,
-                         lambda Z: Z.T @ K @ Z, n, count)
+                         lambda Z: Z.T @ K @ Z, n, count,
+                         inverse_times=(lambda v: lu_solve(lu, v)) if symmetric else None)
 
 
 # --- LAPACK -----------------------------------------------------------------------------

@@ -245,13 +245,23 @@ def _banded_modes(lin: Linearization, tangent: BandedTangent, count: int,
 
     omega2, z = lowest_arpack(tangent.inverse_times_mass, tangent.mass_times,
                               lambda z: stiffness_products(lin, in_all(z)), len(free),
-                              count, start)
+                              count, start, tangent.inverse_times
+                              if _conservative(lin) else None)
     Z = in_all(z)
     moved = np.concatenate([Z[model.independent_coordinates],
                             lin.workspace().assembly.jacobian_times(lin.x, Z)[
                                 model.independent_deformations]])
     return (omega2, moved[lin.dynamic], coordinate_motions(model, lin.x, Z),
             EigenPath("arpack", "banded", size_reason(len(lin.dynamic), count)))
+
+
+def _conservative(lin: Linearization) -> bool:
+    """Whether the state's tangent is symmetric: its loads derive from a potential, all
+    but a global moment on a spatial rotational node (it keeps its axis while the node
+    turns, and its load stiffness is not symmetric)."""
+    engine = lin.workspace()
+    total = engine.constant_loads + lin.loads
+    return not any(np.any(total[at[1:]]) for at in engine.rotation_coordinates)
 
 
 def _mass(lin: Linearization) -> np.ndarray:
