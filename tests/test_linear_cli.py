@@ -79,6 +79,16 @@ def test_static_writes_one_row_per_load_step(column, tmp_path, capsys):
     assert "converged 5 load steps" in capsys.readouterr().out
 
 
+def test_static_says_why_a_cell_of_its_table_is_empty(column, capsys):
+    """More modes than the column has degrees of freedom: the missing ones are NaN and
+    the command says why."""
+    model, _ = fm.read_dat(column)
+    asked = len(model.dynamic_q_labels) + 2
+    assert main(["static", str(column), "--modes", str(asked)]) == 0
+    out = capsys.readouterr().out
+    assert f"note: f{asked - 1}..f{asked} at step 0 (load 0): the state has " in out
+
+
 def test_modes_buckling_and_statespace_print_tables_and_write_files(column, tmp_path, capsys):
     assert main(["modes", str(column), "--count", "3", "--out", str(tmp_path / "m.csv"),
                  "--plot", str(tmp_path / "m.png")]) == 0

@@ -123,6 +123,8 @@ def _static(args, model, settings, statics) -> int:
         if name != "load" and (not name.startswith("C") or name[-1] == name[-2]):
             shown[name] = values
     print(_table(list(shown), list(shown.values())))
+    for note in getattr(table, "notes", ()):   # why a cell is NaN
+        print(f"note: {note}")
     if args.out:
         from .run import save_result
 
