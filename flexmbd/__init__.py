@@ -54,7 +54,7 @@ _NAMES = {
     "analysis.energy": ("energy",),
     "analysis.eigen": ("EigenPath",),
     "analysis.linearization": ("Linearization", "linearize"),
-    "analysis.load_steps": ("load_step_table",),
+    "analysis.load_steps": ("StepTable", "load_step_table"),
     "analysis.modes": ("Buckling", "Modes", "ModesAlong", "buckling", "compliance",
                        "modes_along", "node_compliance", "vibration_modes"),
     "analysis.statespace": ("StateSpace", "state_space"),
