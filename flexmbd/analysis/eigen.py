@@ -196,7 +196,6 @@ def _lanczos(inverse_times: Callable[[np.ndarray], np.ndarray],
 def lowest_arpack(inverse_times_mass: Callable[[np.ndarray], np.ndarray],
                   mass_times: Callable[[np.ndarray], np.ndarray],
                   stiffness_products: Callable[[np.ndarray], np.ndarray], n: int, count: int,
-                  start: np.ndarray | None = None,
                   inverse_times: Callable[[np.ndarray], np.ndarray] | None = None
                   ) -> tuple[np.ndarray, np.ndarray]:
     """The ``count`` lowest ``omega^2`` ``(count,)`` and their shapes ``(n, count)``
@@ -221,7 +220,6 @@ def lowest_arpack(inverse_times_mass: Callable[[np.ndarray], np.ndarray],
         stiffness_products: ``Z -> Z^T K Z`` ``(k, k)``, exact (no solve).
         n: unknowns.
         count: modes wanted, at most ``n - FEW_MODES_EXTRA - 2``.
-        start: a start vector ``(n,)``, else a fixed random one.
         inverse_times: ``v -> K^-1 v`` for a symmetric ``K``.
 
     Raises:
@@ -252,7 +250,7 @@ def lowest_arpack(inverse_times_mass: Callable[[np.ndarray], np.ndarray],
 
     # in the operator's range: on a constrained system a start vector that breaks the
     # constraints would stay in the Krylov basis, and in the Ritz vectors
-    v0 = inverse_times_mass(start_vector(n) if start is None else np.asarray(start, float))
+    v0 = inverse_times_mass(start_vector(n))
     mu, right = run(np.zeros((n, 0)), k, v0)
     _refuse_complex(mu, np.sort(np.abs(mu))[::-1][count - 1])
     basis = _orthonormal(right.real)

@@ -119,23 +119,9 @@ def load_step_table(statics: StaticResult, *, modes: int = 0, buckle: int = 0,
             lin = statics.linearization(row)
             where = f"step {row} (load {statics.load[row]:.6g})"
             if modes:
-                try:
-                    found = vibration_modes(lin, modes)
-                except NO_VALUE as error:
-                    columns.notes.append(f"f1..f{modes} at {where}: {error}")
-                else:
-                    columns.ran("modes", found.path)
-                    _put(columns, "f", row, found.frequencies, modes, where,
-                         "degrees of freedom")
+                _series(columns, "modes", vibration_modes, lin, modes, row, where)
             if buckle:
-                try:
-                    factors = buckling(lin, buckle)
-                except NO_VALUE as error:
-                    columns.notes.append(f"buckling1..buckling{buckle} at {where}: {error}")
-                else:
-                    columns.ran("buckling", factors.path)
-                    _put(columns, "buckling", row, factors.factors, buckle, where,
-                         "load factors (modes with geometric stiffness)")
+                _series(columns, "buckling", buckling, lin, buckle, row, where)
             for node, rotational in compliance:
                 try:
                     C = node_compliance(lin, node, rotational, frame=frame, drive=drive)
@@ -152,12 +138,27 @@ def load_step_table(statics: StaticResult, *, modes: int = 0, buckle: int = 0,
     return columns
 
 
-def _put(columns: StepTable, prefix: str, row: int, values: np.ndarray, asked: int,
-         where: str, what: str) -> None:
-    """Put ``values`` into the columns ``<prefix>1..`` of ``row``; note the ones a step
-    does not have."""
-    for k, value in enumerate(values[:asked]):
+#: per analysis of a series of columns: its columns' prefix, the result's field, what
+#: a state has fewer of than asked
+SERIES = {"modes": ("f", "frequencies", "degrees of freedom"),
+          "buckling": ("buckling", "factors", "load factors (modes with geometric stiffness)")}
+
+
+def _series(columns: StepTable, analysis: str, analyse, lin, asked: int, row: int,
+            where: str) -> None:
+    """Put the ``asked`` lowest values of ``analyse(lin, asked)`` (frequencies, load
+    factors: :data:`SERIES`) into the columns ``<prefix>1..`` of ``row``; a physical
+    failure, or fewer values than asked, leaves NaN and a note."""
+    prefix, field, what = SERIES[analysis]
+    try:
+        result = analyse(lin, asked)
+    except NO_VALUE as error:
+        columns.notes.append(f"{prefix}1..{prefix}{asked} at {where}: {error}")
+        return
+    columns.ran(analysis, result.path)
+    found = getattr(result, field)
+    for k, value in enumerate(found[:asked]):
         columns[f"{prefix}{k + 1}"][row] = value
-    if len(values) < asked:
-        columns.notes.append(f"{prefix}{len(values) + 1}..{prefix}{asked} at {where}: the "
-                             f"state has {len(values)} {what}")
+    if len(found) < asked:
+        columns.notes.append(f"{prefix}{len(found) + 1}..{prefix}{asked} at {where}: the "
+                             f"state has {len(found)} {what}")

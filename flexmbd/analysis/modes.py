@@ -204,11 +204,10 @@ def frequencies_of(omega2: np.ndarray) -> np.ndarray:
     return np.sign(omega2) * np.sqrt(np.abs(omega2)) / (2 * np.pi)
 
 
-def _lowest_modes(lin: Linearization, count: int, start: np.ndarray | None = None
+def _lowest_modes(lin: Linearization, count: int
                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray, EigenPath]:
     """``omega2`` ``(k,)``, shapes over the dynamic entries of ``q`` ``(nd, k)``, their
-    coordinate motions ``(nx, k)`` and the path (:func:`vibration_modes`); ``start``: a
-    start vector over the free coordinates for ARPACK on the banded tangent."""
+    coordinate motions ``(nx, k)`` and the path (:func:`vibration_modes`)."""
     nd = len(lin.dynamic)
     system, why = "reduced", ""
     if arpack_pays(nd, count):
@@ -216,7 +215,7 @@ def _lowest_modes(lin: Linearization, count: int, start: np.ndarray | None = Non
         system = "banded" if tangent is not None else "reduced"
         try:
             if tangent is not None:
-                return _banded_modes(lin, tangent, count, start)
+                return _banded_modes(lin, tangent, count)
             omega2, shapes = lowest_arpack_dense(lin.block("K"), _mass(lin), count)
             return (omega2, shapes, lin.motion_transfer[:, lin.dynamic] @ shapes,
                     EigenPath("arpack", "reduced", size_reason(nd, count)))
@@ -229,9 +228,8 @@ def _lowest_modes(lin: Linearization, count: int, start: np.ndarray | None = Non
             EigenPath("dense", "reduced", why or size_reason(nd, count)))
 
 
-def _banded_modes(lin: Linearization, tangent: BandedTangent, count: int,
-                  start: np.ndarray | None) -> tuple[np.ndarray, np.ndarray, np.ndarray,
-                                                     EigenPath]:
+def _banded_modes(lin: Linearization, tangent: BandedTangent, count: int
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray, EigenPath]:
     """:func:`_lowest_modes` by ARPACK on the banded tangent and Rayleigh-Ritz with the
     exact element products: shapes ``z`` over the free coordinates, then as entries of
     ``q`` (the dynamic coordinates and deformations they move) and as coordinate
@@ -245,7 +243,7 @@ def _banded_modes(lin: Linearization, tangent: BandedTangent, count: int,
 
     omega2, z = lowest_arpack(tangent.inverse_times_mass, tangent.mass_times,
                               lambda z: stiffness_products(lin, in_all(z)), len(free),
-                              count, start, tangent.inverse_times
+                              count, tangent.inverse_times
                               if _conservative(lin) else None)
     Z = in_all(z)
     moved = np.concatenate([Z[model.independent_coordinates],
