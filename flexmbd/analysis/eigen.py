@@ -12,17 +12,18 @@ Two ways, chosen by size alone (:func:`arpack_pays`):
   moment's load stiffness) gives ``mu`` of ``K^-1 M`` likewise. A symmetric
   indefinite or singular ``K`` (mechanisms, unstable states) takes SciPy's generalized
   solvers, whose values within their rounding are rigid-body modes (exactly 0).
-* **ARPACK in shift-invert at 0** for a few lowest modes of a large problem: Arnoldi
-  on ``v -> K^-1 M v`` with the factorisation the caller already holds (the engine's
-  banded tangent, or an LU of the reduced one): ``O(n b^2)`` per iteration instead of
-  the whole spectrum's ``O(n^3)``. The values then come from Rayleigh-Ritz on the
-  basis found, with exact products of ``K`` and ``M``: solves lose digits to the
-  stiffness contrast of thin leaves (axial against bending stiffness), the quotients
-  take them back, and a pair of equal frequencies that rounding split into complex
-  values comes out whole.
+* **ARPACK in shift-invert at 0** for a few lowest modes of a large problem, with the
+  factorisation the caller already holds (the engine's banded tangent, or an LU of the
+  reduced one): ``O(n b^2)`` per iteration instead of the whole spectrum's ``O(n^3)``.
+  Lanczos in the ``M`` inner product for a symmetric ``K``, Arnoldi on ``K^-1 M`` for
+  an unsymmetric one; deflated runs then look for further copies of a multiple
+  eigenvalue (:func:`lowest_arpack`). The values come from Rayleigh-Ritz on the basis
+  found, with exact products of ``K`` and ``M``: solves lose digits to the stiffness
+  contrast of thin leaves (axial against bending stiffness), the quotients take them
+  back.
 
-Where ARPACK cannot tell the modes (a singular tangent, no convergence, complex
-eigenvalues) the caller falls back to the dense way and warns: never silently.
+Where ARPACK cannot tell the modes (a singular tangent, no convergence, a complex pair
+among the lowest) the caller falls back to the dense way and warns: never silently.
 """
 
 from __future__ import annotations
@@ -59,8 +60,8 @@ MAX_DEFLATIONS = 8
 #: largest is dropped (:func:`_orthonormal`): the constraints' rounding grows by at most
 #: its inverse, to 1e-10 of a vector
 INDEPENDENT = 1e-6
-#: an eigenvalue ``mu`` of ``K^-1 M`` whose imaginary part exceeds this share of its size is
-#: complex (a flutter-like state): ARPACK's result is then not a set of vibration modes
+#: a Ritz value whose imaginary part exceeds this share of its size is complex (a
+#: flutter-like state): the result is then not a set of vibration modes
 COMPLEX = 1e-8
 
 
@@ -120,19 +121,32 @@ def _arpack(operator_times: Callable[[np.ndarray], np.ndarray], n: int, k: int,
     Raises:
         EigenError: no convergence, or a failure of the solves.
     """
-    from scipy.sparse.linalg import ArpackError, ArpackNoConvergence, LinearOperator, eigs
+    from scipy.sparse.linalg import LinearOperator, eigs
 
     operator = LinearOperator((n, n), matvec=operator_times, dtype=float)
+    return _converged(lambda: eigs(operator, k=k, which="LM", tol=0.0, v0=v0), k)
+
+
+def _converged(call: Callable[[], tuple[np.ndarray, np.ndarray]], k: int
+               ) -> tuple[np.ndarray, np.ndarray]:
+    """``call()``, an ARPACK run for ``k`` eigenpairs, with its failures as
+    :class:`EigenError` and its results checked finite.
+
+    Raises:
+        EigenError: no convergence, a failure of the solves, or values not finite.
+    """
+    from scipy.sparse.linalg import ArpackError, ArpackNoConvergence
+
     try:
-        mu, right = eigs(operator, k=k, which="LM", tol=0.0, v0=v0)
+        values, vectors = call()
     except ArpackNoConvergence:
         raise EigenError(f"ARPACK did not converge to the {k} lowest modes") from None
     except ArpackError as error:
         raise EigenError(f"ARPACK failed ({error}): the tangent is singular or not "
                          f"finite") from None
-    if not np.all(np.isfinite(mu)) or not np.all(np.isfinite(right)):
+    if not np.all(np.isfinite(values)) or not np.all(np.isfinite(vectors)):
         raise EigenError("ARPACK found values that are not finite")
-    return mu, right
+    return values, vectors
 
 
 def _refuse_complex(mu: np.ndarray, reach: float) -> None:
@@ -171,25 +185,19 @@ def _lanczos(inverse_times: Callable[[np.ndarray], np.ndarray],
     Raises:
         EigenError: no convergence, or a failure of the solves.
     """
-    from scipy.sparse.linalg import ArpackError, ArpackNoConvergence, LinearOperator, eigsh
+    from scipy.sparse.linalg import LinearOperator, eigsh
 
     def unused(v):   # shift-invert mode applies K^-1 and M only
         raise AssertionError("K itself is not needed")
 
-    operator = LinearOperator((n, n), matvec=unused, dtype=float)
-    try:
-        omega2, vectors = eigsh(
-            operator, k=k, M=LinearOperator((n, n), matvec=mass_times, dtype=float),
-            sigma=0.0, OPinv=LinearOperator((n, n), matvec=inverse_times, dtype=float),
-            which="LM", tol=0.0, v0=v0)
-    except ArpackNoConvergence:
-        raise EigenError(f"ARPACK did not converge to the {k} lowest modes") from None
-    except ArpackError as error:
-        raise EigenError(f"ARPACK failed ({error}): the tangent is singular or not "
-                         f"finite") from None
-    if not np.all(np.isfinite(omega2)) or not np.all(np.isfinite(vectors)) or \
-            np.any(omega2 == 0.0):
-        raise EigenError("ARPACK found values that are not finite")
+    def operator(matvec):
+        return LinearOperator((n, n), matvec=matvec, dtype=float)
+
+    omega2, vectors = _converged(lambda: eigsh(
+        operator(unused), k=k, M=operator(mass_times), sigma=0.0,
+        OPinv=operator(inverse_times), which="LM", tol=0.0, v0=v0), k)
+    if np.any(omega2 == 0.0):
+        raise EigenError("ARPACK found a mode without stiffness (omega^2 = 0)")
     return 1.0 / omega2, vectors
 
 
