@@ -418,11 +418,8 @@ def load_stiffness(engine: Workspace, loads: np.ndarray) -> np.ndarray:
     tangent subtracts ``F_q^T (df/dx) F_q`` (the spatial theory, section 6)."""
     nx = engine.model.n_coordinates
     slopes = np.zeros((nx, nx))
-    total = engine.constant_loads + loads
-    for at in engine.rotation_coordinates:
-        moment = total[at[1:]]
-        if np.any(moment):
-            slopes[np.ix_(at, at)] = euler_forces(np.eye(4), moment).T
+    for at, block in turning_moments(engine, loads):
+        slopes[np.ix_(at, at)] = block
     return slopes
 
 
@@ -430,12 +427,21 @@ def load_stiffness_times(engine: Workspace, loads: np.ndarray, A: np.ndarray) ->
     """``(df/dx) A`` ``(nx, k)`` for ``A`` ``(nx, k)``: :func:`load_stiffness` applied block
     by block, on the rotational nodes that carry a moment only."""
     product = np.zeros((engine.model.n_coordinates, A.shape[1]))
-    total = engine.constant_loads + loads
-    for at in engine.rotation_coordinates:
-        moment = total[at[1:]]
-        if np.any(moment):
-            product[at] = euler_forces(np.eye(4), moment).T @ A[at]
+    for at, block in turning_moments(engine, loads):
+        product[at] = block @ A[at]
     return product
+
+
+def turning_moments(engine: Workspace, loads: np.ndarray
+                    ) -> list[tuple[np.ndarray, np.ndarray]]:
+    """The global moments on spatial rotational nodes under the model's loads and
+    ``loads`` ``(nx,)``, the only loads whose generalized force turns with the
+    configuration: per node that carries one, its coordinates ``(4,)`` and its block
+    ``(4, 4)`` of ``df/dx`` (:func:`load_stiffness`). Empty: the loads derive from a
+    potential and the tangent is symmetric."""
+    total = engine.constant_loads + loads
+    return [(at, euler_forces(np.eye(4), total[at[1:]]).T)
+            for at in engine.rotation_coordinates if np.any(total[at[1:]])]
 
 
 def equilibrium_state(engine: Workspace, x: np.ndarray, qd: np.ndarray, qdd: np.ndarray,

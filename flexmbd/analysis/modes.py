@@ -56,6 +56,7 @@ from .linearization import (
     linearize,
     motion_rates,
     stiffness_products,
+    turning_moments,
 )
 from .statics import StaticResult
 
@@ -257,9 +258,7 @@ def _conservative(lin: Linearization) -> bool:
     """Whether the state's tangent is symmetric: its loads derive from a potential, all
     but a global moment on a spatial rotational node (it keeps its axis while the node
     turns, and its load stiffness is not symmetric)."""
-    engine = lin.workspace()
-    total = engine.constant_loads + lin.loads
-    return not any(np.any(total[at[1:]]) for at in engine.rotation_coordinates)
+    return not turning_moments(lin.workspace(), lin.loads)
 
 
 def _mass(lin: Linearization) -> np.ndarray:
