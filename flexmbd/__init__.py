@@ -13,6 +13,7 @@ linearized analyses and parameter studies for instance only when it uses them.
 """
 
 from .errors import (
+    AccuracyWarning,
     AnalysisWarning,
     ArgumentError,
     ColumnError,
@@ -66,7 +67,7 @@ _NAMES = {
 }
 _MODULE_OF = {name: module for module, names in _NAMES.items() for name in names}
 
-__all__ = ["AnalysisWarning", "ArgumentError", "ColumnError", "ConvergenceError",
+__all__ = ["AccuracyWarning", "AnalysisWarning", "ArgumentError", "ColumnError", "ConvergenceError",
            "FlexmbdError", "InputFileError", "LabelError", "ModelError", "ModelWarning",
            "SimulationError", "SingularConfigurationError", "StiffnessError",
            "UnstressedError", "__version__"]

@@ -139,6 +139,13 @@ class AnalysisWarning(UserWarning):
     tell the modes), or its result needs a caveat; the message says which and why."""
 
 
+class AccuracyWarning(AnalysisWarning):
+    """A setting that will cost accuracy the user may not expect: a fixed time step that
+    resolves the model's lowest vibration period in too few steps (period elongation and
+    numerical damping grow over the periods); the message names the setting that would
+    do."""
+
+
 class ModelWarning(UserWarning):
     """A model that builds but that some analysis will refuse: a degree of freedom that
     moves no mass in a model that has mass (a simulation or vibration modes need it; a

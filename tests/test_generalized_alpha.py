@@ -61,8 +61,11 @@ def test_unresolved_modes_are_damped_by_rho_inf():
         u, v = result["x2.1"] - 1.0, result["xd2.1"]
         return 0.5 * v**2 + 0.5 * omega**2 * u**2
 
-    kept = energy(run(oscillator(omega), 1e-3, 0.05, start=start, rho_inf=1.0))
-    damped = energy(run(oscillator(omega), 1e-3, 0.05, start=start, rho_inf=0.5))
+    # 0.06 steps per period: the step is warned about, naming the one that resolves it
+    with pytest.warns(fm.AccuracyWarning, match=r"0\.0628 steps.*give step <= 3\.14e-06 s"):
+        kept = energy(run(oscillator(omega), 1e-3, 0.05, start=start, rho_inf=1.0))
+    with pytest.warns(fm.AccuracyWarning):
+        damped = energy(run(oscillator(omega), 1e-3, 0.05, start=start, rho_inf=0.5))
     assert np.all(np.abs(kept / kept[0] - 1) < 1e-6)  # rho_inf = 1: no numerical damping
     assert damped[-1] < 1e-10 * damped[0]  # 50 steps at spectral radius 0.5
 
@@ -138,8 +141,9 @@ def test_counters_of_the_linearly_implicit_method():
     ``renew_every`` steps; outputs within round-off of a step's end (fixed steps
     accumulate round-off in t) are that step's, and that step keeps its matrix."""
     dt = 0.1  # not a binary fraction: t = k dt drifts from the output times
-    result = run(oscillator(), dt, 3.0, start=(1.1, 0.0), points=31, iterations=1,
-                 renew_every=4)
+    with pytest.warns(fm.AccuracyWarning, match="in 10 steps"):  # a period of 1 s
+        result = run(oscillator(), dt, 3.0, start=(1.1, 0.0), points=31, iterations=1,
+                     renew_every=4)
     assert result.success and len(result.t) == 31
     assert result.stats["nsteps"] == 30 and result.stats["njev"] == 8  # steps 1, 5, ..., 29
     assert result.stats["nfev"] == 1 + 30

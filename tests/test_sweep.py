@@ -154,11 +154,11 @@ def test_failed_cases_are_rows_with_their_message():
 
 
 def test_a_run_that_stops_early_keeps_its_rows(tmp_path):
-    data = fm.sweep(FLEX_DAT, {"ESTIFF:2:2": [1.0, 20.0], "INPUTX:2:3": [150.0]}, "dynamic",
+    # a crank acceleration of 2e6 rad/s^2, which the rod cannot follow, and none
+    data = fm.sweep(FLEX_DAT, {"INPUTX:2:4": [2e6, 0.0]}, "dynamic",
                     ["absmax:e2.2", "t"], "serial")
     assert list(data["status"].values) == ["failed", "ok"]
-    assert re.search(r"the RK45 integrator (failed at|cannot get past) t = ",
-                     data["error"].values[0])
+    assert re.search(r"the GeneralizedAlpha integrator.* at t = ", data["error"].values[0])
     stopped = data["t"].values[0]
     assert 0 < np.count_nonzero(~np.isnan(stopped)) < data["t"].sizes["step"]
 

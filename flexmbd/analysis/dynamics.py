@@ -16,6 +16,7 @@ element stiffness and damping added to the mass.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping
 from typing import Literal
 
@@ -31,11 +32,20 @@ from ..engine import (
     resolve_laws,
     workspace_of,
 )
-from ..errors import ArgumentError, ModelError, SimulationError, StiffnessError
+from ..errors import (
+    AccuracyWarning,
+    ArgumentError,
+    ModelError,
+    SimulationError,
+    SingularConfigurationError,
+    StiffnessError,
+    UnstressedError,
+)
 from ..model import Model
 from ..motion import Law
 from ..progress import progress_bar
 from ..results import SimulationResult, check_on_failure, check_times, conclude, first_rows
+from .eigen import EigenError
 from .free_rotations import (
     dynamic_state,
     partition_spent,
@@ -45,6 +55,7 @@ from .free_rotations import (
 )
 from .integrate import (
     ATOL,
+    DEFAULT_METHOD,
     EXPLICIT,
     RTOL,
     AlphaOptions,
@@ -55,6 +66,7 @@ from .integrate import (
     integrate,
 )
 from .kinematics import coordinates, first_order_transfer
+from .modes import vibration_modes
 from .watch import StepsCollapsedError
 
 #: generalized-alpha's position solves take D_x within this share of the model size: its
@@ -132,7 +144,7 @@ def simulate(
     inputs: Mapping[str, Law] | None = None,
     forces: Forces | None = None,
     initial: Mapping[str, tuple[float, float]] | None = None,
-    method: str = "RK45",
+    method: str = DEFAULT_METHOD,
     rtol: float = RTOL,
     atol: float = ATOL,
     tolerance: float | None = None,
@@ -153,13 +165,18 @@ def simulate(
             ``{"x2.1": torque}`` [N, N m], on top of the model's constant loads.
         initial: ``{label: (value, rate)}`` for dynamic entries of ``q``; the others
             start at rest in the initial configuration.
-        method: ``"RK45"`` (default, as ode45), ``"Radau"``, ``"BDF"``, ``"LSODA"``,
-            ``"DOP853"``, ``"RK23"`` (scipy's, error-controlled) or ``"GeneralizedAlpha"``
-            (fixed ``step``, implicit, optionally numerically damped: the choice for
-            models with stiff modes such as a rod of many beams or a flexible
-            elongation; it runs entirely in the compiled core).
-        rtol, atol: integrator tolerances on ``[q_d, qdot_d]`` (for GeneralizedAlpha:
-            of its Newton iteration).
+        method: ``"GeneralizedAlpha"`` (default: implicit, in the compiled core, its
+            steps controlled by the local error, stepping over the stiff modes of
+            flexible bodies with numerical damping), or SciPy's error-controlled
+            ``"RK45"`` (as MATLAB's ode45), ``"DOP853"``, ``"RK23"`` (explicit: they must
+            resolve every mode), ``"Radau"``, ``"BDF"``, ``"LSODA"``.
+        rtol, atol: the integrator's tolerances, relative and absolute [m, rad]: each
+            step's local error estimate, in the root mean square of its entries weighted
+            by ``atol + rtol |y|``, stays below 1, as in ``solve_ivp``. SciPy's methods
+            estimate the error of ``y = [q_d, qdot_d]``; GeneralizedAlpha that of the
+            positions ``q_d`` (its velocities follow them to the same order) and iterates
+            Newton to a tenth of it. With fixed GeneralizedAlpha steps they are the
+            Newton iteration's only.
         tolerance: Newton tolerance of the position solve [m, rad].
         max_iterations: Newton iterations of a position solve before giving up.
         with_reactions: keep the loads of supports and drives (``f<node>.<k>`` columns);
@@ -178,21 +195,29 @@ def simulate(
 
             SciPy's methods: ``max_step`` [s], the largest step, and ``first_step`` [s].
 
-            GeneralizedAlpha: ``step`` [s] (default: the output interval; ``max_step``
-            bounds it too). ``iterations``, its Newton corrections per step: ``None``
-            (default) iterates to ``rtol``/``atol`` and, with ``rho_inf = 1``, keeps the
-            energy of a conservative system (1e-5 of its kinetic energy over 100 periods
-            of a flexible rotor); ``1`` is the linearly implicit method, one evaluation
-            and one Newton correction per step, as accurate for a driven slow motion at
-            about half the cost, but it needs numerical damping (``rho_inf <= 0.8``) to
-            stay stable and does not keep the energy: check it with an energy balance.
-            ``renew_every``: with ``iterations`` set, steps between renewals of the
-            Newton matrix (default 1: every step). ``rho_inf``: the spectral radius at
-            infinite frequency, 0 (strongest damping of unresolved modes) to 1 (none,
-            energy kept); default 1 when Newton iterates, 0.8 with ``iterations`` set.
-            Damping dissipates the energy of modes the step does not resolve (6e-4 of a
-            flexible rotor's over 100 periods of its first mode at 40 steps per period,
-            rho_inf = 0.8).
+            GeneralizedAlpha: by default its steps follow the local error estimate of
+            ``q_d`` (Zienkiewicz and Xie's, ``(beta + delta/2 - 1/6) h^2 (a_new - a)``),
+            the first ``first_step`` [s] (default: chosen from the initial state), at most
+            ``max_step`` [s]; outputs between steps are interpolated (cubic Hermite) and
+            then evaluated. ``step`` [s] gives fixed steps instead (``max_step`` bounds it
+            too): a step that resolves the lowest vibration period at the start in fewer
+            than :data:`STEPS_PER_PERIOD` steps is warned about
+            (:class:`~flexmbd.AccuracyWarning`), naming the step that would.
+            ``iterations``, its Newton corrections per step: ``None`` (default) iterates
+            to ``rtol``/``atol`` and, with ``rho_inf = 1``, keeps the energy of a
+            conservative system (1e-5 of its kinetic energy over 100 periods of a flexible
+            rotor); ``1`` is the linearly implicit method, one evaluation and one Newton
+            correction per step, as accurate for a driven slow motion at about half the
+            cost, but it needs numerical damping (``rho_inf <= 0.8``) to stay stable and
+            does not keep the energy: check it with an energy balance. ``renew_every``:
+            with ``iterations`` and ``step`` set, steps between renewals of the Newton
+            matrix (default 1: every step). ``rho_inf``: the spectral radius at infinite
+            frequency, 0 (strongest damping of unresolved modes) to 1 (none, energy
+            kept); default :data:`ADAPTIVE_RHO_INF` (0.8) with error-controlled steps, 1
+            with fixed ones when Newton iterates, 0.8 with ``iterations`` set. Damping
+            dissipates the energy of modes the step does not resolve (6e-4 of a flexible
+            rotor's over 100 periods of its first mode at 40 steps per period, rho_inf =
+            0.8).
 
     Returns:
         :class:`~flexmbd.results.SimulationResult` with ``stats`` of the integrator.
@@ -233,9 +258,13 @@ def simulate(
     span = float(times[-1] - times[0])
     settings: AlphaOptions | ScipyOptions
     if spec.in_core:
-        settings = alpha = _alpha_options(times, rtol, atol, **options)
-        checks.step_count(span, alpha.step, "step")
-        work = round(span / alpha.step)
+        settings = alpha = _alpha_options(rtol, atol, **options)
+        if alpha.adaptive:
+            checks.step_count(span, alpha.max_step, "max_step")
+        else:
+            checks.step_count(span, alpha.step, "step")
+            check_resolution(model, alpha.step)
+        work = round(span / alpha.step) if not alpha.adaptive else len(times)
     else:
         settings = ScipyOptions(rtol, atol, **options)
         checks.step_count(span, settings.max_step, "max_step")
@@ -254,6 +283,36 @@ def simulate(
                     f"({stats['nsteps']} steps, {stats['nfev']} evaluations)")
 
 
+#: fixed generalized-alpha steps per period of the lowest vibration mode below which a run
+#: is warned about: at 20, with rho_inf = 1, each period lengthens by 0.8 % (a phase lag
+#: of a period after about 120 of them), and damping adds to that for rho_inf < 1
+STEPS_PER_PERIOD = 20
+
+
+def check_resolution(model: Model, step: float) -> None:
+    """Warn (:class:`AccuracyWarning`) when fixed steps of ``step`` [s] resolve the lowest
+    vibration period of ``model`` (in its reference configuration) in fewer than
+    :data:`STEPS_PER_PERIOD` steps, naming the step that would. A model whose modes
+    cannot be told there (a singular configuration, a mode without stiffness) is not
+    checked."""
+    try:
+        frequencies = vibration_modes(model, 1).frequencies
+    except (SingularConfigurationError, UnstressedError, EigenError):
+        return
+    frequencies = frequencies[np.isfinite(frequencies) & (frequencies > 0)]
+    if not len(frequencies):
+        return
+    period = 1.0 / float(frequencies[0])
+    if step * STEPS_PER_PERIOD <= period * (1 + 1e-9):
+        return
+    warnings.warn(
+        f"GeneralizedAlpha's fixed step {step:.3g} s resolves the lowest vibration mode "
+        f"({frequencies[0]:.4g} Hz, a period of {period:.3g} s) in {period / step:.3g} "
+        f"steps: over many periods it lags and (rho_inf < 1) fades; give step <= "
+        f"{period / STEPS_PER_PERIOD:.3g} s ({STEPS_PER_PERIOD} steps per period), or no "
+        f"step, for steps controlled by rtol and atol", AccuracyWarning, stacklevel=3)
+
+
 #: the largest rho_inf at which a fixed number of Newton corrections per step is stable: the
 #: error such a step leaves is quadratic in the change of acceleration, which unresolved
 #: modes keep large unless numerical damping takes their amplitude (a conservative
@@ -261,24 +320,46 @@ def simulate(
 FIXED_ITERATIONS_RHO_INF = 0.8
 
 
-def _alpha_options(times: np.ndarray, rtol: float, atol: float, *, step: float | None = None,
+def _alpha_options(rtol: float, atol: float, *, step: float | None = None,
                    rho_inf: float | None = None, iterations: int | None = None,
-                   renew_every: int = 1, max_step: float = np.inf) -> AlphaOptions:
-    """GeneralizedAlpha's settings for a run over ``times``: the step by default the
-    smallest output interval, bounded by ``max_step`` [s]."""
+                   renew_every: int = 1, max_step: float = np.inf,
+                   first_step: float | None = None) -> AlphaOptions:
+    """GeneralizedAlpha's settings: fixed steps of ``step`` [s] (bounded by ``max_step``)
+    when it is given, else steps controlled by the local error to ``rtol``, ``atol``,
+    starting at ``first_step`` (default: chosen from the initial state), at most
+    ``max_step``."""
     if step is not None and not checks.real(step, "step") > 0:
         raise ArgumentError("step", f"must be positive, got {step!r}")
-    bound = ScipyOptions(max_step=max_step).max_step  # checked as SciPy's methods check it
-    interval = float(np.diff(times).min())
-    return AlphaOptions(min(interval if step is None else float(step), float(bound)),
-                        _rho_inf(rho_inf, iterations), rtol, atol, iterations, renew_every)
+    bounds = ScipyOptions(max_step=max_step, first_step=first_step)  # checked as SciPy's
+    adaptive = step is None
+    if not adaptive and first_step is not None:
+        raise ArgumentError("first_step", "applies to error-controlled steps; with a fixed "
+                                          "step every step is `step`")
+    if adaptive and renew_every != 1:
+        raise ArgumentError("renew_every", "applies to fixed steps (give step=...); "
+                                           "error-controlled steps renew the Newton matrix "
+                                           "when their size changes")
+    first = 0.0 if adaptive and first_step is None else (first_step if adaptive else step)
+    return AlphaOptions(min(float(first), float(bounds.max_step)) if first else 0.0,
+                        _rho_inf(rho_inf, iterations, adaptive), rtol, atol, iterations,
+                        renew_every, adaptive, float(bounds.max_step))
 
 
-def _rho_inf(rho_inf: float | None, iterations: int | None) -> float:
+#: generalized-alpha's default spectral radius at infinite frequency with error-controlled
+#: steps: enough numerical damping to take out, in a few steps, the stiff modes that the
+#: steps do not resolve (else their undamped oscillation would hold the step), little
+#: enough to keep the resolved ones
+ADAPTIVE_RHO_INF = 0.8
+
+
+def _rho_inf(rho_inf: float | None, iterations: int | None, adaptive: bool) -> float:
     """GeneralizedAlpha's spectral radius: by default 1 (no numerical damping: energy kept)
-    when Newton iterates, 0.8 with a fixed number of corrections, which needs damping."""
+    when Newton iterates with fixed steps, 0.8 with a fixed number of corrections, which
+    needs damping, and :data:`ADAPTIVE_RHO_INF` with error-controlled steps."""
     if rho_inf is None:
-        return 1.0 if iterations is None else FIXED_ITERATIONS_RHO_INF
+        if iterations is not None:
+            return FIXED_ITERATIONS_RHO_INF
+        return ADAPTIVE_RHO_INF if adaptive else 1.0
     rho_inf = checks.real(rho_inf, "rho_inf")
     if iterations is not None and rho_inf > FIXED_ITERATIONS_RHO_INF:
         raise ArgumentError("rho_inf", f"{rho_inf:g} with iterations={iterations}: a fixed "
@@ -324,7 +405,7 @@ class _Run:
             done, error, counts, end = self._segment(engine, laws, seg_times, y,
                                                      watched_positions(segment), start)
             for name in counts:
-                stats[name] += counts[name]
+                stats[name] = stats.get(name, 0) + counts[name]
             skip = 0 if start is None else 1
             pieces.append(relabelled({name: a[skip:done] for name, a in arrays.items()},
                                      segment, self.model))
@@ -357,7 +438,8 @@ class _Run:
                 times, y[:n], y[n:], end, watched.ravel() if len(watched) else None,
                 GA_JACOBIAN_POINT * engine.model.characteristic_length,
                 self.settings.core_arguments())
-            counts = {name: int(status[name]) for name in ("nfev", "njev", "nlu", "nsteps")}
+            counts = {name: int(status[name])
+                      for name in ("nfev", "njev", "nlu", "nsteps", "nrejected")}
             if engine.stopped_for_partition(status):
                 return status["reached"], None, counts, (float(status["time"]), end)
             return status["reached"], engine.error(status), counts, None

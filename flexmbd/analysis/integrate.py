@@ -44,9 +44,9 @@ RTOL, ATOL = 1e-6, 1e-9
 #: SciPy's options that flexmbd passes on: the largest step and the first one [s]
 SCIPY_OPTIONS = ("max_step", "first_step")
 #: generalized-alpha's options (:class:`AlphaOptions`)
-ALPHA_OPTIONS = ("step", "rho_inf", "iterations", "renew_every", "max_step")
+ALPHA_OPTIONS = ("step", "rho_inf", "iterations", "renew_every", "max_step", "first_step")
 
-#: the integration methods by name; RK45 (MATLAB's ode45, the course's) is the default
+#: the integration methods by name
 METHODS: dict[str, Method] = {method.name: method for method in (
     Method("RK45", True, False, SCIPY_OPTIONS, "explicit Runge-Kutta 5(4), Dormand-Prince"),
     Method("RK23", True, False, SCIPY_OPTIONS, "explicit Runge-Kutta 3(2), Bogacki-Shampine"),
@@ -55,8 +55,12 @@ METHODS: dict[str, Method] = {method.name: method for method in (
     Method("BDF", False, False, SCIPY_OPTIONS, "backward differentiation formulas"),
     Method("LSODA", False, False, SCIPY_OPTIONS, "Adams and BDF, switching (ODEPACK)"),
     Method("GeneralizedAlpha", False, True, ALPHA_OPTIONS,
-           "generalized-alpha, fixed steps, implicit, in the compiled core"),
+           "generalized-alpha, implicit, in the compiled core: steps controlled by its "
+           "local error, or fixed ones of `step`"),
 )}
+#: :func:`flexmbd.simulate`'s method when none is given: error-controlled generalized-alpha,
+#: which steps over the stiff modes of flexible bodies that explicit methods must resolve
+DEFAULT_METHOD = "GeneralizedAlpha"
 #: the explicit methods' names
 EXPLICIT = tuple(name for name, method in METHODS.items() if method.explicit)
 
@@ -110,7 +114,9 @@ class ScipyOptions:
 
 @dataclass(frozen=True)
 class AlphaOptions:
-    """The settings of generalized-alpha (see :func:`flexmbd.simulate` for their meaning)."""
+    """The settings of generalized-alpha (see :func:`flexmbd.simulate` for their meaning):
+    fixed steps of ``step`` [s], or with ``adaptive`` steps that follow the local error,
+    the first ``step`` (0: chosen from the state), at most ``max_step``."""
 
     step: float
     rho_inf: float = 0.8
@@ -118,9 +124,11 @@ class AlphaOptions:
     atol: float = ATOL
     iterations: int | None = None
     renew_every: int = 1
+    adaptive: bool = False
+    max_step: float = np.inf
 
     def __post_init__(self):
-        if not checks.real(self.step, "step") > 0:
+        if not (checks.real(self.step, "step") > 0 or (self.adaptive and self.step == 0)):
             raise ArgumentError("step", f"must be positive, got {self.step}")
         if not 0.0 <= checks.real(self.rho_inf, "rho_inf") <= 1.0:
             raise ArgumentError("rho_inf", f"must lie in [0, 1], got {self.rho_inf}")
@@ -128,11 +136,12 @@ class AlphaOptions:
             checks.whole(self.iterations, "iterations", 1, checks.LARGEST_ITERATIONS)
         checks.whole(self.renew_every, "renew_every", 1, checks.LARGEST_STEPS)
 
-    def core_arguments(self) -> dict[str, float | int]:
+    def core_arguments(self) -> dict[str, float | int | bool]:
         """The keyword arguments of the core's generalized-alpha runs."""
         return {"step": float(self.step), "rho_inf": float(self.rho_inf),
                 "rtol": float(self.rtol), "atol": float(self.atol),
-                "iterations": int(self.iterations or 0), "renew_every": int(self.renew_every)}
+                "iterations": int(self.iterations or 0), "renew_every": int(self.renew_every),
+                "adaptive": bool(self.adaptive), "max_step": float(self.max_step)}
 
 
 @dataclass(eq=False)

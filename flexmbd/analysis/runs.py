@@ -13,7 +13,7 @@ from ..model import Model
 from ..results import KinematicResult
 from ..settings import RunSettings
 from .dynamics import inverse_dynamics, simulate
-from .integrate import ATOL, RTOL
+from .integrate import ATOL, DEFAULT_METHOD, RTOL
 from .kinematics import kinematic_analysis
 from .routines import routine_inputs, routine_loads
 
@@ -40,7 +40,7 @@ def check_mode(model: Model, mode: str) -> None:
 
 
 def analyse(model: Model, settings: RunSettings, mode: str, times: np.ndarray,
-            method: str = "RK45", progress: bool | None = None) -> KinematicResult:
+            method: str = DEFAULT_METHOD, progress: bool | None = None) -> KinematicResult:
     """Run ``mode`` on ``model`` with the file's settings; failures are returned."""
     s = settings
     inputs = routine_inputs(model, s) or None   # USERINP

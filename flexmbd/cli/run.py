@@ -10,10 +10,10 @@ from typing import Any
 import numpy as np
 
 from .. import checks
-from ..analysis.integrate import METHODS
+from ..analysis.integrate import DEFAULT_METHOD, METHODS
 from ..analysis.runs import MODES, analyse, check_mode, default_mode
 from ..engine import KINEMATIC_OUTPUTS, output_bytes, output_sizes
-from ..errors import ArgumentError, StiffnessError
+from ..errors import ArgumentError
 from ..io.dat import read_dat
 from ..io.dat.syntax import LARGEST_INTEGER
 from ..io.outputs import check_output
@@ -44,8 +44,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="release over-constraints as SPACAR Light does (they are "
                              "printed)")
     parser.add_argument("--method", choices=sorted(METHODS),
-                        help="integrator of the dynamic mode (default RK45, or "
-                             "GeneralizedAlpha when RK45 finds the model stiff)")
+                        help=f"integrator of the dynamic mode (default {DEFAULT_METHOD}, "
+                             f"its steps controlled by the file's (or the default) rtol "
+                             f"and atol)")
 
 
 def output_times(settings: RunSettings, steps: int | None, t_end: float | None) -> np.ndarray:
@@ -132,11 +133,8 @@ def run(args: argparse.Namespace) -> int:
     print(f"{mode} analysis of {Path(args.file).name}: {len(times)} output times to "
           f"t = {times[-1]:.6g} s")
     try:
-        result = analyse(model, settings, mode, times, args.method or "RK45", progress=True)
-        if args.method is None and isinstance(result.error, StiffnessError):
-            # the user chose no method: run the one that fits, as they would expect
-            print(f"{result.message}\nrunning again with GeneralizedAlpha")
-            result = analyse(model, settings, mode, times, "GeneralizedAlpha", progress=True)
+        result = analyse(model, settings, mode, times, args.method or DEFAULT_METHOD,
+                         progress=True)
     except KeyboardInterrupt as interrupt:
         partial = getattr(interrupt, "partial_result", None)
         if partial is None:

@@ -26,6 +26,7 @@ class FmStatus(IntEnum):
     FM_PYTHON = 7
     FM_NO_MEMORY = 8
     FM_PARTITION = 9
+    FM_STEP_TOO_SMALL = 10
 
 class FmLawKind(IntEnum):
     """How an entry of q moves in a run: csrc/core.h's enum FmLawKind."""
@@ -50,6 +51,7 @@ class RunStatus(TypedDict):
     njev: int
     nlu: int
     nsteps: int
+    nrejected: int
     exception: BaseException | None
 
 class CoreError(RuntimeError):
@@ -76,7 +78,8 @@ class Core:
     def reset(self, start: Floats | None = ...) -> None: ...
     def kinematic_run(self, times: Floats) -> RunStatus: ...
     def alpha_run(self, times: Floats, q0: Floats, v0: Floats, *, step: float, rho_inf: float,
-                  rtol: float, atol: float, iterations: int, renew_every: int, near: float,
+                  rtol: float, atol: float, iterations: int, renew_every: int, adaptive: bool,
+                  max_step: float, near: float,
                   watch: Ints | None = ..., end: Floats | None = ...) -> RunStatus: ...
     def accelerations(self, t: float, y: Floats, out: Floats) -> None: ...
     def residual(self, t: float, y: Floats, a: Floats, r: Floats) -> None: ...

@@ -22,6 +22,7 @@ cdef extern from "core.h":
     cpdef enum FmStatus:
         FM_OK, FM_NOT_CONVERGED, FM_SINGULAR, FM_SINGULAR_TOLERANCE, FM_MASSLESS
         FM_NOT_FINITE, FM_STEP_FAILED, FM_PYTHON, FM_NO_MEMORY, FM_PARTITION
+        FM_STEP_TOO_SMALL
     cpdef enum FmLawKind:
         FM_LAW_POLYNOMIAL, FM_LAW_CALLBACK, FM_LAW_INTEGRATED
 
@@ -64,10 +65,11 @@ cdef extern from "core.h":
 cdef extern from "alpha.h":
     ctypedef struct AlphaOptions:
         double step, rho_inf, rtol, atol
-        int iterations, renew_every
+        int iterations, renew_every, adaptive
+        double max_step
         double *end
     ctypedef struct AlphaResult:
-        long nfev, njev, nlu, nsteps
+        long nfev, njev, nlu, nsteps, nrejected
         int reached, status
 
 cdef extern from "runs.h":
@@ -219,6 +221,7 @@ cdef class Core:
                 "conditioning": e.conditioning, "limit": e.limit, "step": e.step,
                 "nfev": r.nfev if r else 0, "njev": r.njev if r else 0,
                 "nlu": r.nlu if r else 0, "nsteps": r.nsteps if r else 0,
+                "nrejected": r.nrejected if r else 0,
                 "exception": error}
 
     cdef int check(self, int code) except -1:
@@ -310,10 +313,12 @@ cdef class Core:
 
     def alpha_run(self, const double[::1] times not None, const double[::1] q0 not None,
                   const double[::1] v0 not None, *, double step, double rho_inf, double rtol,
-                  double atol, int iterations, int renew_every, double near,
+                  double atol, int iterations, int renew_every, bint adaptive,
+                  double max_step, double near,
                   const int[::1] watch=None, double[::1] end=None):
         """Generalized-alpha integration from ``(q0, v0)`` ``(nd,)`` with the outputs at every
-        time of a grid; stops where a ``watch``-ed free rotation's partition is spent (three
+        time of a grid, in fixed steps of ``step`` or (``adaptive``) steps that follow the
+        local error, the first ``step`` (0: chosen), at most ``max_step``; stops where a ``watch``-ed free rotation's partition is spent (three
         positions in ``q_d`` each), its state then in ``end`` ``(2 nd,)``. The status."""
         cdef int nd = self.c.m.nd_dyn
         cdef AlphaOptions options
@@ -328,6 +333,7 @@ cdef class Core:
             raise ValueError("times: at least one output time is needed")
         options.step, options.rho_inf, options.rtol, options.atol = step, rho_inf, rtol, atol
         options.iterations, options.renew_every = iterations, renew_every
+        options.adaptive, options.max_step = adaptive, max_step
         options.end = &end[0] if end is not None else NULL
         self.c.near = near
         self.c.watch = &watch[0] if watch is not None and len(watch) else NULL

@@ -415,6 +415,12 @@ class Workspace:
                 f"the GeneralizedAlpha integrator failed {at_time(time_or_none)}: its Newton "
                 f"iteration did not converge even with step {status['step']:.3g} s",
                 time_or_none)
+        if code == Status.FM_STEP_TOO_SMALL:
+            return SimulationError(
+                f"the GeneralizedAlpha integrator's step shrank to {status['step']:.3g} s "
+                f"{at_time(time_or_none)} without meeting rtol and atol: the motion is not "
+                f"smooth enough there for them (an impact, a singular configuration); loosen "
+                f"them, or give a fixed step", time_or_none)
         if code == Status.FM_NO_MEMORY:
             return MemoryError(f"the core ran out of memory {at_time(time_or_none)}")
         return SimulationError(f"the core stopped with {Status(code).name} "
@@ -448,11 +454,12 @@ class Workspace:
         """A prepared, integrated run by generalized-alpha in the core from the dynamic
         ``q``, ``qdot`` ``(nd,)``, stopping where a ``watch``-ed free rotation's partition
         is spent (its state then in ``end`` ``(2 nd,)``); the core's status and
-        counters (``nfev``, ``njev``, ``nlu``, ``nsteps``)."""
+        counters (``nfev``, ``njev``, ``nlu``, ``nsteps``, ``nrejected``)."""
         return self._core.alpha_run(
             times, q, qd, step=float(options["step"]), rho_inf=float(options["rho_inf"]),
             rtol=float(options["rtol"]), atol=float(options["atol"]),
             iterations=int(options["iterations"]), renew_every=int(options["renew_every"]),
+            adaptive=bool(options["adaptive"]), max_step=float(options["max_step"]),
             near=near, watch=watch, end=end)
 
     def accelerations(self, t: float, y: np.ndarray, out: np.ndarray) -> None:

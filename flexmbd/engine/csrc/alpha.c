@@ -14,10 +14,22 @@
  * the method is linearly implicit: one correction per step with the operator renewed
  * at every step's predictor (or every `renew_every` steps). Because the residual is
  * nearly linear in the step's acceleration and the operator is exact up to terms of
- * order h, the error per step keeps the method's order (a W-method argument). The
- * step is fixed, halved only when Newton fails. Outputs between steps come from the
- * cubic Hermite interpolation of q (with v) and v (with a) over the step.
+ * order h, the error per step keeps the method's order (a W-method argument).
+ *
+ * Steps are fixed (halved only when Newton fails) or, with `adaptive`, follow the
+ * local error of q. Expanding the Newmark update of q with the algorithmic accelerations
+ * a(t + delta h), delta = alpha_m - alpha_f, against the Taylor series of q leaves
+ *     q_err = (beta + delta / 2 - 1/6) h^3 q''' ~ (beta + delta / 2 - 1/6) h^2 (a_new - a),
+ * (Zienkiewicz and Xie's estimate for Newmark, generalized); its weighted root mean
+ * square against atol + rtol |q| must stay below 1, as in SciPy's solvers, and the next
+ * step is h (0.9 / err)^(1/3), limited to a change by 0.2 .. 5 per step. A mode that
+ * numerical damping (rho_inf < 1) has taken out stops contributing to a_new - a, so the
+ * stiff modes that the step does not resolve do not set it.
+ *
+ * Outputs between steps come from the cubic Hermite interpolation of q (with v) and v
+ * (with a) over the step.
  */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -29,6 +41,14 @@
 #define RENEW_AFTER 3      /* Newton iterations after which the operator is renewed next step */
 #define MAX_HALVINGS 12
 #define PROGRESS_EVERY 256 /* steps between progress reports (and interrupt checks) */
+#define SAFETY 0.9         /* the adaptive step's margin on the error estimate */
+#define LEAST_FACTOR 0.2   /* the adaptive step changes at most by these factors per step */
+#define MOST_FACTOR 5.0
+#define PI_BEFORE 0.067    /* exponents of the PI step control for an estimate of order 3 */
+#define PI_NOW (1.0 / 3 - 0.75 * PI_BEFORE)
+#define MIN_ERROR 1e-4     /* the error estimate's floor in the control (a zero estimate) */
+#define KEEP_BELOW 1.25    /* a step that would grow by less keeps its size: and its operator */
+#define OPERATOR_SPAN 0.3  /* relative change of the step within which the operator is kept */
 
 typedef struct {
     AlphaSystem *sys;
@@ -42,6 +62,9 @@ typedef struct {
     double *start_q, *start_v, *start_aa; /* the Newmark predictor of a step (a_new = 0) */
     double *r, *da;
     double operator_step;                 /* step of the operator, 0 when there is none */
+    double h;                             /* the adaptive run's next step */
+    double error_before;                  /* the error estimate of the last accepted step */
+    double error_weight;                  /* |beta + delta / 2 - 1/6|: q's error estimate */
     int operator_fresh, renew, since_renewal;
     AlphaResult result;
 } Alpha;
@@ -101,7 +124,8 @@ static int renew_operator(Alpha *g, double h)
  * round-off of t (the last one) keeps it. */
 static int stale(const Alpha *g, double h)
 {
-    return g->operator_step == 0.0 || g->renew || fabs(g->operator_step - h) > 1e-9 * h;
+    const double span = g->opt->adaptive ? OPERATOR_SPAN : 1e-9;
+    return g->operator_step == 0.0 || g->renew || fabs(g->operator_step - h) > span * h;
 }
 
 /* A trial residual: FM_OK, -1 when the system rejects the trial state (retry smaller),
@@ -115,6 +139,21 @@ static int trial_residual(Alpha *g, double t)
     return code;
 }
 
+/* The first iterate of the step's acceleration: the last one or, with adaptive steps,
+ * its linear extrapolation from the last step (the Newton iterations it saves pay for the
+ * renewals that changing steps cost). */
+static void guess(Alpha *g, double h)
+{
+    const double h_last = g->t - g->t_old;
+    if (!g->opt->adaptive || g->result.nsteps == 0 || h_last <= 0.0) {
+        memcpy(g->an, g->a, sizeof(double) * g->m);
+        return;
+    }
+    const double ratio = h / h_last;
+    for (int i = 0; i < g->m; i++)
+        g->an[i] = g->a[i] + ratio * (g->a[i] - g->a0[i]);
+}
+
 /* Newton to the tolerances; 1 when the step converged, 0 when it failed, < 0 ... */
 static int newton(Alpha *g, double h, int *fatal)
 {
@@ -122,7 +161,7 @@ static int newton(Alpha *g, double h, int *fatal)
     double c_q, c_v, previous = -1.0;
     coefficients(g, h, &c_q, &c_v);
     predictor(g, h);
-    memcpy(g->an, g->a, sizeof(double) * m);
+    guess(g, h);
     for (int iteration = 1; iteration <= MAX_NEWTON; iteration++) {
         update(g, h);
         int code = trial_residual(g, g->t + h);
@@ -199,33 +238,36 @@ static int fixed_newton(Alpha *g, double h, int *fatal)
     return 1;
 }
 
-/* One step; FM_OK or the code that ends the run. */
-static int step(Alpha *g, double t_bound, double h_nominal)
+/* Newton for a step of h, halving it while Newton fails: the step that converged in *h,
+ * FM_OK, or the code that ends the run. */
+static int converge(Alpha *g, double *h)
 {
-    double h = h_nominal < t_bound - g->t ? h_nominal : t_bound - g->t;
     int outcome = 0, trial_failed = 0, fatal = FM_OK;
     for (int attempt = 0; attempt < MAX_HALVINGS; attempt++) {
-        outcome = g->opt->iterations ? fixed_newton(g, h, &fatal) : newton(g, h, &fatal);
+        outcome = g->opt->iterations ? fixed_newton(g, *h, &fatal) : newton(g, *h, &fatal);
         if (fatal)
             return fatal;
         if (outcome == 1)
-            break;
+            return FM_OK;
         trial_failed = outcome < 0;
         if (!trial_failed && !g->operator_fresh) {
             g->renew = 1;                   /* a stale operator may be to blame: renew it */
             continue;
         }
-        h /= 2;
+        *h /= 2;
         g->renew = 1;
     }
-    if (outcome != 1) {
-        if (trial_failed)
-            return g->sys->error->code ? g->sys->error->code : FM_NOT_CONVERGED;
-        g->sys->error->code = FM_STEP_FAILED;
-        g->sys->error->time = g->t;
-        g->sys->error->step = h;
-        return FM_STEP_FAILED;
-    }
+    if (trial_failed)
+        return g->sys->error->code ? g->sys->error->code : FM_NOT_CONVERGED;
+    g->sys->error->code = FM_STEP_FAILED;
+    g->sys->error->time = g->t;
+    g->sys->error->step = *h;
+    return FM_STEP_FAILED;
+}
+
+/* The converged trial state becomes the state at t + h (t_bound when within round-off). */
+static void accept(Alpha *g, double t_bound, double h)
+{
     memcpy(g->q0, g->q, sizeof(double) * g->m);
     memcpy(g->v0, g->v, sizeof(double) * g->m);
     memcpy(g->a0, g->a, sizeof(double) * g->m);
@@ -237,7 +279,86 @@ static int step(Alpha *g, double t_bound, double h_nominal)
     memcpy(g->aa, g->aan, sizeof(double) * g->m);
     g->operator_fresh = 0;
     g->result.nsteps++;
-    return FM_OK;
+}
+
+/* One fixed step; FM_OK or the code that ends the run. */
+static int fixed_step(Alpha *g, double t_bound, double h_nominal)
+{
+    double h = h_nominal < t_bound - g->t ? h_nominal : t_bound - g->t;
+    int code = converge(g, &h);
+    if (!code)
+        accept(g, t_bound, h);
+    return code;
+}
+
+/* The weighted root mean square of the local error estimate of q over the trial step. The
+ * velocities' (from the change of a's change, h^3 a'') is left out: it would follow the
+ * modes that the step does not resolve, whose accelerations numerical damping leaves
+ * noisy long after their positions have settled, and hold the steps to their periods. */
+static double error_norm(const Alpha *g, double h)
+{
+    const double c = g->error_weight * h * h;
+    double sum = 0.0;
+    for (int i = 0; i < g->m; i++) {
+        const double scale = g->opt->atol + g->opt->rtol * fmax(fabs(g->q[i]), fabs(g->qn[i]));
+        const double e = c * (g->an[i] - g->a[i]) / scale;
+        sum += e * e;
+    }
+    return g->m ? sqrt(sum / g->m) : 0.0;
+}
+
+static double clamp(double x, double low, double high) { return x < low ? low : x > high ? high : x; }
+
+/* One error-controlled step of about g->h; FM_OK or the code that ends the run. */
+static int adaptive_step(Alpha *g, double t_bound)
+{
+    for (;;) {
+        const double left = t_bound - g->t;
+        double h = g->h < left ? g->h : left;
+        if (h < 16 * DBL_EPSILON * fmax(fabs(g->t), fabs(t_bound))) {
+            g->sys->error->code = FM_STEP_TOO_SMALL;
+            g->sys->error->time = g->t;
+            g->sys->error->step = h;
+            return FM_STEP_TOO_SMALL;
+        }
+        int code = converge(g, &h);
+        if (code)
+            return code;
+        const double err = error_norm(g, h);
+        if (!isfinite(err) || err > 1.0) {  /* rejected: retry smaller */
+            g->h = h * (isfinite(err) ? clamp(SAFETY * pow(err, -1.0 / 3), LEAST_FACTOR, SAFETY)
+                                      : LEAST_FACTOR);
+            g->result.nrejected++;
+            continue;
+        }
+        accept(g, t_bound, h);
+        /* Gustafsson's PI control: the error before damps the step's swings */
+        const double last = fmax(err, MIN_ERROR);
+        double factor = clamp(SAFETY * pow(last, -PI_NOW) * pow(g->error_before, PI_BEFORE),
+                              LEAST_FACTOR, MOST_FACTOR);
+        g->error_before = last;
+        if (factor >= 1.0 && factor < KEEP_BELOW)
+            factor = 1.0;
+        if (h < g->h && h == left)          /* the last step was cut short by the end */
+            factor = fmax(factor, g->h / h);
+        g->h = fmin(h * factor, g->opt->max_step);
+        return FM_OK;
+    }
+}
+
+/* The first step of an adaptive run when none is given: as SciPy chooses it, from the
+ * sizes of (q, v) and their rates (v, a) in the tolerance's weights, then bounded. */
+static double first_step(const Alpha *g, double span)
+{
+    double d0 = 0.0, d1 = 0.0;
+    for (int i = 0; i < g->m; i++) {
+        const double sq = g->opt->atol + g->opt->rtol * fabs(g->q[i]);
+        const double sv = g->opt->atol + g->opt->rtol * fabs(g->v[i]);
+        d0 += (g->q[i] / sq) * (g->q[i] / sq) + (g->v[i] / sv) * (g->v[i] / sv);
+        d1 += (g->v[i] / sq) * (g->v[i] / sq) + (g->a[i] / sv) * (g->a[i] / sv);
+    }
+    double h = d0 < 1e-10 || d1 < 1e-10 ? 1e-6 * span : 0.01 * sqrt(d0 / d1);
+    return fmin(fmin(h, span), g->opt->max_step);
 }
 
 /* q, v at time t inside the last step by cubic Hermite interpolation: q with v as its
@@ -273,6 +394,7 @@ AlphaResult alpha_run(AlphaSystem *sys, const double *times, int n, const double
     g.alpha_f = rho / (rho + 1);
     g.gamma = 0.5 - g.alpha_m + g.alpha_f;
     g.beta = 0.25 * (1 - g.alpha_m + g.alpha_f) * (1 - g.alpha_m + g.alpha_f);
+    g.error_weight = fabs(g.beta + 0.5 * (g.alpha_m - g.alpha_f) - 1.0 / 6);
     g.t = times[0];
     g.result.t = g.t;
     int code = ok ? FM_OK : FM_NO_MEMORY;
@@ -288,8 +410,11 @@ AlphaResult alpha_run(AlphaSystem *sys, const double *times, int n, const double
     g.result.reached = k;
     const double t_bound = times[n - 1];
     double *qk = g.qn, *vk = g.vn;
+    g.error_before = MIN_ERROR;
+    if (opt->adaptive)
+        g.h = opt->step > 0.0 ? fmin(opt->step, opt->max_step) : first_step(&g, t_bound - g.t);
     while (!code && k < n && g.t < t_bound) {
-        if ((code = step(&g, t_bound, opt->step)))
+        if ((code = opt->adaptive ? adaptive_step(&g, t_bound) : fixed_step(&g, t_bound, opt->step)))
             break;
         /* an output within round-off of the step's end is this step's: fixed steps
          * accumulate round-off in t */

@@ -32,6 +32,10 @@ typedef struct {
 typedef struct {
     double step, rho_inf, rtol, atol;
     int iterations;                /* 0: Newton to the tolerances; k > 0: k corrections */
+    /* 1: the step follows the local error estimate, `step` the first one (0: chosen from
+     * the state) and max_step its bound; 0: fixed steps of `step` */
+    int adaptive;
+    double max_step;
     int renew_every;
     /* called every `progress_every` steps; a non-zero return stops the run (interrupt) */
     int (*progress)(void *context, double t);
@@ -41,6 +45,7 @@ typedef struct {
 
 typedef struct {
     long nfev, njev, nlu, nsteps;  /* nfev is counted by the system */
+    long nrejected;                /* steps rejected by the error estimate */
     int reached;                   /* outputs reached */
     int status;                    /* FM_OK, or the error code that ended the run */
     double t;                      /* where the run ended */

@@ -74,8 +74,10 @@ enum FmStatus {
     FM_PYTHON = 7,             /* a Python callback raised, or Ctrl-C: the binding holds the
                                   exception */
     FM_NO_MEMORY = 8,
-    FM_PARTITION = 9           /* a free rotation's calculable Euler parameter got small: the
+    FM_PARTITION = 9,          /* a free rotation's calculable Euler parameter got small: the
                                   run stops so that another one is chosen */
+    FM_STEP_TOO_SMALL = 10     /* the error-controlled integrator's step shrank to round-off
+                                  of t without meeting the tolerances */
 };
 
 /* How an entry of q moves in a run; the binding hands these names to Python as
