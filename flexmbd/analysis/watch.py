@@ -50,10 +50,14 @@ _OTHERS = {True: "method='GeneralizedAlpha'",
 CRAWL_STEPS, CRAWL_SHARE = 200, 1e-7
 
 
-#: an explicit step longer than this share of the fastest mode's ``1/rho`` is set by that
-#: mode (resolving it to a tolerance of 1e-6 takes steps of about 0.3 / rho; stability
-#: allows up to 1.7 / rho for RK23, 3.3 for RK45, 6 for DOP853)
-HELD_BY_FASTEST = 0.3
+#: how far an explicit method's step reaches along the imaginary axis, ``h rho``, before
+#: it turns unstable on an undamped mode (RK23 1.7, RK45 3.3, DOP853 6)
+STABLE_REACH = {"RK23": 1.7, "RK45": 3.3, "DOP853": 6.0}
+#: an explicit step that reaches at least this share of :data:`STABLE_REACH` on the fastest
+#: mode is held there by stability, not by the accuracy the tolerances ask (a mode
+#: resolved to rtol 1e-6 takes steps of about 0.3 / rho, to 1e-10 about 0.5 / rho with
+#: DOP853)
+HELD_BY_FASTEST = 0.5
 #: an implicit step shorter than this many ``1/rho`` (half a period) does not step over
 #: the fastest mode, as an implicit method is meant to
 STEPS_OVER = 3.0
@@ -73,7 +77,8 @@ class Stiffness:
     of ``df/dy``, by power iteration on finite differences of ``fun``) is compared with
     the step and the run's span. A mode fast against the motion (:data:`FAST_PERIODS` of
     its periods or more over the run) that sets the steps of an explicit method (``h rho``
-    at least :data:`HELD_BY_FASTEST`) or that an implicit one does not step over (``h
+    at least :data:`HELD_BY_FASTEST` of its :data:`STABLE_REACH`: stability, not accuracy,
+    sets them) or that an implicit one does not step over (``h
     rho`` below :data:`STEPS_OVER`: its finite-difference Jacobian of the accelerations
     does not follow that mode) is what generalized-alpha steps over. The outputs play no
     part: how often a run reports does not change how stiff it is."""
@@ -99,7 +104,8 @@ class Stiffness:
             return
         reach = solver.step_size * rho
         explicit = self.explicit
-        if (reach < HELD_BY_FASTEST) if explicit else (reach >= STEPS_OVER):
+        if (reach < HELD_BY_FASTEST * STABLE_REACH[self.method]) if explicit else \
+                (reach >= STEPS_OVER):
             return
         why = ("holds its steps to" if explicit else
                "is not stepped over (its finite-difference Jacobian of the accelerations "
