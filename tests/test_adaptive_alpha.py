@@ -77,7 +77,9 @@ def test_a_large_swing_keeps_its_period():
 
 def test_a_fixed_step_that_resolves_the_lowest_mode_poorly_is_warned_about():
     """The oscillator's period is 1 s: fixed steps of 0.1 s take 10 per period, and
-    steps of 0.05 s the 20 that keep it; the warning names that step."""
+    steps of 0.05 s the 20 that keep it; the warning names that step. Over 100 periods
+    the lag (omega h)^2 / 12 per period adds up: 20 steps per period lose 0.8 of one,
+    and the warning names the step that keeps a tenth."""
     times = np.linspace(0.0, 1.0, 11)
     with pytest.warns(fm.AccuracyWarning, match=r"\(1 Hz, a period of 1 s\) in 10 steps.*"
                                                 r"give step <= 0\.05 s"):
@@ -85,6 +87,11 @@ def test_a_fixed_step_that_resolves_the_lowest_mode_poorly_is_warned_about():
                     method="GeneralizedAlpha", step=0.1)
     fm.simulate(oscillator(), times, initial={"x2.1": (1.1, 0.0)},
                 method="GeneralizedAlpha", step=0.05)  # warnings are errors here
+    keeps = math.sqrt(12 * 0.1 / 100) / (2 * math.pi)
+    with pytest.warns(fm.AccuracyWarning, match=rf"lags by about 0\.82 of one.*"
+                                                rf"give step <= {keeps:.3g} s"):
+        fm.simulate(oscillator(), [0.0, 100.0], initial={"x2.1": (1.1, 0.0)},
+                    method="GeneralizedAlpha", step=0.05, outputs="positions")
 
 
 @pytest.mark.parametrize("options, words", [

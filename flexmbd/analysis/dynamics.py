@@ -200,8 +200,9 @@ def simulate(
             the first ``first_step`` [s] (default: chosen from the initial state), at most
             ``max_step`` [s]; outputs between steps are interpolated (cubic Hermite) and
             then evaluated. ``step`` [s] gives fixed steps instead (``max_step`` bounds it
-            too): a step that resolves the lowest vibration period at the start in fewer
-            than :data:`STEPS_PER_PERIOD` steps is warned about
+            too): a step that resolves the lowest vibration period (in the reference
+            configuration) in fewer than :data:`STEPS_PER_PERIOD` steps, or lets it lag by
+            more than :data:`LAG` of a period over the run, is warned about
             (:class:`~flexmbd.AccuracyWarning`), naming the step that would.
             ``iterations``, its Newton corrections per step: ``None`` (default) iterates
             to ``rtol``/``atol`` and, with ``rho_inf = 1``, keeps the energy of a
@@ -263,7 +264,7 @@ def simulate(
             checks.step_count(span, alpha.max_step, "max_step")
         else:
             checks.step_count(span, alpha.step, "step")
-            check_resolution(model, alpha.step)
+            check_resolution(model, alpha.step, span)
         work = round(span / alpha.step) if not alpha.adaptive else len(times)
     else:
         settings = ScipyOptions(rtol, atol, **options)
@@ -284,15 +285,26 @@ def simulate(
 
 
 #: fixed generalized-alpha steps per period of the lowest vibration mode below which a run
-#: is warned about: at 20, with rho_inf = 1, each period lengthens by 0.8 % (a phase lag
-#: of a period after about 120 of them), and damping adds to that for rho_inf < 1
+#: is warned about: at 20, with rho_inf = 1, each period lengthens by 0.8 %, and damping
+#: adds to that for rho_inf < 1
 STEPS_PER_PERIOD = 20
+#: the phase lag of the lowest vibration mode over a run [periods] beyond which fixed steps
+#: are warned about: each period lengthens by about (omega h)^2 / 12, so a hundred periods
+#: at 20 steps each lose most of one
+LAG = 0.1
 
 
-def check_resolution(model: Model, step: float) -> None:
-    """Warn (:class:`AccuracyWarning`) when fixed steps of ``step`` [s] resolve the lowest
-    vibration period of ``model`` (in its reference configuration) in fewer than
-    :data:`STEPS_PER_PERIOD` steps, naming the step that would. A model whose modes
+def resolving_step(period: float, span: float) -> float:
+    """The largest fixed step [s] that takes :data:`STEPS_PER_PERIOD` steps per ``period``
+    [s] and lags by at most :data:`LAG` of a period over ``span`` [s]."""
+    periods = max(span / period, 1.0)
+    return min(period / STEPS_PER_PERIOD, period * np.sqrt(12 * LAG / periods) / (2 * np.pi))
+
+
+def check_resolution(model: Model, step: float, span: float) -> None:
+    """Warn (:class:`AccuracyWarning`) when fixed steps of ``step`` [s] over ``span`` [s]
+    resolve the lowest vibration period of ``model`` (in its reference configuration)
+    too coarsely (:func:`resolving_step`), naming the step that would. A model whose modes
     cannot be told there (a singular configuration, a mode without stiffness) is not
     checked."""
     try:
@@ -303,14 +315,16 @@ def check_resolution(model: Model, step: float) -> None:
     if not len(frequencies):
         return
     period = 1.0 / float(frequencies[0])
-    if step * STEPS_PER_PERIOD <= period * (1 + 1e-9):
+    enough = resolving_step(period, span)
+    if step <= enough * (1 + 1e-9):
         return
+    lag = span / period * (2 * np.pi * step / period) ** 2 / 12
     warnings.warn(
         f"GeneralizedAlpha's fixed step {step:.3g} s resolves the lowest vibration mode "
         f"({frequencies[0]:.4g} Hz, a period of {period:.3g} s) in {period / step:.3g} "
-        f"steps: over many periods it lags and (rho_inf < 1) fades; give step <= "
-        f"{period / STEPS_PER_PERIOD:.3g} s ({STEPS_PER_PERIOD} steps per period), or no "
-        f"step, for steps controlled by rtol and atol", AccuracyWarning, stacklevel=3)
+        f"steps: over the run's {span / period:.3g} periods it lags by about {lag:.2g} of "
+        f"one (and fades for rho_inf < 1); give step <= {enough:.3g} s, or no step, for "
+        f"steps controlled by rtol and atol", AccuracyWarning, stacklevel=3)
 
 
 #: the largest rho_inf at which a fixed number of Newton corrections per step is stable: the
