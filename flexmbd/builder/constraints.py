@@ -13,7 +13,7 @@ import numpy as np
 
 from ..elements import SpatialBeam, WarpingBeam
 from ..engine import deformations_and_jacobian
-from ..engine.diagnosis import clearly_regular, diagnose_rank
+from ..engine.diagnosis import SPARSE_FROM, clearly_regular, diagnose_rank, factorised
 from ..errors import ModelError, Problem
 from ..model import DeformationClass, Model
 
@@ -68,18 +68,45 @@ def _over_constraints(D_c: np.ndarray) -> tuple[int, int, np.ndarray]:
     orthonormal basis of its left null space ``(m, over)``, from one factorisation:
     releasing a row keeps the null vectors that vanish on it (:func:`_without_row`; a
     factorisation per release would cost the cube of the rows each time). With full
-    column rank (the usual case, shown by ``R`` clearly regular) the complete QR gives
-    the basis at a quarter of the SVD's cost; otherwise the SVD decides."""
+    column rank (the usual case) :func:`_left_null_space` gives the basis from one LU
+    factorisation (sparse for a large model: linear in its beams); otherwise the SVD
+    decides."""
     rows, cols = D_c.shape
     if rows >= cols > 0:
-        Q, R = np.linalg.qr(D_c, mode="complete")
-        if clearly_regular(R[:cols], float(np.sqrt(np.finfo(float).eps))):
-            return rows - cols, 0, Q[:, cols:]
+        null = _left_null_space(D_c)
+        if null is not None:
+            return rows - cols, 0, null
     if not D_c.size:
         return *_constraint_counts(D_c), np.eye(rows)[:, :max(rows - cols, 0)]
     U, values = np.linalg.svd(D_c)[:2]
     over, under = _constraint_counts(D_c, values)
     return over, under, U[:, rows - over:]
+
+
+def _left_null_space(D_c: np.ndarray) -> np.ndarray | None:
+    """An orthonormal basis ``(m, m - n)`` of the left null space of ``D_c`` ``(m, n)``,
+    ``m >= n``, when ``D_c`` has clearly full column rank, else ``None``. With its columns
+    scaled to unit length (which keeps the left null space, and the condition of a
+    chain of beams from growing with the square of the beams), ``A = [D_c, R]`` with
+    ``m - n`` random unit columns ``R`` is then regular, and ``A^T u_k = [0; e_k]`` gives
+    ``D_c^T u_k = 0`` for ``m - n`` independent ``u_k``: one factorisation of ``A`` and
+    ``m - n`` transposed solves."""
+    rows, cols = D_c.shape
+    if rows < SPARSE_FROM:  # the complete QR: cheap, and the releases of before
+        Q, R = np.linalg.qr(D_c, mode="complete")
+        regular = clearly_regular(R[:cols], float(np.sqrt(np.finfo(float).eps)))
+        return Q[:, cols:] if regular else None
+    lengths = np.linalg.norm(D_c, axis=0)
+    if not np.all(lengths > 0):
+        return None
+    extra = np.random.default_rng(0).standard_normal((rows, rows - cols))
+    A = np.hstack([D_c / lengths, extra / np.linalg.norm(extra, axis=0)])
+    solve = factorised(A)
+    if solve is None or not clearly_regular(A, float(np.sqrt(np.finfo(float).eps)), solve):
+        return None
+    right = np.zeros((rows, rows - cols))
+    right[cols:] = np.eye(rows - cols)
+    return np.linalg.qr(solve(right, transposed=True))[0]
 
 
 def _without_row(null: np.ndarray, row: int) -> np.ndarray:

@@ -384,13 +384,20 @@ def flexible_without_stiffness(records: Records, model: Model, released: bool = 
     SPACAR's hinges at a beam's end, often meant, so :meth:`build` only warns."""
     wanted = DeformationClass.RELEASED if released else DeformationClass.DYNAMIC
     problems = []
+    known: dict[tuple, dict[int, list[str]]] = {}  # the setters of elements alike (a mesh)
     for number, element in model.elements.items():
         etype = element.type
         names = [value.name for value in etype.stiffness_values]
         if not any(name.startswith("bending") for name in names):
             continue
         given = records.values.get((number, "stiffness"), {})
-        setters = _stiffness_setters(etype, np.asarray(element.reference, dtype=float))
+        if all(name in given for name in names):  # a section and material give them all
+            continue
+        reference = np.asarray(element.reference, dtype=float)
+        key = (etype, reference.tobytes())
+        setters = known.get(key)
+        if setters is None:
+            setters = known[key] = _stiffness_setters(etype, reference)
         loose = [i for k, i in enumerate(element.deformations)
                  if model.deformation_class[i] == wanted
                  and setters.get(k) and not any(name in given for name in setters[k])]
