@@ -81,9 +81,9 @@ def diagnose_rank(model: Model, D_c: np.ndarray, rtol: float = 1e-10) -> RankDia
 
 #: matrices of ``D_c`` from this many rows are factorised sparse (SciPy's SuperLU): a
 #: chain of beams gives ``D_c`` a few dozen entries per row, where a dense factorisation
-#: costs the cube of the rows (0.24 s at 128 beams per leaf of a cross pivot, 1530 rows);
-#: below, the dense one costs less than importing SciPy's sparse solvers
-SPARSE_FROM = 400
+#: costs the cube of the rows (the inverse and complete QR of 1500 rows 1 s on one core);
+#: below, the dense ones cost less than importing SciPy's sparse solvers (0.35 s)
+SPARSE_FROM = 800
 
 
 def factorised(A: np.ndarray):
