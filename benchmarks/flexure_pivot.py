@@ -10,7 +10,9 @@ Over-constraints are released as SPACAR Light does.
 Each configuration runs in a fresh process with one BLAS thread, ``--repeat`` times,
 paired with Exudyn's side of the same job (``exudyn_pivot.py``: geometrically exact beams
 on ``NodeRigidBodyRxyz``, its tangent by central differences of its static residual, and
-for reference with its own, inexact, Jacobian), the runs alternating. The table gives the
+for reference with its own, inexact, Jacobian) and OpenSees's (``opensees_pivot.py``:
+force-based corotational beams, frequencies and compliance from its exact tangent), the
+runs alternating. The table gives the
 medians of the whole processes and of flexmbd's parts: building (with the releases), the
 static equilibrium over the steps, and the per-step table
 (:func:`flexmbd.load_step_table`); ``--alone`` sizes run flexmbd only (the growth with the
@@ -97,7 +99,8 @@ def _process(command: list[str], env: dict[str, str]) -> dict[str, float]:
     """One fresh process's JSON report and its wall time [s]."""
     start = time.perf_counter()
     out = subprocess.run(command, env=env, capture_output=True, text=True, check=True)
-    found = json.loads(out.stdout)
+    # the report's line (OpenSees adds its own lines to stdout)
+    found = json.loads(next(line for line in out.stdout.splitlines() if line.startswith("{")))
     found["process"] = time.perf_counter() - start
     return found
 
@@ -122,28 +125,34 @@ def main() -> None:
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1",
                MKL_NUM_THREADS="1")
     peer = os.path.join(os.path.dirname(os.path.abspath(__file__)), "exudyn_pivot.py")
+    opensees = os.path.join(os.path.dirname(os.path.abspath(__file__)), "opensees_pivot.py")
     print(f"CPU: {_cpu()}, Python "
           f"{platform.python_version()}, one BLAS thread, median of {args.repeat}, "
           f"flexmbd's door: {args.door}")
     print("| beams per leaf | flexmbd [s] | Exudyn [s] | ratio (run by run; of medians) | "
-          "Exudyn, own Jacobian [s] | flexmbd build / statics / table [s] | "
-          "f1 flexmbd / Exudyn [Hz] |")
-    print("|---|---|---|---|---|---|---|")
+          "Exudyn, own Jacobian [s] | OpenSees [s] | ratio to OpenSees (run by run; of "
+          "medians) | flexmbd build / statics / table [s] | f1 flexmbd / Exudyn / OpenSees "
+          "[Hz] |")
+    print("|---|---|---|---|---|---|---|---|---|")
     for n in args.beams:
-        ours, theirs, own = [], [], []
+        ours, theirs, own, third = [], [], [], []
         for _ in range(args.repeat):
             ours.append(_process([sys.executable, __file__, "--child", str(n), "--door",
                                   args.door], env))
             theirs.append(_process([sys.executable, peer, "--beams", str(n)], env))
             own.append(_process([sys.executable, peer, "--beams", str(n), "--own-tangent"],
                                 env))
-        a, b, c = _median(ours), _median(theirs), _median(own)
+            third.append(_process([sys.executable, opensees, "--beams", str(n)], env))
+        a, b, c, d = _median(ours), _median(theirs), _median(own), _median(third)
         paired = np.median([o["process"] / t["process"] for o, t in zip(ours, theirs,
                                                                           strict=True)])
+        against = np.median([o["process"] / t["process"] for o, t in zip(ours, third,
+                                                                           strict=True)])
         print(f"| {n} | {a['process']:.3f} | {b['process']:.3f} | "
               f"{paired:.2f}; {a['process'] / b['process']:.2f} | {c['process']:.3f} | "
-              f"{a['build']:.3f} / "
-              f"{a['statics']:.3f} / {a['table']:.3f} | {a['f1']:.4f} / {b['f1']:.4f} |")
+              f"{d['process']:.3f} | {against:.2f}; {a['process'] / d['process']:.2f} | "
+              f"{a['build']:.3f} / {a['statics']:.3f} / {a['table']:.3f} | "
+              f"{a['f1']:.4f} / {b['f1']:.4f} / {d['f1']:.4f} |")
     if args.alone:
         print()
         print("| beams per leaf | dof | process [s] | build [s] | statics [s] | table [s] | "
