@@ -349,7 +349,7 @@ def _alpha_options(rtol: float, atol: float, *, step: float | None = None,
     if not adaptive and first_step is not None:
         raise ArgumentError("first_step", "applies to error-controlled steps; with a fixed "
                                           "step every step is `step`")
-    if adaptive and renew_every != 1:
+    if adaptive and checks.whole(renew_every, "renew_every", 1, checks.LARGEST_STEPS) != 1:
         raise ArgumentError("renew_every", "applies to fixed steps (give step=...); "
                                            "error-controlled steps renew the Newton matrix "
                                            "when their size changes")
