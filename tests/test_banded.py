@@ -18,9 +18,18 @@ EI = STEEL.E * 0.03 * 0.5e-3**3 / 12
 
 
 def _pivot(beams: int = 4, gravity: bool = True) -> fm.Model:
-    """The cross-spring pivot of issue 37's benchmark: two leaves side by side along y,
-    crossing at 90 degrees, a rigid stage with mass and rotary inertia across their tops,
-    its over-constraints released; under gravity along -z."""
+    """The cross-spring pivot of issue 37's benchmark (:func:`pivot_builder`), its
+    over-constraints released."""
+    b = pivot_builder(beams, gravity)
+    b.release_overconstraints()
+    return b.build()
+
+
+def pivot_builder(beams: int = 4, gravity: bool = True) -> fm.ModelBuilder:
+    """The cross-spring pivot of issue 37's benchmark, described: two leaves of ``beams``
+    beams (at most 200) side by side along y, crossing at 90 degrees, a rigid stage with
+    mass and rotary inertia across their tops (six over-constraints, not yet released);
+    under gravity along -z."""
     h = L / math.sqrt(2)
     b = fm.ModelBuilder("cross-spring pivot")
     b.add_node(1, -h / 2, 0, 0).add_node(3, h / 2, 0, h)
@@ -36,8 +45,7 @@ def _pivot(beams: int = 4, gravity: bool = True) -> fm.Model:
     b.add_point_mass(9, 0.25).add_rotary_inertia(10, 1e-4, 0, 0, 1e-4, 0, 1e-4)
     if gravity:
         b.set_gravity(0, 0, -9.81)
-    b.release_overconstraints()
-    return b.build()
+    return b
 
 
 TURN = {"x10.3": 0.3 * 2 * EI / L}   #: the moment about the pivot axis for about 0.3 rad

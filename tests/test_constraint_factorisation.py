@@ -2,8 +2,6 @@
 over-constraints SPACAR Light releases) and the condition estimate, sparse for large
 models, against the dense SVD."""
 
-import math
-
 import numpy as np
 import pytest
 
@@ -11,27 +9,7 @@ import flexmbd as fm
 from flexmbd.builder import constraints, validation
 from flexmbd.engine import deformations_and_jacobian
 from flexmbd.engine.diagnosis import SPARSE_FROM, clearly_regular, condition, factorised
-
-
-def cross_pivot(nbeams: int) -> fm.ModelBuilder:
-    """Two crossing leaves of ``nbeams`` beams between a fixed base and a stage beam: six
-    over-constraints (the stage closes a loop)."""
-    steel = fm.Material.from_poisson(210e9, 0.3, 7800.0)
-    leaf = fm.Rectangle(0.02, 5e-4)
-    h = 0.05 / math.sqrt(2)
-    b = fm.ModelBuilder("cross-spring pivot")
-    b.add_node(1, -h / 2, 0, 0).add_node(3, h / 2, 0, h)
-    b.add_node(5, h / 2, 0.025, 0).add_node(7, -h / 2, 0.025, h)
-    b.add_spatial_beams(1, 1, 2, 3, 4, nbeams, (0, 1, 0), new_nodes=1000, section=leaf,
-                        material=steel)
-    b.add_spatial_beams(501, 5, 6, 7, 8, nbeams, (0, 1, 0), new_nodes=3000, section=leaf,
-                        material=steel)
-    b.add_node(9, 0, 0.0125, h)
-    b.add_spatial_beam(901, 3, 4, 9, 10, (0, 0, 1)).add_spatial_beam(902, 9, 10, 7, 8,
-                                                                     (0, 0, 1))
-    b.fix(1).fix(2).fix(5).fix(6)
-    b.add_point_mass(9, 0.1).add_rotary_inertia(10, 1e-4, 0, 0, 1e-4, 0, 1e-4)
-    return b
+from tests.test_banded import pivot_builder
 
 
 def constraint_jacobian(b: fm.ModelBuilder) -> np.ndarray:
@@ -42,7 +20,7 @@ def constraint_jacobian(b: fm.ModelBuilder) -> np.ndarray:
 
 @pytest.mark.parametrize("nbeams", [4, 70])  # 75 and 867 rows: dense and sparse
 def test_the_left_null_space_is_the_svds(nbeams):
-    D_c = constraint_jacobian(cross_pivot(nbeams))
+    D_c = constraint_jacobian(pivot_builder(nbeams))
     assert (len(D_c) >= SPARSE_FROM) == (nbeams == 70)
     over, under, null = constraints._over_constraints(D_c)
     U, values, _ = np.linalg.svd(D_c)
@@ -61,7 +39,7 @@ def test_released_models_build_and_keep_their_stiffness():
     stage's rotational stiffness is that of the mesh at 4 beams per leaf within 1e-3."""
     stiffness = []
     for nbeams in (4, 70):
-        b = cross_pivot(nbeams)
+        b = pivot_builder(nbeams)
         assert len(b.release_overconstraints()) == 6
         model = b.build()
         stiffness.append(1.0 / fm.node_compliance(model, 9, 10)[5, 5])

@@ -353,7 +353,7 @@ def _alpha_options(rtol: float, atol: float, *, step: float | None = None,
         raise ArgumentError("renew_every", "applies to fixed steps (give step=...); "
                                            "error-controlled steps renew the Newton matrix "
                                            "when their size changes")
-    first = 0.0 if adaptive and first_step is None else (first_step if adaptive else step)
+    first = (first_step or 0.0) if adaptive else step  # 0: the core chooses the first step
     return AlphaOptions(min(float(first), float(bounds.max_step)) if first else 0.0,
                         _rho_inf(rho_inf, iterations, adaptive), rtol, atol, iterations,
                         renew_every, adaptive, float(bounds.max_step))

@@ -17,6 +17,10 @@ from ..engine.diagnosis import SPARSE_FROM, clearly_regular, diagnose_rank, fact
 from ..errors import ModelError, Problem
 from ..model import DeformationClass, Model
 
+#: singular values of ``D_c`` below this share of the largest are zero: an over- or
+#: under-constraint (FLEXURES 5)
+RANK_RTOL = float(np.sqrt(np.finfo(float).eps))
+
 
 def overconstraint_releases(model: Model, not_last: set[int]) -> list[tuple[int, int]]:
     """The releases ``(element, deformation)`` that take away every over-constraint of
@@ -94,7 +98,7 @@ def _left_null_space(D_c: np.ndarray) -> np.ndarray | None:
     rows, cols = D_c.shape
     if rows < SPARSE_FROM:  # the complete QR: cheap, and the releases of before
         Q, R = np.linalg.qr(D_c, mode="complete")
-        regular = clearly_regular(R[:cols], float(np.sqrt(np.finfo(float).eps)))
+        regular = clearly_regular(R[:cols], RANK_RTOL)
         return Q[:, cols:] if regular else None
     lengths = np.linalg.norm(D_c, axis=0)
     if not np.all(lengths > 0):
@@ -102,7 +106,7 @@ def _left_null_space(D_c: np.ndarray) -> np.ndarray | None:
     extra = np.random.default_rng(0).standard_normal((rows, rows - cols))
     A = np.hstack([D_c / lengths, extra / np.linalg.norm(extra, axis=0)])
     solve = factorised(A)
-    if solve is None or not clearly_regular(A, float(np.sqrt(np.finfo(float).eps)), solve):
+    if solve is None or not clearly_regular(A, RANK_RTOL, solve):
         return None
     right = np.zeros((rows, rows - cols))
     right[cols:] = np.eye(rows - cols)
@@ -130,7 +134,7 @@ def _constraint_counts(D_c: np.ndarray, values: np.ndarray | None = None
         return rows, cols
     if values is None:
         values = np.linalg.svd(D_c, compute_uv=False)
-    singular = int(np.sum(values < np.sqrt(np.finfo(float).eps) * values[0])) + \
+    singular = int(np.sum(values < RANK_RTOL * values[0])) + \
         (min(rows, cols) - len(values))
     return max(rows - cols, 0) + singular, max(cols - rows, 0) + singular
 
