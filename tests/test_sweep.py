@@ -263,12 +263,13 @@ def _interrupted(command: list[str], out: Path, sig: int) -> int:
                                text=True, preexec_fn=_default_interrupt)
     parts = out.with_name(out.name + ".partial")
     deadline = time.monotonic() + STARTUP
-    while not any(parts.glob("*.parquet")) and time.monotonic() < deadline:
-        if process.poll() is not None:
-            pytest.fail(f"the study ended before it was interrupted: {process.stderr.read()}")
-        time.sleep(0.02)
-    process.send_signal(sig)
     try:
+        while not any(parts.glob("*.parquet")) and time.monotonic() < deadline:
+            if process.poll() is not None:
+                pytest.fail(f"the study ended before it was interrupted: "
+                            f"{process.stderr.read()}")
+            time.sleep(0.02)
+        process.send_signal(sig)
         return process.wait(timeout=30)
     finally:
         process.kill()

@@ -12,6 +12,7 @@ Histories (outputs that are arrays) are list columns; metrics are float columns.
 from __future__ import annotations
 
 import os
+import math
 import shutil
 import time
 from pathlib import Path
@@ -21,7 +22,7 @@ import numpy as np
 from ..errors import ArgumentError
 from .grid import RESERVED
 
-#: seconds between the part files of finished cases
+#: seconds between the part files of finished cases (the first case is written at once)
 FLUSH_INTERVAL = 1.0
 
 
@@ -57,7 +58,8 @@ class Journal:
         self.parts = self.path.with_name(self.path.name + ".partial")
         self.cases, self.outputs = cases, outputs
         self.pending: list[dict] = []
-        self.last_flush = time.monotonic()
+        # the first finished case goes to disk at once: a study killed early shows it ran
+        self.last_flush = -math.inf
 
     def discard(self) -> None:
         """Forget an earlier run: remove the table and its parts."""
