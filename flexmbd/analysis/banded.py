@@ -97,12 +97,13 @@ class BandedStatics:
             raise np.linalg.LinAlgError("the static tangent [[K, D_c^T], [D_c, 0]] is "
                                         "singular or not finite") from None
 
-    def solve(self, rhs: np.ndarray) -> np.ndarray:
+    def solve(self, rhs: np.ndarray, transposed: bool = False) -> np.ndarray:
         """The factorised tangent's solution for the columns of ``rhs`` ``(n, k)`` (loads on
         the free coordinates, then constraint changes): ``(n, k)`` (coordinate changes,
-        then stress changes)."""
+        then stress changes); with the transposed tangent when ``transposed`` (the
+        adjoint solves of design sensitivities)."""
         rows = np.array(np.asarray(rhs, dtype=float).reshape(self.size, -1).T, order="C")
-        self.engine.static_solve(rows)
+        self.engine.static_solve(rows, transposed)
         return rows.T.reshape(np.shape(rhs))
 
     def mass_times(self, V: np.ndarray) -> np.ndarray:

@@ -12,6 +12,9 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Iterator
+from contextlib import contextmanager
+from contextvars import ContextVar
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
@@ -38,6 +41,24 @@ from ..model import CoordinateClass, DeformationClass, Model
 from ..motion import Law, as_law
 from . import validation
 from .constraints import check_solvability, overconstraint_releases
+
+#: the releases a design keeps while its parameters change (:func:`kept_releases`)
+_KEPT_RELEASES: ContextVar[dict | None] = ContextVar("kept_releases", default=None)
+
+
+@contextmanager
+def kept_releases() -> Iterator[dict]:
+    """Within this context the first :meth:`ModelBuilder.release_overconstraints` chooses
+    its releases and every later one makes the same: the designs of one sensitivity
+    analysis (:mod:`flexmbd.design`) keep one structure, where a choice among equally
+    valid sets could otherwise change with a small change of the geometry."""
+    holder: dict = {"releases": None}
+    token = _KEPT_RELEASES.set(holder)
+    try:
+        yield holder
+    finally:
+        _KEPT_RELEASES.reset(token)
+
 
 #: positions farther from the origin [m] are refused: squared lengths would overflow
 LARGEST_POSITION = 1e100
@@ -559,8 +580,14 @@ class ModelBuilder:
             ModelError: the description has problems other than its count, it is
                 under-constrained, or no deformation qualifies for an over-constraint.
         """
-        model = validation.assemble_checked(self._records)
-        releases = overconstraint_releases(model, self._records.not_last)
+        kept = _KEPT_RELEASES.get()
+        if kept is not None and kept["releases"] is not None:
+            releases = list(kept["releases"])   # the design's first choice (kept_releases)
+        else:
+            model = validation.assemble_checked(self._records)
+            releases = overconstraint_releases(model, self._records.not_last)
+            if kept is not None:
+                kept["releases"] = list(releases)
         for number, k in releases:
             self._reclassify(number, k)
         return releases

@@ -121,7 +121,7 @@ cdef extern from "runs.h":
     int fm_core_solve(FmCore *c, double *rhs, int count, int transposed)
     int fm_core_static_saddle(FmCore *c, const double *x, const double *q, const double *mu,
                               const double *loads, double *r)
-    int fm_core_static_solve(FmCore *c, double *rhs, int count)
+    int fm_core_static_solve(FmCore *c, double *rhs, int count, int transposed)
     int fm_core_free_mass_times(FmCore *c, const double *v, int count, double *out)
     int fm_core_mass_regular(FmCore *c, const double *x)
     void fm_core_configuration(const FmCore *c, double *x)
@@ -498,12 +498,13 @@ cdef class Core:
                                          &mu[0] if m.nmult else &z, &loads[0],
                                          &r[0] if m.ns else &z))
 
-    def static_solve(self, double[:, ::1] rhs not None):
-        """The kept static tangent's solutions of the rows of ``rhs`` ``(k, ns)``, in place."""
+    def static_solve(self, double[:, ::1] rhs not None, bint transposed=False):
+        """The kept static tangent's solutions of the rows of ``rhs`` ``(k, ns)``, in place
+        (with its transpose when ``transposed``)."""
         need(rhs.shape[1], self.c.m.ns, "rhs")
         if rhs.shape[0] == 0 or rhs.shape[1] == 0:
             return
-        code = fm_core_static_solve(&self.c, &rhs[0, 0], rhs.shape[0])
+        code = fm_core_static_solve(&self.c, &rhs[0, 0], rhs.shape[0], transposed)
         if code == FM_SINGULAR:
             raise RuntimeError("no static tangent is factorised")
         if code:

@@ -668,10 +668,11 @@ class Workspace:
         self._core.static_saddle(x, q, mu, loads, residual)
         return residual
 
-    def static_solve(self, rows: np.ndarray) -> None:
+    def static_solve(self, rows: np.ndarray, transposed: bool = False) -> None:
         """The kept static tangent's solutions of the rows of ``rows`` ``(k, nfree +
-        nmult)``, in place."""
-        self._core.static_solve(rows)
+        nmult)``, in place; with its transpose when ``transposed`` (adjoint solves: a
+        global moment's load stiffness makes the tangent unsymmetric)."""
+        self._core.static_solve(rows, transposed)
 
     def free_mass_times(self, rows: np.ndarray, out: np.ndarray) -> None:
         """``M v`` over the free coordinates for the rows ``v`` of ``rows`` ``(k, nfree)``

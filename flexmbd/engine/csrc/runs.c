@@ -914,7 +914,7 @@ int fm_core_static_saddle(FmCore *c, const double *x, const double *q, const dou
     return FM_OK;
 }
 
-int fm_core_static_solve(FmCore *c, double *rhs, int count)
+int fm_core_static_solve(FmCore *c, double *rhs, int count, int transposed)
 {
     const FmModel *m = &c->m;
     if (!c->has_static)
@@ -927,7 +927,12 @@ int fm_core_static_solve(FmCore *c, double *rhs, int count)
         double *v = rhs + (size_t)k * m->ns;
         for (int a = 0; a < m->ns; a++)
             u[m->sd_band[a]] = a < m->nfree ? v[a] : scale * v[a];
-        band_solve(&c->sd_static, u);
+        /* the factorised matrix is P A P with P = diag(I, scale): A^-1 = P (P A P)^-1 P,
+         * and A^-T alike with the transposed factors */
+        if (transposed)
+            band_solve_t(&c->sd_static, u);
+        else
+            band_solve(&c->sd_static, u);
         for (int a = 0; a < m->ns; a++)
             v[a] = a < m->nfree ? u[m->sd_band[a]] : scale * u[m->sd_band[a]];
     }

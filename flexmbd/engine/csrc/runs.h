@@ -115,7 +115,7 @@ int fm_core_static_saddle(FmCore *c, const double *x, const double *q, const dou
                           const double *loads, double *r);
 /* The kept tangent's solution of `count` right-hand sides (count, ns) in place: over the
  * free coordinates, then the multipliers (constraint stresses); FM_SINGULAR without one. */
-int fm_core_static_solve(FmCore *c, double *rhs, int count);
+int fm_core_static_solve(FmCore *c, double *rhs, int count, int transposed);
 /* Whether the mass is regular on the motions the constraints allow at x (nx): the
  * saddle-point matrix [[M, C^T], [C, 0]] factorised; FM_OK, or FM_MASSLESS / FM_SINGULAR. */
 int fm_core_mass_regular(FmCore *c, const double *x);

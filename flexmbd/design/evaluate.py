@@ -1,0 +1,352 @@
+"""``evaluate``: a design's outputs at the last load step, with their exact gradients.
+
+The analysis is the public one (:func:`~flexmbd.static_equilibrium` over the load steps
+of the build's settings, then the linearized analyses at the last step). The gradients
+come from one factorisation of the engine's banded tangent at that equilibrium
+(:mod:`flexmbd.design.state`): the direct method, one solve for all parameters, and the
+outputs' own exact derivatives (:mod:`flexmbd.design.outputs`).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..analysis.statics import StaticResult, static_equilibrium
+from ..builder.recording import kept_releases
+from ..errors import ArgumentError
+from ..orientation import euler_forces
+from ..summary import clip
+from .data import DATA_STEP, STENCIL, build_design, data_change, rate
+from .elements import Change, constraint_change, force_change, tangent_change
+from .outputs import Evaluator, Output, Sensitivity, moment_loads, parse
+from .state import Equilibrium
+
+__all__ = ["DesignResult", "evaluate"]
+
+
+@dataclass(frozen=True, eq=False)
+class DesignResult:
+    """A design's outputs.
+
+    Attributes:
+        params: the design parameters, by name.
+        values: each output's value at the last load step, by name (units as the output's:
+            Hz, m, Pa, ...).
+        gradient: ``gradient[output][param]``, the derivative of the output to the
+            parameter (per unit of the parameter); ``None`` without ``gradient=True``.
+        statics: the static analysis.
+        notes: what the evaluation noticed (a maximum with competing points, ...).
+        wall: wall times [s]: ``"analysis"`` (build, statics, outputs) and
+            ``"gradient"``.
+    """
+
+    params: dict[str, float]
+    values: dict[str, float]
+    gradient: dict[str, dict[str, float]] | None
+    statics: StaticResult
+    notes: list[str] = field(default_factory=list)
+    wall: dict[str, float] = field(default_factory=dict)
+
+    def __repr__(self) -> str:
+        lines = [f"DesignResult at {self.params}"]
+        for name, value in self.values.items():
+            grad = "" if self.gradient is None else ", d/d: " + ", ".join(
+                f"{p} {g:.6g}" for p, g in self.gradient[name].items())
+            lines.append(f"  {name} = {value:.10g}{grad}")
+        lines += [f"  note: {note}" for note in self.notes]
+        return clip("\n".join(lines))
+
+    __str__ = __repr__
+
+
+def _checked_params(params) -> dict[str, float]:
+    if not isinstance(params, Mapping) or not params:
+        raise ArgumentError("params", "must be a dict of parameter names and numbers, e.g. "
+                                      "{'t': 0.5e-3}")
+    out = {}
+    for name, value in params.items():
+        if not isinstance(name, str):
+            raise ArgumentError("params", f"names are strings, got {name!r}")
+        if isinstance(value, bool) or not isinstance(value, (int, float, np.floating,
+                                                             np.integer)) \
+                or not math.isfinite(value):
+            raise ArgumentError("params", f"{name!r} must be a finite number, got {value!r}")
+        out[name] = float(value)
+    return out
+
+
+def _outputs(outputs) -> list[Output]:
+    names = [outputs] if isinstance(outputs, str) else outputs
+    if not isinstance(names, Sequence) or not names:
+        raise ArgumentError("outputs", "give an output name or a list of them, e.g. "
+                                       "['f1', 'C[9,10][5,5]']")
+    parsed = [parse(name) for name in names]
+    seen = set()
+    for out in parsed:
+        if out.name in seen:
+            raise ArgumentError("outputs", f"{out.name!r} is named twice")
+        seen.add(out.name)
+    return parsed
+
+
+class Design:
+    """One design's analysis and, on demand, its state's sensitivities."""
+
+    def __init__(self, build: Callable, params: dict[str, float]):
+        self.build, self.params = build, params
+        self.nominal = build_design(build, params)
+        self.model = self.nominal.model
+        settings = self.nominal.settings
+        self.statics = static_equilibrium(
+            self.model, load_increment=dict(settings.load_increment) or None,
+            input_increment=dict(settings.input_increment) or None,
+            steps=settings.load_steps, tolerance=settings.tolerance, progress=False)
+        self.lin = self.statics.linearization(-1)
+        self.x, self.sigma = self.statics.x[-1], self.statics.sigma[-1]
+
+    # --- the state's sensitivities ----------------------------------------------------------
+    def sensitivities(self) -> list[Sensitivity]:
+        """``dz/dtheta`` for every parameter: the data either side, then one solve."""
+        statics = self.statics
+        assert statics.q is not None and statics.applied is not None   # a static result's
+        state = self.state = Equilibrium(self.model, self.x, statics.q[-1], self.sigma,
+                                         statics.applied[-1])
+        _refuse_turning_gravity(state)
+        self.sides, changes, sens = [], [], []
+        for name, value in self.params.items():
+            h = DATA_STEP * (abs(value) if value else 1.0)
+            sides = tuple(build_design(self.build, {**self.params, name: value + k * h})
+                          for k, _ in STENCIL)
+            change, engines = data_change(state, self.nominal, sides, h, name)
+            self.sides.append(sides)
+            changes.append(change)
+            sens.append(Sensitivity(name, h, change, np.empty(0), np.empty(0), engines))
+        rhs = -np.column_stack([state.residual_change(c) for c in changes])
+        dz = state.solve(rhs)
+        nc = len(state.constrained)
+        self.dx = np.empty((len(sens), self.model.n_coordinates))
+        self.dmu = np.empty((len(sens), nc))
+        self.de = np.empty((len(sens), self.model.n_deformations))
+        self.dsigma = np.empty_like(self.de)
+        self.changes: list[Change] = []
+        self.data = changes
+        for n, s in enumerate(sens):
+            s.dx, s.dmu = state.full(dz[:, n], changes[n].x_held)
+            self.dx[n], self.dmu[n] = s.dx, s.dmu
+            dsigma = np.array(changes[n].dsigma0, dtype=float)
+            dsigma[state.constrained] += s.dmu
+            moved = Change(u=s.dx, dp=changes[n].dp, dlaw=changes[n].dlaw, dsigma=dsigma)
+            _, self.de[n], self.dsigma[n] = force_change(state.groups, self.x, self.sigma,
+                                                         moved, state.elastic_def, state.ne)
+            self.changes.append(moved)
+        self.sens = sens
+        return sens
+
+    def moments(self, df: np.ndarray | None = None) -> list[tuple[np.ndarray, np.ndarray]]:
+        """Per spatial rotational node: its coordinates and the global moment on it (the
+        model's and the applied, or the change ``df``)."""
+        state = self.state
+        total = (state.engine.constant_loads + state.loads) if df is None else df
+        return [(at, total[at[1:]]) for at in state.engine.rotation_coordinates]
+
+    def tangent_changes(self, left: np.ndarray, right: np.ndarray, nu_left: np.ndarray,
+                        nu_right: np.ndarray) -> np.ndarray:
+        """``[l; nu_l]^T dA [r; nu_r]`` ``(k_params, K)`` for the columns of ``left``,
+        ``right`` ``(nx, K)`` and their constraint parts ``(nc, K)``: the bordered
+        tangent's change along each parameter's change of state and data."""
+        state = self.state
+        out = np.empty((len(self.changes), left.shape[1]))
+        for n, change in enumerate(self.changes):
+            value = tangent_change(state.groups, self.x, self.sigma, change, state.elastic_def,
+                                   left, right)
+            c = state.constrained
+            value += np.sum(nu_left * constraint_change(state.groups, self.x, change, right,
+                                                        state.ne)[c], axis=0)
+            value += np.sum(nu_right * constraint_change(state.groups, self.x, change, left,
+                                                         state.ne)[c], axis=0)
+            for at, dM in self.moments(self.data[n].df):   # the load stiffness -df/dx
+                value -= np.einsum("ik,ik->k", left[at],
+                                   euler_forces(right[at].T, dM).T)
+            out[n] = value
+        return out
+
+    def mass_changes(self, left: np.ndarray, right: np.ndarray) -> np.ndarray:
+        """``left^T dM right`` ``(k_params,)`` for ``(nx,)`` vectors: the mass's change along
+        each parameter's change (the data's central differences, on the designs around,
+        at the state moved alike)."""
+        out = np.empty(len(self.sens))
+        for n, s in enumerate(self.sens):
+            masses = [left @ engine.mass(self.x + k * s.h * s.dx)[0] @ right
+                      for (k, _), engine in zip(STENCIL, s.engines, strict=True)]
+            out[n] = rate(masses, s.h)
+        return out
+
+    def bordered_mode(self, phi: np.ndarray, omega2: float, transposed: bool = False
+                      ) -> np.ndarray:
+        """The constraint stresses ``nu`` ``(nc,)`` of a mode ``phi`` ``(nx,)`` on the
+        bordered tangent, ``A [phi; nu] = omega^2 [M phi; 0]`` (``A^T`` for a left mode):
+        one solve."""
+        state = self.state
+        m_phi = state.engine.mass(self.x)[0] @ phi
+        rhs = np.concatenate([omega2 * m_phi[state.free], np.zeros(len(state.constrained))])
+        return state.solve(rhs[:, None], transposed)[len(state.free):, 0]
+
+    def left_mode(self, shape: np.ndarray, omega2: float) -> np.ndarray:
+        """The left eigenvector ``psi`` ``(nd,)`` over the dynamic entries of ``q`` of the
+        mode ``shape`` ``(nd,)``: ``(K^T - omega^2 M) psi = 0``. A global moment's load
+        stiffness makes ``K`` unsymmetric, and an eigenvalue's derivative is then
+        ``psi^T (dK - omega^2 dM) phi / psi^T M phi``; a symmetric ``K`` has ``psi = phi``.
+        Two steps of inverse iteration on the transposed pencil, shifted to the value."""
+        K, M = self.lin.block("K"), self.lin.block("M0")
+        if np.abs(K - K.T).max() <= 1e-14 * np.abs(K).max():
+            return shape
+        pencil = (K - omega2 * (1.0 + 1e-10) * M).T   # not singular to the last digit
+        psi = shape
+        for _ in range(2):
+            psi = np.linalg.solve(pencil, M @ psi)
+            psi /= np.linalg.norm(psi)
+        return psi
+
+    def unit_loads(self, node: int, rot: int | None) -> np.ndarray:
+        """The unit loads of :func:`~flexmbd.node_compliance` ``(nx, m)``: forces on the
+        node's coordinates, then moments on the rotational node (their generalized
+        forces on its Euler parameters in space)."""
+        model = self.model
+        columns = []
+        for i in model.nodes[node].coordinates:
+            t = np.zeros(model.n_coordinates)
+            t[i] = 1.0
+            columns.append(t)
+        if rot is not None:
+            at = list(model.nodes[rot].coordinates)
+            if len(at) == 4:
+                for axis in range(3):
+                    t = np.zeros(model.n_coordinates)
+                    t[at] = moment_loads(self.x[at])[:, axis]
+                    columns.append(t)
+            else:
+                t = np.zeros(model.n_coordinates)
+                t[at[0]] = 1.0
+                columns.append(t)
+        return np.column_stack(columns)
+
+    def unit_load_changes(self, node: int, rot: int | None) -> np.ndarray:
+        """The change of :meth:`unit_loads` ``(k_params, nx, m)``: a moment's generalized
+        force turns with the node."""
+        T = self.unit_loads(node, rot)
+        out = np.zeros((len(self.sens), *T.shape))
+        if rot is not None and len(self.model.nodes[rot].coordinates) == 4:
+            at = list(self.model.nodes[rot].coordinates)
+            width = len(self.model.nodes[node].coordinates)
+            for n in range(len(self.sens)):
+                out[n][np.ix_(at, range(width, width + 3))] = moment_loads(self.dx[n][at])
+        return out
+
+    def bordered_solve(self, T: np.ndarray, transposed: bool) -> tuple[np.ndarray, np.ndarray]:
+        """``A^-1 [T; 0]`` (``A^-T``) as coordinate changes ``(nx, m)`` (zero on the held
+        ones) and constraint stresses ``(nc, m)``."""
+        state = self.state
+        rhs = np.vstack([T[state.free], np.zeros((len(state.constrained), T.shape[1]))])
+        z = state.solve(rhs, transposed)
+        W = np.zeros_like(T)
+        W[state.free] = z[:len(state.free)]
+        return W, z[len(state.free):]
+
+    def reaction_changes(self) -> np.ndarray:
+        """The change of the reactions ``(k_params, nx)`` (the result's ``f`` columns:
+        ``D_x^T sigma - f`` on the held coordinates)."""
+        state = self.state
+        out = np.zeros((len(self.changes), self.model.n_coordinates))
+        for n, change in enumerate(self.changes):
+            force, _, _ = force_change(state.groups, self.x, self.sigma, change,
+                                       state.elastic_def, state.ne)
+            out[n] = force - state.load_change(self.x, self.data[n].df)
+        return out
+
+
+def _refuse_turning_gravity(state: Equilibrium) -> None:
+    """Refuse what the derivatives do not cover yet: gravity on element masses that turn
+    with the elements (their load stiffness's change)."""
+    if np.any(state.spec.loads.gravity) and np.any(state.spec.elements.emass):
+        slopes = np.empty(sum(len(g.at) * g.coords.shape[1] ** 2 for g in state.groups))
+        state.engine.gravity_slopes(state.x, slopes)
+        if np.any(slopes):
+            raise ArgumentError("gradient", "gravity on element masses that turn with them: "
+                                            "the derivative of its load stiffness is not "
+                                            "available yet (gravity on point masses is)")
+
+
+def evaluate(build: Callable, params: Mapping[str, float], outputs, gradient: bool = True
+             ) -> DesignResult:
+    """A design's outputs at the last load step of its static analysis, with their exact
+    derivatives to the design parameters.
+
+    Args:
+        build: ``build(**params)`` returns a :class:`~flexmbd.Model`, or ``(model,
+            RunSettings)`` with the run's ``load_increment``, ``input_increment`` and
+            ``load_steps`` (as :func:`~flexmbd.sweep`'s case functions do). A parameter
+            may change numbers only (positions, sections, materials, masses, loads), not
+            the model's structure.
+        params: the design, ``{name: value}``.
+        outputs: an output name or a list of them: a result column (``"x10.3"``,
+            ``"e4.2"``, ``"sig4.2"``, the reaction ``"f1.2"``), ``"f<k>"`` (the k-th
+            frequency [Hz]), ``"buckling<k>"``, ``"C[<node>,<rot>][i,j]"`` (an entry of
+            :func:`~flexmbd.node_compliance` in global axes), ``"stress_max"`` (the
+            largest von Mises stress over the beams with a section [Pa]) or
+            ``"stress_ks"`` (its Kreisselmeier-Steinhauser aggregate, :data:`KS_RHO`).
+        gradient: also the derivatives (:mod:`flexmbd.design.outputs` says how).
+
+    Returns:
+        :class:`DesignResult`: ``values[name]``, ``gradient[name][param]``.
+
+    Raises:
+        ArgumentError: an unknown output, a bad parameter, a build that fails or changes
+            the structure with a parameter, a repeated frequency's gradient.
+        ConvergenceError: the static analysis did not converge.
+
+    Examples:
+        A cantilever's tip deflection and its derivative to the bending stiffness
+        (``-P L^3 / (3 EI^2)``):
+
+        >>> import flexmbd as fm
+        >>> from flexmbd import design
+        >>> def cantilever(EI):
+        ...     b = fm.ModelBuilder("cantilever")
+        ...     for k in range(5):
+        ...         _ = b.add_node(2 * k + 1, 0.25 * k, 0.0)
+        ...     for k in range(4):
+        ...         _ = (b.add_beam(k + 1, 2 * k + 1, 2 * k + 2, 2 * k + 3, 2 * k + 4)
+        ...              .dynamic_deformation(k + 1).set_mass(k + 1, 0.5)
+        ...              .set_stiffness(k + 1, axial=1e6, bending=EI))
+        ...     return b.fix(1).fix(2).build(), fm.RunSettings(
+        ...         load_increment={"x9.2": -1e-3}, load_steps=1)
+        >>> r = design.evaluate(cantilever, {"EI": 2.0}, "x9.2")
+        >>> print(f"{r.gradient['x9.2']['EI']:.6e}  closed form {1e-3 / (3 * 2.0**2):.6e}")
+        8.333333e-05  closed form 8.333333e-05
+    """
+    values = _checked_params(params)
+    wanted = _outputs(outputs)
+    start = time.perf_counter()
+    with kept_releases():   # one structure for the design and its neighbours
+        design = Design(build, values)
+        evaluator = Evaluator(design)
+        results = {out.name: evaluator.value(out) for out in wanted}
+        analysed = time.perf_counter()
+        grads, notes = None, []
+        if gradient:
+            sens = design.sensitivities()
+            grads = {}
+            for out in wanted:
+                g, note = evaluator.gradient(out, sens)
+                grads[out.name] = {s.name: float(v) for s, v in zip(sens, g, strict=True)}
+                if note:
+                    notes.append(note)
+    done = time.perf_counter()
+    return DesignResult(values, results, grads, design.statics, notes,
+                        {"analysis": analysed - start, "gradient": done - analysed})
+

@@ -1,0 +1,256 @@
+"""The outputs a design is judged by, each with its value and its exact derivative.
+
+Every output is a function of the converged state ``(x, mu)`` at the last load step and
+of the design's data; its total derivative to a parameter follows from the state's
+change (:meth:`Design.sensitivities`) and the data's:
+
+* a result column (``x10.3``, ``e4.2``, ``sig4.2``, the reaction ``f1.2``): the
+  coordinates' change, the deformations' ``D_x dx + de/dp dp``, the stresses' ``S de +
+  dS e`` (or ``dmu``), the reactions' ``d(D_x^T sigma - f)``;
+* ``f<k>``, the k-th frequency [Hz]: ``d omega^2 = w^T dA w - omega^2 phi^T dM phi``
+  with ``w = (phi, nu)`` the mode on the bordered tangent (``nu`` its constraint
+  stresses) and ``dA`` the tangent's change, third derivatives of the deformations
+  included; a repeated frequency has no derivative and is refused;
+* ``C[node,rot][i,j]``, an entry of :func:`~flexmbd.node_compliance` in the global frame:
+  ``dC = dt_i^T W_j + V_i^T dt_j - V_i^T dA W_j`` with ``W = A^-1 t``, ``V = A^-T t``
+  (``t`` the unit loads, whose moments turn with the node);
+* ``stress_max``, the largest von Mises stress over the beams with a section [Pa]: the
+  derivative of the maximising point (where another point lies within
+  :data:`COMPETING` of it, the result says so), by central differences of the stress
+  evaluation along the exact change of the state and data;
+* ``buckling<k>`` and ``stress_ks``: values; their derivatives are not available yet.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..analysis.modes import buckling, node_compliance, vibration_modes
+from ..analysis.stresses import beam_stresses
+from ..elements.base import SPATIAL_ROTATIONAL
+from ..errors import ArgumentError
+from ..orientation import euler_forces
+from .data import STENCIL, rate
+
+__all__ = ["COMPETING", "KS_RHO", "REPEATED", "parse"]
+
+#: frequencies closer than this share are one repeated frequency, which has no derivative
+REPEATED = 1e-8
+#: a stress point within this share of the largest competes with it (the maximum's
+#: derivative then depends on the direction of the change)
+COMPETING = 1e-6
+#: the Kreisselmeier-Steinhauser parameter of ``stress_ks``, per largest stress:
+#: ``KS = s_max + ln(sum exp(rho (s_i - s_max) / s_max)) s_max / rho``
+KS_RHO = 50.0
+
+_FREQUENCY = re.compile(r"f(\d+)$")
+_BUCKLING = re.compile(r"buckling(\d+)$")
+_COMPLIANCE = re.compile(r"C\[\s*(\d+)\s*(?:,\s*(\d+)\s*)?\]\[\s*(\d+)\s*,\s*(\d+)\s*\]$")
+_COLUMN = re.compile(r"(x|e|sig|f)(\d+)\.(\d+)$")
+NAMES = ("a result column (x10.3, e4.2, sig4.2, the reaction f1.2)", "f<k>", "buckling<k>",
+         "C[<node>,<rot>][i,j]", "stress_max", "stress_ks")
+
+
+@dataclass(frozen=True)
+class Output:
+    """One output by name, parsed: ``kind`` and its arguments."""
+    name: str
+    kind: str
+    args: tuple = field(default=())
+
+
+def parse(name) -> Output:
+    """An output name as :class:`Output`.
+
+    Raises:
+        ArgumentError: a name that is none of :data:`NAMES`.
+    """
+    if not isinstance(name, str):
+        raise ArgumentError("outputs", f"an output is named by a string, got "
+                                       f"{type(name).__name__}")
+    text = name.strip()
+    if text in ("stress_max", "stress_ks"):
+        return Output(text, text)
+    for kind, pattern in (("frequency", _FREQUENCY), ("buckling", _BUCKLING)):
+        match = pattern.match(text)
+        if match:
+            if int(match.group(1)) < 1:
+                raise ArgumentError("outputs", f"{name!r}: modes count from 1")
+            return Output(text, kind, (int(match.group(1)),))
+    match = _COMPLIANCE.match(text)
+    if match:
+        node, rot, i, j = match.groups()
+        return Output(text, "compliance", (int(node), None if rot is None else int(rot),
+                                           int(i), int(j)))
+    match = _COLUMN.match(text)
+    if match:
+        return Output(text, "column", (match.group(1), f"{match.group(2)}.{match.group(3)}"))
+    raise ArgumentError("outputs", f"{name!r} is not an output flexmbd.design knows: name "
+                                   f"{', '.join(NAMES)}")
+
+
+@dataclass
+class Sensitivity:
+    """The state's change per unit of one parameter: all coordinates ``dx`` ``(nx,)``, the
+    constraint stresses ``dmu`` ``(nc,)``, the data's change and the workspaces of the
+    designs either side of ``h``."""
+    name: str
+    h: float
+    data: object
+    dx: np.ndarray
+    dmu: np.ndarray
+    engines: tuple
+    x_sides: tuple = ()
+
+
+class Evaluator:
+    """The values and derivatives of outputs at one design (``Design`` holds the state)."""
+
+    def __init__(self, design):
+        self.design = design
+        self._modes: dict[int, object] = {}
+
+    # --- values ---------------------------------------------------------------------------
+    def value(self, out: Output) -> float:
+        d = self.design
+        if out.kind == "column":
+            return float(d.statics[out.name][-1])
+        if out.kind == "frequency":
+            return float(self.modes(out.args[0]).frequencies[out.args[0] - 1])
+        if out.kind == "buckling":
+            k = out.args[0]
+            factors = buckling(d.lin, k).factors
+            if len(factors) < k:
+                raise ArgumentError("outputs", f"{out.name}: the state has "
+                                               f"{len(factors)} buckling factors")
+            return float(factors[k - 1])
+        if out.kind == "compliance":
+            node, rot, i, j = out.args
+            C = node_compliance(d.lin, node, rot)
+            if not (i < C.shape[0] and j < C.shape[1]):
+                raise ArgumentError("outputs", f"{out.name}: the compliance is "
+                                               f"{C.shape[0]}x{C.shape[1]}")
+            return float(C[i, j])
+        stresses = self.stress_points(d.x, d.sigma, d.model)
+        if out.kind == "stress_max":
+            return float(stresses.max())
+        return ks(stresses)
+
+    def modes(self, k: int):
+        if k not in self._modes:
+            available = len(self.design.model.dynamic_q_labels)
+            if k > available:
+                raise ArgumentError("outputs", f"f{k}: the model has {available} degrees "
+                                               f"of freedom")
+            # one more than asked: a repeated k-th frequency shows in its neighbour
+            self._modes[k] = vibration_modes(self.design.lin, min(k + 1, available))
+        return self._modes[k]
+
+    @staticmethod
+    def stress_points(x: np.ndarray, sigma: np.ndarray, model) -> np.ndarray:
+        """Every beam's largest von Mises stress at both ends ``(2 n_beams,)`` [Pa]."""
+        return np.array([s for beam in beam_stresses(model, x, sigma).values()
+                         for s in beam.ends])
+
+    # --- derivatives ----------------------------------------------------------------------
+    def gradient(self, out: Output, sens: list[Sensitivity]) -> tuple[np.ndarray, str]:
+        """The derivative to each parameter ``(k,)`` and a note (empty when none)."""
+        if out.kind == "column":
+            return self._column(out), ""
+        if out.kind == "frequency":
+            return self._frequency(out), ""
+        if out.kind == "compliance":
+            return self._compliance(out), ""
+        if out.kind == "stress_max":
+            return self._stress_max(sens)
+        raise ArgumentError("gradient", f"the derivative of {out.name} is not available yet "
+                                        f"(its value is: evaluate with gradient=False)")
+
+    def _column(self, out: Output) -> np.ndarray:
+        d = self.design
+        prefix, label = out.args
+        model = d.model
+        if prefix == "x":
+            return d.dx[:, model._coordinate_index(f"x{label}")]
+        if prefix == "f":
+            index = model._coordinate_index(f"x{label}")
+            return d.reaction_changes()[:, index]
+        index = model._deformation_index(f"e{label}")
+        return (d.de if prefix == "e" else d.dsigma)[:, index]
+
+    def _frequency(self, out: Output) -> np.ndarray:
+        d, k = self.design, out.args[0]
+        modes = self.modes(k)
+        omega2 = modes.omega2
+        near = [omega2[j] for j in (k - 2, k) if 0 <= j < len(omega2)]
+        if any(abs(o - omega2[k - 1]) <= REPEATED * abs(omega2[k - 1]) for o in near):
+            raise ArgumentError("outputs", f"{out.name} is a repeated frequency (its "
+                                           f"neighbour within {REPEATED:g}): it has no "
+                                           f"derivative; break the symmetry, or ask for "
+                                           f"another output")
+        value = omega2[k - 1]
+        transfer = modes.linearization.F_q[:, modes.linearization.dynamic]
+        shape = modes.shapes[:, k - 1]
+        phi = transfer @ shape
+        psi = transfer @ d.left_mode(shape, value)
+        nu, eta = d.bordered_mode(phi, value), d.bordered_mode(psi, value, transposed=True)
+        dA = d.tangent_changes(psi[:, None], phi[:, None], eta[:, None], nu[:, None])[:, 0]
+        dM = d.mass_changes(psi, phi)
+        mass = psi @ d.state.engine.mass(d.x)[0] @ phi
+        domega2 = (dA - value * dM) / mass
+        return domega2 / (8.0 * np.pi**2 * modes.frequencies[k - 1])
+
+    def _compliance(self, out: Output) -> np.ndarray:
+        d = self.design
+        node, rot, i, j = out.args
+        T = d.unit_loads(node, rot)                   # (nx, m)
+        W, nu_w = d.bordered_solve(T, transposed=False)
+        V, nu_v = d.bordered_solve(T, transposed=True)
+        dA = d.tangent_changes(V[:, [i]], W[:, [j]], nu_v[:, [i]], nu_w[:, [j]])[:, 0]
+        dT = d.unit_load_changes(node, rot)           # (k_params, nx, m)
+        return dT[:, :, i] @ W[:, j] + dT[:, :, j] @ V[:, i] - dA
+
+    def _stress_max(self, sens: list[Sensitivity]) -> tuple[np.ndarray, str]:
+        d = self.design
+        points = self.stress_points(d.x, d.sigma, d.model)
+        top = int(np.argmax(points))
+        rivals = np.flatnonzero(points >= (1.0 - COMPETING) * points[top])
+        note = ("" if len(rivals) == 1 else
+                f"stress_max: {len(rivals)} points lie within {COMPETING:g} of the largest; "
+                f"its derivative is the first's (the maximum is not smooth here)")
+        out = np.empty(len(sens))
+        for n, s in enumerate(sens):
+            values = [self.stress_points(d.x + k * s.h * d.dx[n], d.sigma + k * s.h *
+                                         d.dsigma[n], built.model)[top]
+                      for (k, _), built in zip(STENCIL, d.sides[n], strict=True)]
+            out[n] = rate(values, s.h)
+        return out, note
+
+
+def ks(stresses: np.ndarray) -> float:
+    """The Kreisselmeier-Steinhauser aggregate of ``stresses`` with :data:`KS_RHO`."""
+    top = float(stresses.max())
+    if top <= 0.0:
+        return top
+    return top + top / KS_RHO * float(np.log(np.sum(np.exp(KS_RHO * (stresses - top) / top))))
+
+
+def rotational_columns(model, rot: int | None) -> list[int]:
+    """The coordinates of a rotational node (its Euler parameters in space)."""
+    if rot is None:
+        return []
+    return list(model.nodes[rot].coordinates)
+
+
+def is_spatial_rotational(model, rot: int | None) -> bool:
+    return rot is not None and model.nodes[rot].kind == SPATIAL_ROTATIONAL
+
+
+def moment_loads(lam: np.ndarray) -> np.ndarray:
+    """The generalized forces ``(4, 3)`` on Euler parameters ``lam`` of unit global moments
+    about x, y and z."""
+    return np.stack([euler_forces(lam, axis) for axis in np.eye(3)], axis=1)
+
