@@ -28,7 +28,7 @@ from ..errors import ArgumentError
 from ..model import Model
 from ..settings import RunSettings
 from ..studies.case import split_build
-from .state import DataChange, Equilibrium, held_coordinates
+from .state import DataChange, Equilibrium, held_coordinates, weights
 
 __all__ = ["DATA_STEP", "STENCIL", "Built", "build_design", "data_change", "rate"]
 
@@ -133,18 +133,19 @@ def data_change(state: Equilibrium, nominal: Built, sides: tuple[Built, ...], h:
         laws = [e.S[e.law_off[group.at][:, None] + np.arange(nd * nd)] for e in el]
         dp.append(rate(params, h).reshape(len(group.at), npar))
         dS.append(rate(laws, h).reshape(len(group.at), nd, nd))
-    # the loads at the state's coordinates, held ones as each side has them
-    forces = []
+    # the loads, and the weights at the state's coordinates, held ones as each side has them
+    forces, weighing = [], []
     for side, engine in zip(sides, engines, strict=True):
         x = state.x.copy()
         x[held] = side.model.x0[held]
         x[slots[inputs[:len(slots)]]] = side.q_target[:len(slots)][inputs[:len(slots)]]
-        forces.append(engine.mass(x)[2] + side.loads)
+        forces.append(engine.constant_loads + side.loads)
+        weighing.append(weights(engine, x))
     cls = state.spec.classification
     rows = cls.row_of_def[state.constrained]
     nrigid, nxm = state.spec.sizes.nrigid, state.spec.sizes.nxm
     dtarget = np.where(rows < nrigid, 0.0, dq[np.clip(nxm + rows - nrigid, 0, len(dq) - 1)])
     change = DataChange(x_held=x_held, dp=dp, dlaw=dS,
                         dsigma0=rate([c.elements.sigma0 for c in compiled], h),
-                        df=rate(forces, h), dtarget=dtarget)
+                        df=rate(forces, h), dweight=rate(weighing, h), dtarget=dtarget)
     return change, engines

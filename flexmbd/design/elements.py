@@ -174,12 +174,13 @@ def internal_force(groups: list[ElementGroup], x: np.ndarray, sigma: np.ndarray,
 
 def tangent_change(groups: list[ElementGroup], x: np.ndarray, sigma: np.ndarray,
                    change: Change, elastic_def: np.ndarray, left: np.ndarray,
-                   right: np.ndarray) -> np.ndarray:
+                   right: np.ndarray, geometric_weight: float = 1.0) -> np.ndarray:
     """``left_k^T dK right_k`` ``(K,)`` for the columns of ``left`` and ``right`` ``(nx, K)``:
-    the change along ``change`` of the elements' tangent ``K = D_x^T S D_x + sum_i
+    the change along ``change`` of the elements' tangent ``K = D_x^T S D_x + g sum_i
     sigma_i D_xx,i`` (the elastic law wherever an element has one, the stresses
-    ``sigma`` ``(ne,)`` of the state, elastic and constraint), by the third derivatives of
-    the deformations."""
+    ``sigma`` ``(ne,)`` of the state, elastic and constraint, ``g`` the
+    ``geometric_weight``: 1 for the tangent, a load factor for buckling), by the third
+    derivatives of the deformations."""
     out = np.zeros(left.shape[1])
     for group, dp, dS in zip(groups, change.dp, change.dlaw, strict=True):
         parts = deformations(group, x, [left[group.coords].transpose(0, 2, 1),
@@ -198,7 +199,7 @@ def tangent_change(groups: list[ElementGroup], x: np.ndarray, sigma: np.ndarray,
                    + np.einsum("ikK,kij,jkK->K", parts[1], dSe, parts[2]))
         geometric = (np.einsum("ik,ikK->K", dsig, parts[3])
                      + np.einsum("ik,ikK->K", sig, parts[7]))
-        out += elastic + geometric
+        out += elastic + geometric_weight * geometric
     return out
 
 

@@ -22,7 +22,7 @@ from ..errors import ArgumentError
 from ..orientation import euler_forces
 from ..summary import clip
 from .data import DATA_STEP, STENCIL, build_design, data_change, rate
-from .elements import Change, constraint_change, force_change, tangent_change
+from .elements import Change, constraint_change, force_change, internal_force, tangent_change
 from .outputs import Evaluator, Output, Sensitivity, moment_loads, parse
 from .state import Equilibrium
 
@@ -116,7 +116,6 @@ class Design:
         assert statics.q is not None and statics.applied is not None   # a static result's
         state = self.state = Equilibrium(self.model, self.x, statics.q[-1], self.sigma,
                                          statics.applied[-1])
-        _refuse_turning_gravity(state)
         self.sides, changes, sens = [], [], []
         for name, value in self.params.items():
             h = DATA_STEP * (abs(value) if value else 1.0)
@@ -155,25 +154,41 @@ class Design:
         return [(at, total[at[1:]]) for at in state.engine.rotation_coordinates]
 
     def tangent_changes(self, left: np.ndarray, right: np.ndarray, nu_left: np.ndarray,
-                        nu_right: np.ndarray) -> np.ndarray:
+                        nu_right: np.ndarray, geometric_weight: float = 1.0) -> np.ndarray:
         """``[l; nu_l]^T dA [r; nu_r]`` ``(k_params, K)`` for the columns of ``left``,
         ``right`` ``(nx, K)`` and their constraint parts ``(nc, K)``: the bordered
-        tangent's change along each parameter's change of state and data."""
+        tangent's change along each parameter's change of state and data; the geometric
+        stiffness (stresses and the load stiffness) weighted by ``geometric_weight``."""
         state = self.state
         out = np.empty((len(self.changes), left.shape[1]))
         for n, change in enumerate(self.changes):
             value = tangent_change(state.groups, self.x, self.sigma, change, state.elastic_def,
-                                   left, right)
+                                   left, right, geometric_weight)
             c = state.constrained
             value += np.sum(nu_left * constraint_change(state.groups, self.x, change, right,
                                                         state.ne)[c], axis=0)
             value += np.sum(nu_right * constraint_change(state.groups, self.x, change, left,
                                                          state.ne)[c], axis=0)
             for at, dM in self.moments(self.data[n].df):   # the load stiffness -df/dx
-                value -= np.einsum("ik,ik->k", left[at],
-                                   euler_forces(right[at].T, dM).T)
+                value -= geometric_weight * np.einsum("ik,ik->k", left[at],
+                                                      euler_forces(right[at].T, dM).T)
+            value -= geometric_weight * self.gravity_changes(n, left, right)
             out[n] = value
         return out
+
+    def gravity_changes(self, n: int, left: np.ndarray, right: np.ndarray) -> np.ndarray:
+        """``left^T d(dg/dx) right`` ``(K,)`` along parameter ``n``'s change: the turning
+        weight's load stiffness, on the designs around at the state moved alike (the
+        data's central differences); zero without gravity on element masses."""
+        state, s = self.state, self.sens[n]
+        if not (np.any(state.spec.loads.gravity) and np.any(state.spec.elements.emass)):
+            return np.zeros(left.shape[1])
+        values = []
+        for (k, _), engine in zip(STENCIL, s.engines, strict=True):
+            x = self.x + k * s.h * s.dx
+            values.append(np.array([left[:, j] @ state.gravity_times(right[:, j], x, engine)
+                                    for j in range(left.shape[1])]))
+        return rate(values, s.h)
 
     def mass_changes(self, left: np.ndarray, right: np.ndarray) -> np.ndarray:
         """``left^T dM right`` ``(k_params,)`` for ``(nx,)`` vectors: the mass's change along
@@ -195,6 +210,28 @@ class Design:
         m_phi = state.engine.mass(self.x)[0] @ phi
         rhs = np.concatenate([omega2 * m_phi[state.free], np.zeros(len(state.constrained))])
         return state.solve(rhs[:, None], transposed)[len(state.free):, 0]
+
+    def buckling_border(self, phi: np.ndarray, factor: float) -> np.ndarray:
+        """The constraint stresses ``nu`` ``(nc,)`` of a buckled shape ``phi`` ``(nx,)``:
+        ``(K0 + lambda G0) phi + D_c^T nu = 0`` on the free coordinates with the symmetric
+        part of ``G0``, as :func:`~flexmbd.buckling` pairs them (least squares on
+        ``D_c^T``, with exact products)."""
+        state = self.state
+        still = [np.zeros_like(g.param) for g in state.groups]
+        laws = [np.zeros_like(g.S) for g in state.groups]
+        along = Change(u=phi, dp=still, dlaw=laws, dsigma=np.zeros(state.ne))
+        total, _, _ = force_change(state.groups, self.x, self.sigma, along,
+                                   state.elastic_def, state.ne)
+        elastic, _, _ = force_change(state.groups, self.x, np.zeros(state.ne), along,
+                                     state.elastic_def, state.ne)
+        for at, moment in self.moments():   # buckling takes the symmetric part
+            block = euler_forces(np.eye(4), moment).T
+            total[at] -= 0.5 * (block + block.T) @ phi[at]
+        total -= 0.5 * (state.gravity_times(phi) + state.gravity_times(phi, transposed=True))
+        product = elastic + factor * (total - elastic)
+        _, _, D = internal_force(state.groups, self.x, self.sigma, state.ne)
+        c, free = state.constrained, state.free
+        return np.linalg.lstsq(D[np.ix_(c, free)].T, -product[free], rcond=None)[0]
 
     def left_mode(self, shape: np.ndarray, omega2: float) -> np.ndarray:
         """The left eigenvector ``psi`` ``(nd,)`` over the dynamic entries of ``q`` of the
@@ -265,20 +302,8 @@ class Design:
         for n, change in enumerate(self.changes):
             force, _, _ = force_change(state.groups, self.x, self.sigma, change,
                                        state.elastic_def, state.ne)
-            out[n] = force - state.load_change(self.x, self.data[n].df)
+            out[n] = force - state.load_change(self.x, self.data[n].df) - self.data[n].dweight
         return out
-
-
-def _refuse_turning_gravity(state: Equilibrium) -> None:
-    """Refuse what the derivatives do not cover yet: gravity on element masses that turn
-    with the elements (their load stiffness's change)."""
-    if np.any(state.spec.loads.gravity) and np.any(state.spec.elements.emass):
-        slopes = np.empty(sum(len(g.at) * g.coords.shape[1] ** 2 for g in state.groups))
-        state.engine.gravity_slopes(state.x, slopes)
-        if np.any(slopes):
-            raise ArgumentError("gradient", "gravity on element masses that turn with them: "
-                                            "the derivative of its load stiffness is not "
-                                            "available yet (gravity on point masses is)")
 
 
 def evaluate(build: Callable, params: Mapping[str, float], outputs, gradient: bool = True

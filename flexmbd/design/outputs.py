@@ -18,7 +18,10 @@ change (:meth:`Design.sensitivities`) and the data's:
   derivative of the maximising point (where another point lies within
   :data:`COMPETING` of it, the result says so), by central differences of the stress
   evaluation along the exact change of the state and data;
-* ``buckling<k>`` and ``stress_ks``: values; their derivatives are not available yet.
+* ``buckling<k>``, the k-th load factor of :func:`~flexmbd.buckling`: its eigenvalue's
+  derivative with the elastic and geometric stiffness apart;
+* ``stress_ks``, the Kreisselmeier-Steinhauser aggregate (:func:`ks`) of every beam
+  end's largest stress, smooth where the maximum is not, likewise.
 """
 
 from __future__ import annotations
@@ -42,8 +45,7 @@ REPEATED = 1e-8
 #: a stress point within this share of the largest competes with it (the maximum's
 #: derivative then depends on the direction of the change)
 COMPETING = 1e-6
-#: the Kreisselmeier-Steinhauser parameter of ``stress_ks``, per largest stress:
-#: ``KS = s_max + ln(sum exp(rho (s_i - s_max) / s_max)) s_max / rho``
+#: the Kreisselmeier-Steinhauser parameter of ``stress_ks`` (:func:`ks`), per largest stress
 KS_RHO = 50.0
 
 _FREQUENCY = re.compile(r"f(\d+)$")
@@ -164,10 +166,9 @@ class Evaluator:
             return self._frequency(out), ""
         if out.kind == "compliance":
             return self._compliance(out), ""
-        if out.kind == "stress_max":
-            return self._stress_max(sens)
-        raise ArgumentError("gradient", f"the derivative of {out.name} is not available yet "
-                                        f"(its value is: evaluate with gradient=False)")
+        if out.kind == "buckling":
+            return self._buckling(out), ""
+        return self._stress(out, sens)
 
     def _column(self, out: Output) -> np.ndarray:
         d = self.design
@@ -213,29 +214,64 @@ class Evaluator:
         dT = d.unit_load_changes(node, rot)           # (k_params, nx, m)
         return dT[:, :, i] @ W[:, j] + dT[:, :, j] @ V[:, i] - dA
 
-    def _stress_max(self, sens: list[Sensitivity]) -> tuple[np.ndarray, str]:
+    def _buckling(self, out: Output) -> np.ndarray:
+        """``d lambda = -(psi^T (dK0 + lambda dG0) phi + 2 nu^T dD_c phi) / phi^T G0 phi`` on
+        the symmetric problem :func:`~flexmbd.buckling` solves (its matrices'
+        symmetric parts: a quadratic form sees only those)."""
+        d, k = self.design, out.args[0]
+        found = buckling(d.lin, k + 1 if k < len(d.model.dynamic_q_labels) else k)
+        factors = found.factors
+        if len(factors) < k:
+            raise ArgumentError("outputs", f"{out.name}: the state has {len(factors)} "
+                                           f"buckling factors")
+        factor = factors[k - 1]
+        if any(abs(f - factor) <= REPEATED * abs(factor) for j, f in enumerate(factors)
+               if j != k - 1):
+            raise ArgumentError("outputs", f"{out.name} is a repeated buckling factor: it has "
+                                           f"no derivative; break the symmetry, or ask for "
+                                           f"another output")
+        phi = found.linearization.F_q[:, found.linearization.dynamic] @ found.shapes[:, k - 1]
+        nu = d.buckling_border(phi, factor)
+        change = d.tangent_changes(phi[:, None], phi[:, None], nu[:, None], nu[:, None],
+                                   geometric_weight=factor)[:, 0]
+        G = found.linearization.block("G0")
+        shape = found.shapes[:, k - 1]
+        return -change / (shape @ G @ shape)
+
+    def _stress(self, out: Output, sens: list[Sensitivity]) -> tuple[np.ndarray, str]:
+        """``stress_max`` (the maximising point's derivative) or ``stress_ks``: central
+        differences of the stress evaluation along the exact change of state and data."""
         d = self.design
         points = self.stress_points(d.x, d.sigma, d.model)
         top = int(np.argmax(points))
         rivals = np.flatnonzero(points >= (1.0 - COMPETING) * points[top])
-        note = ("" if len(rivals) == 1 else
+        note = ("" if len(rivals) == 1 or out.kind != "stress_max" else
                 f"stress_max: {len(rivals)} points lie within {COMPETING:g} of the largest; "
                 f"its derivative is the first's (the maximum is not smooth here)")
-        out = np.empty(len(sens))
+
+        def measure(values: np.ndarray) -> float:
+            return float(values[top]) if out.kind == "stress_max" else ks(values)
+
+        gradient = np.empty(len(sens))
         for n, s in enumerate(sens):
-            values = [self.stress_points(d.x + k * s.h * d.dx[n], d.sigma + k * s.h *
-                                         d.dsigma[n], built.model)[top]
+            values = [measure(self.stress_points(d.x + k * s.h * d.dx[n], d.sigma + k * s.h *
+                                                 d.dsigma[n], built.model))
                       for (k, _), built in zip(STENCIL, d.sides[n], strict=True)]
-            out[n] = rate(values, s.h)
-        return out, note
+            gradient[n] = rate(values, s.h)
+        return gradient, note
 
 
 def ks(stresses: np.ndarray) -> float:
-    """The Kreisselmeier-Steinhauser aggregate of ``stresses`` with :data:`KS_RHO`."""
+    """The Kreisselmeier-Steinhauser aggregate ``s_max (1 + ln(sum exp(rho (s_i / s_max -
+    1))) / rho)`` of ``stresses`` [Pa], ``rho`` :data:`KS_RHO`: the stresses relative to the
+    largest, so it is the same for any unit and stress level; above the largest by at
+    most ``ln(n) / rho`` of it, and it follows every point's stress, where the largest
+    alone jumps from point to point (its slope changes there by about ``1 / rho``)."""
     top = float(stresses.max())
     if top <= 0.0:
         return top
-    return top + top / KS_RHO * float(np.log(np.sum(np.exp(KS_RHO * (stresses - top) / top))))
+    return top * (1.0 + float(np.log(np.sum(np.exp(KS_RHO * (stresses / top - 1.0)))))
+                  / KS_RHO)
 
 
 def rotational_columns(model, rot: int | None) -> list[int]:

@@ -45,8 +45,10 @@ class DataChange:
         dp: of the reference parameters, per element group ``[(n, np)]``.
         dlaw: of the elastic laws, per group ``[(n, nd, nd)]``.
         dsigma0: of the pre-stresses ``(ne,)``.
-        df: of the loads at the state, the model's and the applied ``(nx,)`` (on a
+        df: of the loads, the model's constant ones and the applied ``(nx,)`` (on a
             spatial rotational node, the global moment in the entries of ``lam1..lam3``).
+        dweight: of the element masses' weight at the state ``(nx,)`` (generalized
+            forces).
         dtarget: of the constrained deformations' targets ``(n_constrained,)``.
         dmass: ``theta -> M`` terms are taken by :meth:`Equilibrium.mass_change` from the
             models either side, not here.
@@ -57,6 +59,7 @@ class DataChange:
     dlaw: list[np.ndarray]
     dsigma0: np.ndarray
     df: np.ndarray
+    dweight: np.ndarray
     dtarget: np.ndarray
 
 
@@ -92,13 +95,12 @@ class Equilibrium:
 
     # --- the residual, as the engine's ----------------------------------------------------
     def applied(self, x: np.ndarray) -> np.ndarray:
-        """The loads ``f`` ``(nx,)`` of the static residual at ``x``: constant loads,
-        gravity, the applied loads, and on a spatial rotational node the generalized
-        force ``2 E(lam)^T M`` of its global moment."""
-        f = self.engine.mass(x)[2] + self.loads
-        for at in self.engine.rotation_coordinates:
-            f[at] = euler_forces(x[at], f[at[1:]])
-        return f
+        """The loads ``f`` ``(nx,)`` of the static residual at ``x``: the model's constant
+        loads and the applied ones (on a spatial rotational node a global moment, whose
+        generalized force ``2 E(lam)^T M`` turns with it), and the weight of the element
+        masses (generalized forces as they are)."""
+        constant = self.engine.constant_loads
+        return self.load_change(x, constant + self.loads) + weights(self.engine, x)
 
     def residual(self, x: np.ndarray, mu: np.ndarray) -> np.ndarray:
         """``R(x, mu)`` ``(nfree + nc,)`` from the element definitions (module docstring):
@@ -134,7 +136,7 @@ class Equilibrium:
         change = Change(u=data.x_held, dp=data.dp, dlaw=data.dlaw, dsigma=data.dsigma0)
         force, de, _ = force_change(self.groups, self.x, self.sigma, change,
                                     self.elastic_def, self.ne)
-        df = self.load_change(self.x, data.df)
+        df = self.load_change(self.x, data.df) + data.dweight
         return np.concatenate([(force - df)[self.free],
                                de[self.constrained] - data.dtarget])
 
@@ -162,7 +164,30 @@ class Equilibrium:
         for at in self.engine.rotation_coordinates:   # a global moment's load stiffness
             block = euler_forces(np.eye(4), total[at[1:]]).T   # df/dlam, linear in lam
             force[at] -= (block.T if transposed else block) @ dx[at]
+        force -= self.gravity_times(dx, transposed=transposed)
         return np.concatenate([force[self.free], de[self.constrained]])
+
+    def gravity_times(self, v: np.ndarray, x: np.ndarray | None = None,
+                      engine: Workspace | None = None, transposed: bool = False
+                      ) -> np.ndarray:
+        """``(dg/dx) v`` ``(nx,)`` (or its transpose's): the load stiffness of the weight
+        of element masses that turn with the elements, at ``x`` (default the state's) on
+        ``engine`` (default the state's: another design's for the data's change)."""
+        engine = self.engine if engine is None else engine
+        x = self.x if x is None else x
+        el = self.spec.elements
+        slopes = np.empty(int(el.b_off[-1]))
+        engine.gravity_slopes(x, slopes)
+        out = np.zeros(len(v))
+        if not np.any(slopes):
+            return out
+        for group in self.groups:
+            nc = group.coords.shape[1]
+            blocks = slopes[el.b_off[group.at][:, None] + np.arange(nc * nc)].reshape(-1, nc, nc)
+            if transposed:
+                blocks = blocks.transpose(0, 2, 1)
+            np.add.at(out, group.coords, np.einsum("kab,kb->ka", blocks, v[group.coords]))
+        return out
 
     def solve(self, rhs: np.ndarray, transposed: bool = False) -> np.ndarray:
         """``A^-1 rhs`` (``A^-T rhs``) ``(n, k)`` on the factorised tangent, refined
@@ -189,6 +214,13 @@ class Equilibrium:
         dx = np.array(held, dtype=float)
         dx[self.free] = dz[:len(self.free)]
         return dx, dz[len(self.free):]
+
+
+def weights(engine: Workspace, x: np.ndarray) -> np.ndarray:
+    """The weight of the element masses at ``x`` ``(nx,)``: generalized forces on the
+    elements' coordinates (the core's gravity loads less the constant loads, which hold
+    the point masses' weight)."""
+    return engine.mass(x)[2] - engine.constant_loads
 
 
 def held_coordinates(model: Model) -> np.ndarray:
