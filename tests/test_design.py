@@ -85,7 +85,10 @@ def assert_gradients(build, params, outputs, rel=1e-3, rtol=1e-6, stress_rtol=1e
         for out in outputs:
             # a derivative that vanishes is judged against the output's own scale
             floor = 1e-7 * abs(exact.values[out]) / abs(params[name])
-            tol = stress_rtol if out.startswith("stress") else rtol
+            # stresses and reactions sum large internal forces: the differences of the
+            # analyses (not the exact derivatives) carry their rounding, 1e-6 of a step
+            tol = stress_rtol if out.startswith("stress") or "." in out and \
+                out.startswith("f") else rtol
             assert exact.gradient[out][name] == pytest.approx(
                 reference[out], rel=tol, abs=floor), (out, name)
     return exact
@@ -175,7 +178,7 @@ def test_symmetric_cross_pivot_stiffness_scales_as_2EI_over_L():
                         "C[9,10][4,4]")
     C = r.values["C[9,10][4,4]"]
     steel_E = 210e9
-    assert C == pytest.approx(0.1 / (2 * steel_E * WIDTH * 0.5e-3**3 / 12), rel=1e-6)
+    assert pytest.approx(0.1 / (2 * steel_E * WIDTH * 0.5e-3**3 / 12), rel=1e-6) == C
     slopes = {name: r.gradient["C[9,10][4,4]"][name] * value / C
               for name, value in params.items()}
     assert slopes["t"] == pytest.approx(-3.0, abs=1e-7)
