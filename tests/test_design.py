@@ -87,8 +87,8 @@ def assert_gradients(build, params, outputs, rel=1e-3, rtol=1e-6, stress_rtol=1e
             floor = 1e-7 * abs(exact.values[out]) / abs(params[name])
             # stresses and reactions sum large internal forces: the differences of the
             # analyses (not the exact derivatives) carry their rounding, 1e-6 of a step
-            tol = stress_rtol if out.startswith("stress") or "." in out and \
-                out.startswith("f") else rtol
+            tol = stress_rtol if out.startswith("stress") or ("." in out and \
+                out.startswith("f")) else rtol
             assert exact.gradient[out][name] == pytest.approx(
                 reference[out], rel=tol, abs=floor), (out, name)
     return exact
