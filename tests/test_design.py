@@ -248,3 +248,59 @@ def test_the_state_sensitivity_is_one_factorisation():
     change = np.abs(nominal.dx[0]).max() * 1e-4 * params["t"]
     assert misses[0] < 1e-4 * change      # second order: 1e-4 of the change itself
     assert misses[1] < misses[0] / 20     # and a tenth of the step gives a hundredth
+
+
+# --- optimisation ---------------------------------------------------------------------------
+STROKE, LIMIT = 2e-3, 60e6
+
+
+def leaf(t=0.5e-3, L=0.1):
+    """A steel leaf spring (20 mm wide) clamped at one end, its other end driven ``STROKE``
+    across (an input coordinate), its rotation free."""
+    steel = fm.Material.from_poisson(210e9, 0.3, 7800.0)
+    b = fm.ModelBuilder("leaf")
+    b.add_node(1, 0, 0, 0).add_node(3, L, 0, 0)
+    b.add_spatial_beams(1, 1, 2, 3, 4, 4, (0, 1, 0), new_nodes=100,
+                        section=fm.Rectangle(0.02, t), material=steel)
+    b.fix(1).fix(2).input_coordinate(3, 3)
+    b.release_overconstraints()
+    return b.build(), fm.RunSettings(input_increment={"x3.3": STROKE}, load_steps=2)
+
+
+def test_the_stiffest_leaf_under_a_stress_limit():
+    """The force the stroke takes grows with the thickness cubed, the root stress linearly:
+    the optimum lies where the stress meets its limit, which a root search on the
+    analyses alone finds independently (near the closed form ``2 L^2 sigma / (3 E d)``,
+    off it by the leaf's shear and the large deflection)."""
+    from scipy.optimize import brentq
+
+    found = design.optimize(leaf, {"t": 0.5e-3, "L": 0.1}, "f1.3",
+                            constraints={"stress_max": (None, LIMIT)},
+                            bounds={"t": (1e-4, 2e-3), "L": (0.05, 0.1)})
+    assert found.success, found.message
+    root = brentq(lambda t: design.evaluate(leaf, {"t": t}, "stress_max", gradient=False)
+                  .values["stress_max"] - LIMIT, 1e-4, 2e-3, xtol=1e-16, rtol=1e-15)
+    assert found.x["L"] == pytest.approx(0.1, rel=1e-9)
+    assert found.x["t"] == pytest.approx(root, rel=1e-6)
+    assert root == pytest.approx(2 * 0.1**2 * LIMIT / (3 * 210e9 * STROKE), rel=1e-3)
+    assert found.nfev <= 30
+    assert found.outputs["stress_max"] == pytest.approx(LIMIT, rel=1e-6)
+
+
+def test_check_gradient_reports_agreement_and_second_order():
+    check = design.check_gradient(cantilever, {"EI": 2.0, "tip": 1.5}, ["x9.1", "f1"])
+    assert check.worst < 1e-5
+    for rates in check.taylor.values():
+        assert all(r == pytest.approx(2.0, abs=0.1) for r in rates if r == r)
+    assert "Taylor rates" in repr(check)
+
+
+def test_optimize_refuses_bad_limits_by_name():
+    with pytest.raises(fm.ArgumentError, match=r"\['T'\] are not parameters"):
+        design.optimize(leaf, {"t": 0.5e-3}, "f1.3", bounds={"T": (0, 1)})
+    with pytest.raises(fm.ArgumentError, match="low limit 2.0 is above the high 1.0"):
+        design.optimize(leaf, {"t": 0.5e-3}, "f1.3", bounds={"t": (2.0, 1.0)})
+    with pytest.raises(fm.ArgumentError, match="'stress_max': give a"):
+        design.optimize(leaf, {"t": 0.5e-3}, "f1.3", constraints={"stress_max": 3.0})
+    with pytest.raises(fm.ArgumentError, match="'omega' is not an output"):
+        design.optimize(leaf, {"t": 0.5e-3}, "omega")

@@ -1,0 +1,190 @@
+"""``optimize``: the best design by SciPy's gradient-based optimisers on exact gradients.
+
+Each iterate is one :func:`~flexmbd.design.evaluate` with ``gradient=True``: the
+objective, every constrained output and all their derivatives from one analysis, kept
+for the optimiser's calls at the same point. The parameters are scaled by their start
+(or their bounds' width) and the objective by its value at the start, so that a
+thickness of 5e-4 m and a length of 0.1 m weigh alike in SLSQP's steps.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping
+
+import numpy as np
+
+from ..errors import ArgumentError, FlexmbdError
+from .evaluate import DesignResult, _checked_params, evaluate
+
+__all__ = ["optimize"]
+
+METHODS = ("SLSQP", "trust-constr")
+
+
+def _pairs(given, name: str, what: str) -> dict[str, tuple[float | None, float | None]]:
+    """``{key: (low, high)}`` checked: numbers or ``None``, low below high."""
+    if given is None:
+        return {}
+    if not isinstance(given, Mapping):
+        raise ArgumentError(name, f"must be a dict of {what} and (low, high) pairs")
+    out = {}
+    for key, pair in given.items():
+        try:
+            low, high = pair
+        except (TypeError, ValueError):
+            raise ArgumentError(name, f"{key!r}: give a (low, high) pair, None for no "
+                                      f"limit; got {pair!r}") from None
+        for value in (low, high):
+            if value is not None and (isinstance(value, bool) or not isinstance(
+                    value, (int, float, np.floating, np.integer)) or math.isnan(value)):
+                raise ArgumentError(name, f"{key!r}: limits are numbers or None, got "
+                                          f"{value!r}")
+        if low is not None and high is not None and low > high:
+            raise ArgumentError(name, f"{key!r}: the low limit {low} is above the high "
+                                      f"{high}")
+        out[key] = (None if low is None else float(low), None if high is None else float(high))
+    return out
+
+
+def optimize(build: Callable, params: Mapping[str, float], objective: str,
+             constraints: Mapping[str, tuple] | None = None,
+             bounds: Mapping[str, tuple] | None = None, *, method: str = "SLSQP",
+             maximize: bool = False, tol: float = 1e-10, max_iterations: int = 100,
+             options: Mapping | None = None):
+    """The design that minimises (or maximises) an output, within bounds on the parameters
+    and limits on other outputs, by SciPy's ``minimize`` with exact gradients.
+
+    Args:
+        build: ``build(**params)``, as for :func:`~flexmbd.design.evaluate`.
+        params: the starting design, ``{name: value}``.
+        objective: the output minimised (its names as for ``evaluate``: ``"f1"``,
+            ``"C[9,10][4,4]"``, ``"stress_ks"``, ...).
+        constraints: ``{output: (low, high)}``, ``None`` for no limit on a side; ``low ==
+            high`` holds the output at that value.
+        bounds: ``{param: (low, high)}`` on the parameters.
+        method: ``"SLSQP"`` (default) or ``"trust-constr"``.
+        maximize: maximise the objective instead.
+        tol: the optimiser's tolerance on the scaled objective.
+        max_iterations: iterations before the optimiser stops.
+        options: further options of the SciPy method.
+
+    Returns:
+        ``scipy.optimize.OptimizeResult``: ``x`` (a dict in the parameters' names),
+        ``fun`` (the objective there), ``nfev`` (analyses run: each gives the objective,
+        the constraints and their gradients), ``nit``, ``success``, ``message``,
+        ``outputs`` (every output at ``x``), ``history`` (each analysis's design and
+        objective) and ``result`` (the :class:`DesignResult` at ``x``).
+
+    Raises:
+        ArgumentError: unknown outputs or parameters in the limits, or bad limits.
+        FlexmbdError: an analysis failed (a design the structure cannot carry); its
+            ``partial_result`` holds the optimisation so far.
+    """
+    from scipy.optimize import NonlinearConstraint, OptimizeResult, minimize
+
+    start = _checked_params(params)
+    names = list(start)
+    limits = _pairs(constraints, "constraints", "outputs")
+    ranges = _pairs(bounds, "bounds", "parameters")
+    unknown = [key for key in ranges if key not in start]
+    if unknown:
+        raise ArgumentError("bounds", f"{unknown} are not parameters of the design "
+                                      f"(its parameters: {names})")
+    if method not in METHODS:
+        raise ArgumentError("method", f"must be one of {METHODS}, got {method!r}")
+    outputs = list(dict.fromkeys([objective, *limits]))
+    scale = np.array([_scale(start[n], ranges.get(n)) for n in names])
+    history: list[dict] = []
+    kept: dict[bytes, DesignResult] = {}
+
+    def design_at(u: np.ndarray) -> DesignResult:
+        key = np.asarray(u, dtype=float).tobytes()
+        if key not in kept:
+            values = dict(zip(names, (u * scale).tolist(), strict=True))
+            try:
+                kept[key] = evaluate(build, values, outputs)
+            except FlexmbdError as error:
+                error.partial_result = _result(history, names)   # type: ignore[attr-defined]
+                raise
+            history.append({"params": values, "objective": kept[key].values[objective]})
+        return kept[key]
+
+    u0 = np.ones(len(names))
+    first = design_at(u0)
+    sign = -1.0 if maximize else 1.0
+    size = abs(first.values[objective]) or 1.0
+
+    def fun(u):
+        return sign * design_at(u).values[objective] / size
+
+    def jac(u):
+        gradient = design_at(u).gradient
+        assert gradient is not None
+        return sign * np.array([gradient[objective][n] for n in names]) * scale / size
+
+    constraint_list = []
+    for out, (low, high) in limits.items():
+        magnitude = max(abs(v) for v in (low, high, first.values[out]) if v is not None) or 1.0
+
+        def value(u, out=out, magnitude=magnitude):
+            return np.array([design_at(u).values[out] / magnitude])
+
+        def slope(u, out=out, magnitude=magnitude):
+            gradient = design_at(u).gradient
+            assert gradient is not None
+            return (np.array([gradient[out][n] for n in names]) * scale / magnitude)[None, :]
+
+        lower = -np.inf if low is None else low / magnitude
+        upper = np.inf if high is None else high / magnitude
+        constraint_list.append(NonlinearConstraint(value, lower, upper, jac=slope))
+    box = [tuple(None if v is None else v / s for v in ranges.get(n, (None, None)))
+           for n, s in zip(names, scale, strict=True)]
+    if method == "SLSQP":
+        constraint_list = _slsqp_constraints(constraint_list)
+    found = minimize(fun, u0, jac=jac, method=method, bounds=box, constraints=constraint_list,
+                     tol=tol, options={"maxiter": max_iterations, **dict(options or {})})
+    best = design_at(found.x)
+    return OptimizeResult(
+        x=dict(zip(names, (found.x * scale).tolist(), strict=True)),
+        fun=best.values[objective], nfev=len(kept), nit=found.get("nit"),
+        success=bool(found.success), status=found.status, message=found.message,
+        outputs=best.values, history=history, result=best)
+
+
+def _scale(value: float, bounds: tuple | None) -> float:
+    """A parameter's unit in the optimiser: its start, or its bounds' width at zero."""
+    if value:
+        return abs(value)
+    if bounds and None not in bounds and bounds[1] > bounds[0]:
+        return bounds[1] - bounds[0]
+    return 1.0
+
+
+def _slsqp_constraints(constraints: list) -> list[dict]:
+    """SLSQP's dictionaries for two-sided limits: ``fun >= 0`` each side, ``eq`` where the
+    two meet."""
+    out = []
+    for c in constraints:
+        low, high = float(np.ravel(c.lb)[0]), float(np.ravel(c.ub)[0])
+        if low == high:
+            out.append({"type": "eq", "fun": lambda u, c=c, v=low: c.fun(u) - v,
+                        "jac": c.jac})
+            continue
+        if np.isfinite(low):
+            out.append({"type": "ineq", "fun": lambda u, c=c, v=low: c.fun(u) - v,
+                        "jac": c.jac})
+        if np.isfinite(high):
+            out.append({"type": "ineq", "fun": lambda u, c=c, v=high: v - c.fun(u),
+                        "jac": lambda u, c=c: -c.jac(u)})
+    return out
+
+
+def _result(history: list[dict], names: list[str]):
+    from scipy.optimize import OptimizeResult
+
+    best = min(history, key=lambda h: h["objective"]) if history else None
+    return OptimizeResult(x=None if best is None else best["params"],
+                          fun=None if best is None else best["objective"],
+                          nfev=len(history), history=history, success=False,
+                          message="an analysis failed")
