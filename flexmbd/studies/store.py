@@ -11,8 +11,8 @@ Histories (outputs that are arrays) are list columns; metrics are float columns.
 
 from __future__ import annotations
 
-import os
 import math
+import os
 import shutil
 import time
 from pathlib import Path
