@@ -22,12 +22,12 @@ import numpy as np
 
 from ..elements.base import SPATIAL_ROTATIONAL
 from ..elements.warping_beam import BEAM_COLUMNS
+from ..engine import element_kernel
 from ..errors import ArgumentError
 from ..model import Model
 from ..orientation import moment_of, rotation_matrix
 from ..results import KinematicResult
 from ..summary import dataclass_repr
-from .kinematics import jacobian
 
 __all__ = ["BeamStress", "StressHistory", "beam_stresses", "stress_history"]
 
@@ -55,6 +55,13 @@ class BeamStress:
     ends: tuple[float, float] = (0.0, 0.0)
 
 
+def element_jacobian(element, x: np.ndarray) -> np.ndarray:
+    """One element's ``D_x`` ``(nd, nc)`` at ``x`` ``(nx,)``, from its compiled kernel (no
+    workspace of the whole model)."""
+    nc, nd = len(element.coordinates), len(element.deformations)
+    return element_kernel(element, "deform_jac", x, nd * (1 + nc))[nd:].reshape(nd, nc)
+
+
 def _sectioned(model: Model) -> list[int]:
     return [k for k, element in model.elements.items()
             if element.type.keyword in ("BEAM", "BEAMW")
@@ -62,16 +69,21 @@ def _sectioned(model: Model) -> list[int]:
             and props.section is not None]
 
 
-def beam_stresses(model: Model, x, sigma) -> dict[int, BeamStress]:
-    """The stresses of every spatial beam built with a section at coordinates ``x``
-    ``(nx,)`` [m, -] and generalized stresses ``sigma`` ``(ne,)`` (a result row), by
-    element number.
+def beam_stresses(model: Model, x, sigma, elements=None) -> dict[int, BeamStress]:
+    """The stresses of every spatial beam built with a section (or of those numbered in
+    ``elements``) at coordinates ``x`` ``(nx,)`` [m, -] and generalized stresses
+    ``sigma`` ``(ne,)`` (a result row), by element number.
 
     Raises:
         ArgumentError: the model has no beam with a section (``set_section``: a ``.dat``
-            file carries none).
+            file carries none), or ``elements`` names another element.
     """
     beams = _sectioned(model)
+    if elements is not None:
+        others = [k for k in elements if k not in beams]
+        if others:
+            raise ArgumentError("elements", f"{others} are not spatial beams with a section")
+        beams = [k for k in beams if k in set(elements)]
     if not beams:
         raise ArgumentError("model", "no spatial beam has a cross-section: give one with "
                                      "ModelBuilder.set_section (a .dat file carries none)")
@@ -80,12 +92,12 @@ def beam_stresses(model: Model, x, sigma) -> dict[int, BeamStress]:
     if x.shape != (model.n_coordinates,) or sigma.shape != (model.n_deformations,):
         raise ArgumentError("x", f"x and sigma must have shapes ({model.n_coordinates},) and "
                                  f"({model.n_deformations},), got {x.shape} and {sigma.shape}")
-    D = jacobian(model, x)
     out = {}
     for k in beams:
         element = model.elements[k]
         coords, defs = list(element.coordinates), list(element.deformations)
-        loads = D[np.ix_(defs, coords)].T @ sigma[defs]
+        D = element_jacobian(element, x)
+        loads = D.T @ sigma[defs]
         warping = element.type.keyword == "BEAMW"
         if warping:   # the beam's columns; the warping nodes' loads are the bimoments
             coords, loads = [coords[j] for j in BEAM_COLUMNS], loads[list(BEAM_COLUMNS)]

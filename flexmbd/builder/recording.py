@@ -60,6 +60,24 @@ def kept_releases() -> Iterator[dict]:
         _KEPT_RELEASES.reset(token)
 
 
+#: whether a build is a design's neighbour (:func:`neighbour_builds`)
+_NEIGHBOURS: ContextVar[bool] = ContextVar("neighbour_builds", default=False)
+
+
+@contextmanager
+def neighbour_builds() -> Iterator[None]:
+    """Within this context :meth:`ModelBuilder.build` checks the values only (as
+    :func:`~flexmbd.builder.validation.assemble_checked` does), not the constraints'
+    solvability, the masses or missing stiffness: the builds of a design's neighbours
+    (``theta + h``, :mod:`flexmbd.design`), whose data alone are read, of a design that
+    passed every check."""
+    token = _NEIGHBOURS.set(True)
+    try:
+        yield
+    finally:
+        _NEIGHBOURS.reset(token)
+
+
 #: positions farther from the origin [m] are refused: squared lengths would overflow
 LARGEST_POSITION = 1e100
 MASS_FORMULATIONS = ("consistent", "lumped")
@@ -618,6 +636,8 @@ class ModelBuilder:
                 does not close, a singular ``D_c`` in the initial configuration).
         """
         model = validation.assemble_checked(self._records)
+        if _NEIGHBOURS.get():   # a checked design's neighbour: its data only are read
+            return model
         problems: list[str] = list(check_solvability(model))
         missing = validation.flexible_without_stiffness(self._records, model)
         hinges = validation.flexible_without_stiffness(self._records, model, released=True)

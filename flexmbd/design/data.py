@@ -18,12 +18,14 @@ releases) is refused by name.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..engine import Workspace, initial_q, load_vector, q_index
+from ..builder.recording import neighbour_builds
+from ..engine import Workspace, compiled_of, initial_q, load_vector, q_index
+from ..engine.spec import CoreSpec
 from ..errors import ArgumentError
 from ..model import Model
 from ..settings import RunSettings
@@ -60,15 +62,21 @@ class Built:
     q_target: np.ndarray
 
 
-def build_design(build: Callable, params: Mapping[str, float]) -> Built:
-    """Call ``build(**params)`` and read its settings' last load step.
+def build_design(build: Callable, params: Mapping[str, float], neighbour: bool = False
+                 ) -> Built:
+    """Call ``build(**params)`` and read its settings' last load step; a ``neighbour`` of
+    a checked design has its values checked only (:func:`neighbour_builds`).
 
     Raises:
         ArgumentError: ``build`` failed or returned neither a model nor a ``(model,
             settings)`` pair.
     """
     try:
-        built = build(**params)
+        if neighbour:
+            with neighbour_builds():
+                built = build(**params)
+        else:
+            built = build(**params)
     except Exception as error:  # the user's code: its failure named with the design
         raise ArgumentError("build", f"failed at {dict(params)}: {type(error).__name__}: "
                                      f"{error}") from error
@@ -84,8 +92,26 @@ def build_design(build: Callable, params: Mapping[str, float]) -> Built:
     return Built(model, settings, loads, q)
 
 
-def _check_structure(nominal: Workspace, other: Workspace, name: str) -> None:
-    a, b = nominal.compiled, other.compiled
+class Neighbours(Sequence):
+    """The workspaces of a design's neighbours, made when first asked for (the data need
+    only the compiled arrays; the mass's and the weight's changes need the core)."""
+
+    def __init__(self, models: list[Model]):
+        self.models = models
+        self._made: dict[int, Workspace] = {}
+
+    def __len__(self) -> int:
+        return len(self.models)
+
+    def __getitem__(self, k):
+        if isinstance(k, slice):
+            return [self[j] for j in range(len(self))[k]]
+        if k not in self._made:
+            self._made[k] = Workspace(self.models[k])
+        return self._made[k]
+
+
+def _check_structure(a: CoreSpec, b: CoreSpec, name: str) -> None:
     same = all(np.array_equal(getattr(a.elements, f), getattr(b.elements, f))
                for f in _STRUCTURE) and all(
         np.array_equal(getattr(a.classification, f), getattr(b.classification, f))
@@ -105,7 +131,7 @@ def rate(values, h: float) -> np.ndarray:
 
 
 def data_change(state: Equilibrium, nominal: Built, sides: tuple[Built, ...], h: float,
-                name: str) -> tuple[DataChange, tuple[Workspace, ...]]:
+                name: str) -> tuple[DataChange, Neighbours]:
     """The data change per unit of the parameter ``name`` from the designs ``sides`` built
     at the :data:`STENCIL`'s points ``theta + k h``, and their workspaces (for the mass's
     change).
@@ -113,10 +139,10 @@ def data_change(state: Equilibrium, nominal: Built, sides: tuple[Built, ...], h:
     Raises:
         ArgumentError: the structure differs on either side.
     """
-    engines = tuple(Workspace(side.model) for side in sides)
-    for engine in engines:
-        _check_structure(state.engine, engine, name)
-    compiled = [engine.compiled for engine in engines]
+    engines = Neighbours([side.model for side in sides])
+    compiled = [compiled_of(side.model) for side in sides]
+    for spec in compiled:
+        _check_structure(state.spec, spec, name)
 
     held = held_coordinates(nominal.model)
     x_held = np.zeros(nominal.model.n_coordinates)
@@ -135,12 +161,13 @@ def data_change(state: Equilibrium, nominal: Built, sides: tuple[Built, ...], h:
         dS.append(rate(laws, h).reshape(len(group.at), nd, nd))
     # the loads, and the weights at the state's coordinates, held ones as each side has them
     forces, weighing = [], []
-    for side, engine in zip(sides, engines, strict=True):
+    weighed = bool(np.any(state.spec.loads.gravity) and np.any(state.spec.elements.emass))
+    for k, (side, spec) in enumerate(zip(sides, compiled, strict=True)):
         x = state.x.copy()
         x[held] = side.model.x0[held]
         x[slots[inputs[:len(slots)]]] = side.q_target[:len(slots)][inputs[:len(slots)]]
-        forces.append(engine.constant_loads + side.loads)
-        weighing.append(weights(engine, x))
+        forces.append(spec.loads.f_const + side.loads)
+        weighing.append(weights(engines[k], x) if weighed else np.zeros(len(x)))
     cls = state.spec.classification
     rows = cls.row_of_def[state.constrained]
     nrigid, nxm = state.spec.sizes.nrigid, state.spec.sizes.nxm

@@ -98,13 +98,14 @@ def deformations(group: ElementGroup, x: np.ndarray, coordinate_seeds: list,
         coordinate_seeds: per infinitesimal, its direction on the element coordinates
             ``(n_el, K, nc)`` (``K`` directions evaluated at once) or ``None``.
         parameter_seeds: per infinitesimal, its direction on the reference parameters
-            ``(n_el, np)`` or ``None``.
+            ``(n_el, np)``, or ``(n_el, K, np)`` one per direction, or ``None``.
     """
     xe = x[group.coords]
     n = len(coordinate_seeds)
     c = [seed(xe[:, None, j], [None if d is None else d[:, :, j] for d in coordinate_seeds])
          for j in range(xe.shape[1])]
-    p = [seed(group.param[:, None, j], [None if d is None else d[:, None, j]
+    p = [seed(group.param[:, None, j], [None if d is None else
+                                        (d[:, :, j] if d.ndim == 3 else d[:, None, j])
                                         for d in parameter_seeds])
          for j in range(group.param.shape[1])]
     shape = np.broadcast_shapes(*(part.parts.shape[1:] for part in c))
@@ -172,46 +173,58 @@ def internal_force(groups: list[ElementGroup], x: np.ndarray, sigma: np.ndarray,
     return force, e_all, D
 
 
+def stacked(changes: list[Change]) -> Change:
+    """Several changes as one, each array with a last axis over them (``u`` ``(nx, P)``,
+    ``dp`` ``[(n, np, P)]``, ``dlaw`` ``[(n, nd, nd, P)]``, ``dsigma`` ``(ne, P)``): the
+    tangent's and the constraints' changes of every parameter in one evaluation."""
+    return Change(u=np.stack([c.u for c in changes], axis=-1),
+                  dp=[np.stack(parts, axis=-1)
+                      for parts in zip(*(c.dp for c in changes), strict=True)],
+                  dlaw=[np.stack(parts, axis=-1)
+                        for parts in zip(*(c.dlaw for c in changes), strict=True)],
+                  dsigma=np.stack([c.dsigma for c in changes], axis=-1))
+
+
 def tangent_change(groups: list[ElementGroup], x: np.ndarray, sigma: np.ndarray,
-                   change: Change, elastic_def: np.ndarray, left: np.ndarray,
+                   changes: Change, elastic_def: np.ndarray, left: np.ndarray,
                    right: np.ndarray, geometric_weight: float = 1.0) -> np.ndarray:
-    """``left_k^T dK right_k`` ``(K,)`` for the columns of ``left`` and ``right`` ``(nx, K)``:
-    the change along ``change`` of the elements' tangent ``K = D_x^T S D_x + g sum_i
-    sigma_i D_xx,i`` (the elastic law wherever an element has one, the stresses
+    """``left^T dK right`` ``(P,)`` for ``left`` and ``right`` ``(nx,)`` along each of the
+    :func:`stacked` ``changes``: the change of the elements' tangent ``K = D_x^T S D_x + g
+    sum_i sigma_i D_xx,i`` (the elastic law wherever an element has one, the stresses
     ``sigma`` ``(ne,)`` of the state, elastic and constraint, ``g`` the
     ``geometric_weight``: 1 for the tangent, a load factor for buckling), by the third
     derivatives of the deformations."""
-    out = np.zeros(left.shape[1])
-    for group, dp, dS in zip(groups, change.dp, change.dlaw, strict=True):
-        parts = deformations(group, x, [left[group.coords].transpose(0, 2, 1),
-                                        right[group.coords].transpose(0, 2, 1),
-                                        np.broadcast_to(change.u[group.coords][:, None, :],
-                                                        (len(group.at), 1, group.coords.shape[1]))],
-                             [None, None, dp])
-        # parts (8, nd, n, K): 1 dl e, 2 dr e, 3 dl dr e, 4 de, 5 dl de, 6 dr de, 7 dl dr de
-        e, de = parts[0][:, :, 0], parts[4][:, :, 0]
-        dsig = stress_change(group, dS, e, de, change.dsigma, elastic_def)
-        sig = sigma[group.defs].T
+    out = np.zeros(changes.u.shape[1])
+    for group, dp, dS in zip(groups, changes.dp, changes.dlaw, strict=True):
+        along = changes.u[group.coords].transpose(0, 2, 1)        # (n, P, nc)
+        parts = deformations(group, x, [left[group.coords][:, None, :],
+                                        right[group.coords][:, None, :], along],
+                             [None, None, dp.transpose(0, 2, 1)])
+        # parts (8, nd, n, P): 1 dl e, 2 dr e, 3 dl dr e, 4 de, 5 dl de, 6 dr de, 7 dl dr de
+        e, de = parts[0], parts[4]
+        rows = _elastic_rows(group, elastic_def).T[:, :, None]
+        own = (np.einsum("kij,jkP->ikP", group.S, de) + np.einsum("kijP,jkP->ikP", dS, e))
+        dsig = np.where(rows, own, 0.0) + changes.dsigma[group.defs].transpose(1, 0, 2)
+        sig = sigma[group.defs].T[:, :, None]
         S = np.where(group.elastic[:, None, None], group.S, 0.0)
-        dSe = np.where(group.elastic[:, None, None], dS, 0.0)
-        elastic = (np.einsum("ikK,kij,jkK->K", parts[5], S, parts[2])
-                   + np.einsum("ikK,kij,jkK->K", parts[1], S, parts[6])
-                   + np.einsum("ikK,kij,jkK->K", parts[1], dSe, parts[2]))
-        geometric = (np.einsum("ik,ikK->K", dsig, parts[3])
-                     + np.einsum("ik,ikK->K", sig, parts[7]))
+        dSe = np.where(group.elastic[:, None, None, None], dS, 0.0)
+        elastic = (np.einsum("ikP,kij,jkP->P", parts[5], S, parts[2])
+                   + np.einsum("ikP,kij,jkP->P", parts[1], S, parts[6])
+                   + np.einsum("ikP,kijP,jkP->P", parts[1], dSe, parts[2]))
+        geometric = (np.einsum("ikP,ikP->P", dsig, parts[3])
+                     + np.einsum("ikP,ikP->P", sig, parts[7]))
         out += elastic + geometric_weight * geometric
     return out
 
 
-def constraint_change(groups: list[ElementGroup], x: np.ndarray, change: Change,
-                      directions: np.ndarray, ne: int) -> np.ndarray:
-    """``d(D_x v)`` ``(ne, K)`` along ``change`` for the columns ``v`` of ``directions``
-    ``(nx, K)``: how the deformation rates of ``v`` change."""
-    out = np.zeros((ne, directions.shape[1]))
-    for group, dp in zip(groups, change.dp, strict=True):
-        parts = deformations(group, x, [directions[group.coords].transpose(0, 2, 1),
-                                        np.broadcast_to(change.u[group.coords][:, None, :],
-                                                        (len(group.at), 1, group.coords.shape[1]))],
-                             [None, dp])
+def constraint_change(groups: list[ElementGroup], x: np.ndarray, changes: Change,
+                      direction: np.ndarray, ne: int) -> np.ndarray:
+    """``d(D_x v)`` ``(ne, P)`` along each of the :func:`stacked` ``changes`` for ``v``
+    ``direction`` ``(nx,)``: how the deformation rates of ``v`` change."""
+    out = np.zeros((ne, changes.u.shape[1]))
+    for group, dp in zip(groups, changes.dp, strict=True):
+        parts = deformations(group, x, [direction[group.coords][:, None, :],
+                                        changes.u[group.coords].transpose(0, 2, 1)],
+                             [None, dp.transpose(0, 2, 1)])
         out[group.defs] = parts[3].transpose(1, 0, 2)
     return out

@@ -22,7 +22,14 @@ from ..errors import ArgumentError
 from ..orientation import euler_forces
 from ..summary import clip
 from .data import DATA_STEP, STENCIL, build_design, data_change, rate
-from .elements import Change, constraint_change, force_change, internal_force, tangent_change
+from .elements import (
+    Change,
+    constraint_change,
+    force_change,
+    internal_force,
+    stacked,
+    tangent_change,
+)
 from .outputs import Evaluator, Output, Sensitivity, moment_loads, parse
 from .state import Equilibrium
 
@@ -119,8 +126,8 @@ class Design:
         self.sides, changes, sens = [], [], []
         for name, value in self.params.items():
             h = DATA_STEP * (abs(value) if value else 1.0)
-            sides = tuple(build_design(self.build, {**self.params, name: value + k * h})
-                          for k, _ in STENCIL)
+            sides = tuple(build_design(self.build, {**self.params, name: value + k * h},
+                                       neighbour=True) for k, _ in STENCIL)
             change, engines = data_change(state, self.nominal, sides, h, name)
             self.sides.append(sides)
             changes.append(change)
@@ -143,6 +150,7 @@ class Design:
             _, self.de[n], self.dsigma[n] = force_change(state.groups, self.x, self.sigma,
                                                          moved, state.elastic_def, state.ne)
             self.changes.append(moved)
+        self.all_changes = stacked(self.changes)
         self.sens = sens
         return sens
 
@@ -155,40 +163,33 @@ class Design:
 
     def tangent_changes(self, left: np.ndarray, right: np.ndarray, nu_left: np.ndarray,
                         nu_right: np.ndarray, geometric_weight: float = 1.0) -> np.ndarray:
-        """``[l; nu_l]^T dA [r; nu_r]`` ``(k_params, K)`` for the columns of ``left``,
-        ``right`` ``(nx, K)`` and their constraint parts ``(nc, K)``: the bordered
-        tangent's change along each parameter's change of state and data; the geometric
-        stiffness (stresses and the load stiffness) weighted by ``geometric_weight``."""
-        state = self.state
-        out = np.empty((len(self.changes), left.shape[1]))
-        for n, change in enumerate(self.changes):
-            value = tangent_change(state.groups, self.x, self.sigma, change, state.elastic_def,
-                                   left, right, geometric_weight)
-            c = state.constrained
-            value += np.sum(nu_left * constraint_change(state.groups, self.x, change, right,
-                                                        state.ne)[c], axis=0)
-            value += np.sum(nu_right * constraint_change(state.groups, self.x, change, left,
-                                                         state.ne)[c], axis=0)
+        """``[l; nu_l]^T dA [r; nu_r]`` ``(k_params,)`` for ``left``, ``right`` ``(nx,)`` and
+        their constraint parts ``(nc,)``: the bordered tangent's change along each
+        parameter's change of state and data; the geometric stiffness (stresses and the
+        load stiffness) weighted by ``geometric_weight``."""
+        state, c = self.state, self.state.constrained
+        value = tangent_change(state.groups, self.x, self.sigma, self.all_changes,
+                               state.elastic_def, left, right, geometric_weight)
+        value += nu_left @ constraint_change(state.groups, self.x, self.all_changes, right,
+                                             state.ne)[c]
+        value += nu_right @ constraint_change(state.groups, self.x, self.all_changes, left,
+                                              state.ne)[c]
+        for n in range(len(self.changes)):
             for at, dM in self.moments(self.data[n].df):   # the load stiffness -df/dx
-                value -= geometric_weight * np.einsum("ik,ik->k", left[at],
-                                                      euler_forces(right[at].T, dM).T)
-            value -= geometric_weight * self.gravity_changes(n, left, right)
-            out[n] = value
-        return out
+                value[n] -= geometric_weight * left[at] @ euler_forces(right[at], dM)
+            value[n] -= geometric_weight * self.gravity_changes(n, left, right)
+        return value
 
-    def gravity_changes(self, n: int, left: np.ndarray, right: np.ndarray) -> np.ndarray:
-        """``left^T d(dg/dx) right`` ``(K,)`` along parameter ``n``'s change: the turning
-        weight's load stiffness, on the designs around at the state moved alike (the
-        data's central differences); zero without gravity on element masses."""
+    def gravity_changes(self, n: int, left: np.ndarray, right: np.ndarray) -> float:
+        """``left^T d(dg/dx) right`` along parameter ``n``'s change: the turning weight's
+        load stiffness, on the designs around at the state moved alike (the data's
+        central differences); zero without gravity on element masses."""
         state, s = self.state, self.sens[n]
         if not (np.any(state.spec.loads.gravity) and np.any(state.spec.elements.emass)):
-            return np.zeros(left.shape[1])
-        values = []
-        for (k, _), engine in zip(STENCIL, s.engines, strict=True):
-            x = self.x + k * s.h * s.dx
-            values.append(np.array([left[:, j] @ state.gravity_times(right[:, j], x, engine)
-                                    for j in range(left.shape[1])]))
-        return rate(values, s.h)
+            return 0.0
+        values = [left @ state.gravity_times(right, self.x + k * s.h * s.dx, engine)
+                  for (k, _), engine in zip(STENCIL, s.engines, strict=True)]
+        return float(rate(values, s.h))
 
     def mass_changes(self, left: np.ndarray, right: np.ndarray) -> np.ndarray:
         """``left^T dM right`` ``(k_params,)`` for ``(nx,)`` vectors: the mass's change along

@@ -27,6 +27,7 @@ change (:meth:`Design.sensitivities`) and the data's:
 from __future__ import annotations
 
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -104,8 +105,7 @@ class Sensitivity:
     data: object
     dx: np.ndarray
     dmu: np.ndarray
-    engines: tuple
-    x_sides: tuple = ()
+    engines: Sequence
 
 
 class Evaluator:
@@ -152,9 +152,10 @@ class Evaluator:
         return self._modes[k]
 
     @staticmethod
-    def stress_points(x: np.ndarray, sigma: np.ndarray, model) -> np.ndarray:
-        """Every beam's largest von Mises stress at both ends ``(2 n_beams,)`` [Pa]."""
-        return np.array([s for beam in beam_stresses(model, x, sigma).values()
+    def stress_points(x: np.ndarray, sigma: np.ndarray, model, elements=None) -> np.ndarray:
+        """Every beam's (or those numbered in ``elements``) largest von Mises stress at
+        both ends ``(2 n_beams,)`` [Pa]."""
+        return np.array([s for beam in beam_stresses(model, x, sigma, elements).values()
                          for s in beam.ends])
 
     # --- derivatives ----------------------------------------------------------------------
@@ -198,7 +199,7 @@ class Evaluator:
         phi = transfer @ shape
         psi = transfer @ d.left_mode(shape, value)
         nu, eta = d.bordered_mode(phi, value), d.bordered_mode(psi, value, transposed=True)
-        dA = d.tangent_changes(psi[:, None], phi[:, None], eta[:, None], nu[:, None])[:, 0]
+        dA = d.tangent_changes(psi, phi, eta, nu)
         dM = d.mass_changes(psi, phi)
         mass = psi @ d.state.engine.mass(d.x)[0] @ phi
         domega2 = (dA - value * dM) / mass
@@ -210,7 +211,7 @@ class Evaluator:
         T = d.unit_loads(node, rot)                   # (nx, m)
         W, nu_w = d.bordered_solve(T, transposed=False)
         V, nu_v = d.bordered_solve(T, transposed=True)
-        dA = d.tangent_changes(V[:, [i]], W[:, [j]], nu_v[:, [i]], nu_w[:, [j]])[:, 0]
+        dA = d.tangent_changes(V[:, i], W[:, j], nu_v[:, i], nu_w[:, j])
         dT = d.unit_load_changes(node, rot)           # (k_params, nx, m)
         return dT[:, :, i] @ W[:, j] + dT[:, :, j] @ V[:, i] - dA
 
@@ -232,8 +233,7 @@ class Evaluator:
                                            f"another output")
         phi = found.linearization.F_q[:, found.linearization.dynamic] @ found.shapes[:, k - 1]
         nu = d.buckling_border(phi, factor)
-        change = d.tangent_changes(phi[:, None], phi[:, None], nu[:, None], nu[:, None],
-                                   geometric_weight=factor)[:, 0]
+        change = d.tangent_changes(phi, phi, nu, nu, geometric_weight=factor)
         G = found.linearization.block("G0")
         shape = found.shapes[:, k - 1]
         return -change / (shape @ G @ shape)
@@ -249,13 +249,17 @@ class Evaluator:
                 f"stress_max: {len(rivals)} points lie within {COMPETING:g} of the largest; "
                 f"its derivative is the first's (the maximum is not smooth here)")
 
+        # stress_max follows its point alone: its beam is the only one evaluated
+        beams = list(beam_stresses(d.model, d.x, d.sigma))   # in stress_points' order
+        only = [beams[top // 2]] if out.kind == "stress_max" else None
+
         def measure(values: np.ndarray) -> float:
-            return float(values[top]) if out.kind == "stress_max" else ks(values)
+            return float(values[top % 2]) if only else ks(values)
 
         gradient = np.empty(len(sens))
         for n, s in enumerate(sens):
             values = [measure(self.stress_points(d.x + k * s.h * d.dx[n], d.sigma + k * s.h *
-                                                 d.dsigma[n], built.model))
+                                                 d.dsigma[n], built.model, only))
                       for (k, _), built in zip(STENCIL, d.sides[n], strict=True)]
             gradient[n] = rate(values, s.h)
         return gradient, note

@@ -31,8 +31,6 @@ from .elements import Change, force_change, groups_of, internal_force
 
 __all__ = ["DataChange", "Equilibrium"]
 
-#: iterative refinements of a sensitivity solve, and the relative step that ends them
-REFINEMENTS, REFINED = 4, 1e-13
 
 
 @dataclass(frozen=True)
@@ -148,25 +146,6 @@ class Equilibrium:
             out[at] = euler_forces(x[at], df[at[1:]])
         return out
 
-    def tangent_times(self, dz: np.ndarray, transposed: bool = False) -> np.ndarray:
-        """``A dz`` (``A^T dz``) ``(nfree + nc,)`` for ``dz`` ``(nfree + nc,)``, element by
-        element from the definitions: accurate to rounding of each element's terms, where
-        a solve on the factorisation is accurate to rounding of the whole matrix (whose
-        axial stiffness dwarfs the bending of thin leaves)."""
-        dx, dmu = self.full(dz, np.zeros(len(self.x)))
-        dsigma = np.zeros(self.ne)
-        dsigma[self.constrained] = dmu
-        change = Change(u=dx, dp=[np.zeros_like(g.param) for g in self.groups],
-                        dlaw=[np.zeros_like(g.S) for g in self.groups], dsigma=dsigma)
-        force, de, _ = force_change(self.groups, self.x, self.sigma, change,
-                                    self.elastic_def, self.ne)
-        total = self.engine.constant_loads + self.loads
-        for at in self.engine.rotation_coordinates:   # a global moment's load stiffness
-            block = euler_forces(np.eye(4), total[at[1:]]).T   # df/dlam, linear in lam
-            force[at] -= (block.T if transposed else block) @ dx[at]
-        force -= self.gravity_times(dx, transposed=transposed)
-        return np.concatenate([force[self.free], de[self.constrained]])
-
     def gravity_times(self, v: np.ndarray, x: np.ndarray | None = None,
                       engine: Workspace | None = None, transposed: bool = False
                       ) -> np.ndarray:
@@ -190,23 +169,12 @@ class Equilibrium:
         return out
 
     def solve(self, rhs: np.ndarray, transposed: bool = False) -> np.ndarray:
-        """``A^-1 rhs`` (``A^-T rhs``) ``(n, k)`` on the factorised tangent, refined
-        (:data:`REFINEMENTS` steps at most) with the exact products of
-        :meth:`tangent_times`: the factorisation's rounding, amplified by the stiffness
-        contrast of thin leaves, would otherwise reach 1e-5 of a sensitivity."""
+        """``A^-1 rhs`` (``A^-T rhs``) ``(n, k)`` on the factorised tangent."""
         if self.engine.static_owner is not self:
             self.banded.factor(self.x, self.q, self.mu, self.loads)
             self.engine.static_owner = self
         rhs = np.asarray(rhs, dtype=float).reshape(self.banded.size, -1)
-        z = self.banded.solve(rhs, transposed)
-        for _ in range(REFINEMENTS):
-            residual = rhs - np.column_stack([self.tangent_times(z[:, k], transposed)
-                                              for k in range(z.shape[1])])
-            step = self.banded.solve(residual, transposed)
-            z += step
-            if np.abs(step).max(initial=0.0) <= REFINED * np.abs(z).max(initial=0.0):
-                break
-        return z
+        return self.banded.solve(rhs, transposed)
 
     def full(self, dz: np.ndarray, held: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """A solution ``dz`` ``(nfree + nc,)`` as a change of all coordinates ``(nx,)``

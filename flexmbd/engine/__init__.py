@@ -34,6 +34,7 @@ from .workspace import (
     MAX_ITERATIONS,
     OUTPUTS,
     Workspace,
+    compiled_of,
     deformations_and_jacobian,
     element_kernel,
     output_bytes,
@@ -44,7 +45,8 @@ from .workspace import (
 )
 
 __all__ = ["CORE_BUILD", "KINEMATIC_OUTPUTS", "MAX_ITERATIONS", "OUTPUTS", "CoreError",
-           "Forces", "Workspace", "check_core", "compile_model", "deformations_and_jacobian",
+           "Forces", "Workspace", "check_core", "compile_model", "compiled_of",
+           "deformations_and_jacobian",
            "element_kernel", "initial_q", "load_slots", "load_vector", "output_bytes",
            "output_sizes", "q_index", "q_scale", "resolve_laws", "reverse_cuthill_mckee",
            "unwrap_near", "workspace_for", "workspace_of", "write_rows"]

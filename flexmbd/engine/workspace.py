@@ -153,6 +153,12 @@ def _compiled(model: Model) -> tuple[CoreSpec, float | None]:
     return entry["compiled"], entry.get("reference")
 
 
+def compiled_of(model: Model) -> CoreSpec:
+    """The model's compiled arrays (:func:`~flexmbd.engine.compile.compile_model`), made
+    once and kept beside the model with its workspaces."""
+    return _compiled(model)[0]
+
+
 def workspace_of(model: Model, tolerance: float | None = None,
               max_iterations: int = MAX_ITERATIONS) -> Workspace:
     """The model's default workspace for evaluations at one state, one per thread (its
