@@ -47,7 +47,7 @@ def _pairs(given, name: str, what: str) -> dict[str, tuple[float | None, float |
     return out
 
 
-def optimize(build: Callable, params: Mapping[str, float], objective: str,
+def optimize(build: Callable, params: Mapping[str, float], objective,
              constraints: Mapping[str, tuple] | None = None,
              bounds: Mapping[str, tuple] | None = None, *, method: str = "SLSQP",
              maximize: bool = False, tol: float = 1e-10, max_iterations: int = 100,
@@ -59,7 +59,8 @@ def optimize(build: Callable, params: Mapping[str, float], objective: str,
         build: ``build(**params)``, as for :func:`~flexmbd.design.evaluate`.
         params: the starting design, ``{name: value}``.
         objective: the output minimised (its names as for ``evaluate``: ``"f1"``,
-            ``"C[9,10][4,4]"``, ``"stress_ks"``, ...).
+            ``"C[9,10][4,4]"``, ``"stress_ks"``, ...), or a weighted sum of outputs,
+            ``{"C[9,10][2,2]": 1.0, "C[19,20][2,2]": -1.0}``.
         constraints: ``{output: (low, high)}``, ``None`` for no limit on a side; ``low ==
             high`` holds the output at that value.
         bounds: ``{param: (low, high)}`` on the parameters.
@@ -93,7 +94,8 @@ def optimize(build: Callable, params: Mapping[str, float], objective: str,
                                       f"(its parameters: {names})")
     if method not in METHODS:
         raise ArgumentError("method", f"must be one of {METHODS}, got {method!r}")
-    outputs = list(dict.fromkeys([objective, *limits]))
+    weights = _weights(objective)
+    outputs = list(dict.fromkeys([*weights, *limits]))
     scale = np.array([_scale(start[n], ranges.get(n)) for n in names])
     history: list[dict] = []
     kept: dict[bytes, DesignResult] = {}
@@ -107,21 +109,28 @@ def optimize(build: Callable, params: Mapping[str, float], objective: str,
             except FlexmbdError as error:
                 error.partial_result = _result(history, names)   # type: ignore[attr-defined]
                 raise
-            history.append({"params": values, "objective": kept[key].values[objective]})
+            history.append({"params": values, "objective": combined(kept[key].values)})
         return kept[key]
+
+    def combined(values: Mapping[str, float]) -> float:
+        return sum(w * values[name] for name, w in weights.items())
 
     u0 = np.ones(len(names))
     first = design_at(u0)
     sign = -1.0 if maximize else 1.0
-    size = abs(first.values[objective]) or 1.0
+    # the objective's unit: its start (a weighted sum of near-equal outputs is far
+    # smaller than its terms), else its largest term
+    size = abs(combined(first.values)) or max(
+        abs(w * first.values[name]) for name, w in weights.items()) or 1.0
 
     def fun(u):
-        return sign * design_at(u).values[objective] / size
+        return sign * combined(design_at(u).values) / size
 
     def jac(u):
         gradient = design_at(u).gradient
         assert gradient is not None
-        return sign * np.array([gradient[objective][n] for n in names]) * scale / size
+        slope = [sum(w * gradient[out][n] for out, w in weights.items()) for n in names]
+        return sign * np.array(slope) * scale / size
 
     constraint_list = []
     for out, (low, high) in limits.items():
@@ -147,9 +156,26 @@ def optimize(build: Callable, params: Mapping[str, float], objective: str,
     best = design_at(found.x)
     return OptimizeResult(
         x=dict(zip(names, (found.x * scale).tolist(), strict=True)),
-        fun=best.values[objective], nfev=len(kept), nit=found.get("nit"),
+        fun=combined(best.values), nfev=len(kept), nit=found.get("nit"),
         success=bool(found.success), status=found.status, message=found.message,
         outputs=best.values, history=history, result=best)
+
+
+def _weights(objective) -> dict[str, float]:
+    """The objective as ``{output: weight}``: one output name, or a weighted sum."""
+    if isinstance(objective, str):
+        return {objective: 1.0}
+    if isinstance(objective, Mapping) and objective:
+        out = {}
+        for name, weight in objective.items():
+            if not isinstance(name, str) or isinstance(weight, bool) or not isinstance(
+                    weight, (int, float, np.floating, np.integer)) or not math.isfinite(weight):
+                raise ArgumentError("objective", f"a weighted sum maps output names to "
+                                                 f"finite numbers, got {name!r}: {weight!r}")
+            out[name] = float(weight)
+        return out
+    raise ArgumentError("objective", f"give an output name, or a dict of output names and "
+                                     f"weights (their weighted sum), got {objective!r}")
 
 
 def _scale(value: float, bounds: tuple | None) -> float:

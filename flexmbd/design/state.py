@@ -25,6 +25,7 @@ import numpy as np
 
 from ..analysis.banded import BandedStatics
 from ..engine import Workspace
+from ..errors import SingularConfigurationError
 from ..model import CoordinateClass, Model
 from ..orientation import euler_forces
 from .elements import Change, force_change, groups_of, internal_force
@@ -88,7 +89,14 @@ class Equilibrium:
         self.free, self.constrained = self.banded.free, self.banded.constrained
         self.elastic_def = self.spec.classification.elastic_def.astype(bool)
         self.ne = model.n_deformations
-        self.core_residual = self.banded.factor(self.x, self.q, self.mu, self.loads)
+        try:
+            self.core_residual = self.banded.factor(self.x, self.q, self.mu, self.loads)
+        except np.linalg.LinAlgError:
+            raise SingularConfigurationError(
+                "the static tangent [[K, D_c^T], [D_c, 0]] at the design's equilibrium "
+                "does not factorise (a mechanism, a buckled state, or a contrast of "
+                "stiffness beyond its pivots' test): the design has no sensitivities "
+                "there") from None
         self.engine.static_owner = self
 
     # --- the residual, as the engine's ----------------------------------------------------
