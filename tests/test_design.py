@@ -2,6 +2,7 @@
 converged central differences of the public analyses (Richardson-extrapolated, with a
 tight Newton tolerance), closed forms of a cantilever, and the engine's own residual."""
 
+import dataclasses
 import math
 
 import numpy as np
@@ -61,9 +62,10 @@ def pivot(t=0.5e-3, L=0.1, mass=0.25, g=0.0, w=WIDTH, rotation=0.3, beams=2,
 
 def tight(build):
     """``build`` with a Newton tolerance at the coordinates' rounding: the references."""
-    return lambda **params: (lambda m, s: (m, fm.RunSettings(
-        load_increment=s.load_increment, load_steps=s.load_steps, tolerance=5e-14)))(
-        *build(**params))
+    def tightened(**params):
+        model, settings = build(**params)
+        return model, dataclasses.replace(settings, tolerance=5e-14)
+    return tightened
 
 
 def central(build, params, outputs, name, rel):
@@ -304,3 +306,41 @@ def test_optimize_refuses_bad_limits_by_name():
         design.optimize(leaf, {"t": 0.5e-3}, "f1.3", constraints={"stress_max": 3.0})
     with pytest.raises(fm.ArgumentError, match="'omega' is not an output"):
         design.optimize(leaf, {"t": 0.5e-3}, "omega")
+
+
+def driven_arm(L1=0.3, L2=0.5, angle=0.4, EI=5.0, P=2.0):
+    """A planar arm: a rigid link turned by a driven hinge (an input deformation), then a
+    flexible link of four beams under a tip load."""
+    b = fm.ModelBuilder("driven arm")
+    b.add_node(1, 0, 0).add_node(3, L1, 0)
+    b.add_rigid_beam(1, 1, 2, 3).add_hinge(2, 4, 2)
+    b.fix(1).fix(4).input_deformation(2, 1)
+    previous = (3, 2)
+    for k in range(1, 5):
+        node = 10 + 2 * k
+        b.add_node(node, L1 + L2 * k / 4, 0)
+        (b.add_beam(10 + k, *previous, node, node + 1).dynamic_deformation(10 + k)
+         .set_mass(10 + k, 0.2).set_stiffness(10 + k, axial=1e6, bending=EI))
+        previous = (node, node + 1)
+    return b.build(), fm.RunSettings(load_increment={"x18.2": -P},
+                                     input_increment={"e2.1": angle}, load_steps=3)
+
+
+def test_a_driven_input_and_its_stroke_are_design_parameters():
+    """The drive's stroke (an input deformation's increment) and the links' lengths."""
+    assert_gradients(driven_arm, {"L1": 0.3, "L2": 0.5, "angle": 0.4, "EI": 5.0},
+                     ["x18.1", "x18.2", "C[18,19][1,1]", "f2"])
+
+
+def test_a_weighted_sum_is_an_objective():
+    """``{output: weight}`` minimises the weighted sum: twice an output has the same
+    optimum as the output."""
+    limits = {"stress_max": (None, LIMIT)}
+    one = design.optimize(leaf, {"t": 0.5e-3}, "f1.3", constraints=limits,
+                          bounds={"t": (1e-4, 2e-3)})
+    two = design.optimize(leaf, {"t": 0.5e-3}, {"f1.3": 2.0}, constraints=limits,
+                          bounds={"t": (1e-4, 2e-3)})
+    assert two.x["t"] == pytest.approx(one.x["t"], rel=1e-9)
+    assert two.fun == pytest.approx(2 * one.fun, rel=1e-9)
+    with pytest.raises(fm.ArgumentError, match="weighted sum maps output names"):
+        design.optimize(leaf, {"t": 0.5e-3}, {"f1.3": "2"})

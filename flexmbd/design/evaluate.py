@@ -133,7 +133,7 @@ class Design:
             changes.append(change)
             sens.append(Sensitivity(name, h, change, np.empty(0), np.empty(0), engines))
         rhs = -np.column_stack([state.residual_change(c) for c in changes])
-        dz = state.solve(rhs)
+        dz = state.solve(rhs, refine=True)
         nc = len(state.constrained)
         self.dx = np.empty((len(sens), self.model.n_coordinates))
         self.dmu = np.empty((len(sens), nc))
