@@ -50,7 +50,7 @@ def _pairs(given, name: str, what: str) -> dict[str, tuple[float | None, float |
 def optimize(build: Callable, params: Mapping[str, float], objective,
              constraints: Mapping[str, tuple] | None = None,
              bounds: Mapping[str, tuple] | None = None, *, method: str = "SLSQP",
-             maximize: bool = False, tol: float = 1e-10, max_iterations: int = 100,
+             maximize: bool = False, tol: float = 1e-8, max_iterations: int = 100,
              options: Mapping | None = None):
     """The design that minimises (or maximises) an output, within bounds on the parameters
     and limits on other outputs, by SciPy's ``minimize`` with exact gradients.
@@ -66,7 +66,8 @@ def optimize(build: Callable, params: Mapping[str, float], objective,
         bounds: ``{param: (low, high)}`` on the parameters.
         method: ``"SLSQP"`` (default) or ``"trust-constr"``.
         maximize: maximise the objective instead.
-        tol: the optimiser's tolerance on the scaled objective.
+        tol: the optimiser's tolerance on the objective relative to its start (the
+            analyses' rounding, about 1e-10, sets its floor).
         max_iterations: iterations before the optimiser stops.
         options: further options of the SciPy method.
 
