@@ -10,6 +10,7 @@ thickness of 5e-4 m and a length of 0.1 m weigh alike in SLSQP's steps.
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Callable, Mapping
 
 import numpy as np
@@ -60,9 +61,11 @@ def optimize(build: Callable, params: Mapping[str, float], objective,
         params: the starting design, ``{name: value}``.
         objective: the output minimised (its names as for ``evaluate``: ``"f1"``,
             ``"C[9,10][4,4]"``, ``"stress_ks"``, ...), or a weighted sum of outputs,
-            ``{"C[9,10][2,2]": 1.0, "C[19,20][2,2]": -1.0}``.
+            in one string (``"2*f1 - f2"``, the signs with a space either side) or as
+            ``{"f1": 2.0, "f2": -1.0}``.
         constraints: ``{output: (low, high)}``, ``None`` for no limit on a side; ``low ==
-            high`` holds the output at that value.
+            high`` holds the output at that value. A key may be a sum of outputs as for
+            the objective (``"C[5,4][2,2] - C[105,104][2,2]": (0.0, 0.0)``).
         bounds: ``{param: (low, high)}`` on the parameters.
         method: ``"SLSQP"`` (default) or ``"trust-constr"``.
         maximize: maximise the objective instead.
@@ -95,8 +98,9 @@ def optimize(build: Callable, params: Mapping[str, float], objective,
                                       f"(its parameters: {names})")
     if method not in METHODS:
         raise ArgumentError("method", f"must be one of {METHODS}, got {method!r}")
-    weights = _weights(objective)
-    outputs = list(dict.fromkeys([*weights, *limits]))
+    weights = combination(objective, "objective")
+    sums = {key: combination(key, "constraints") for key in limits}
+    outputs = list(dict.fromkeys([*weights, *(n for terms in sums.values() for n in terms)]))
     scale = np.array([_scale(start[n], ranges.get(n)) for n in names])
     history: list[dict] = []
     kept: dict[bytes, DesignResult] = {}
@@ -113,8 +117,14 @@ def optimize(build: Callable, params: Mapping[str, float], objective,
             history.append({"params": values, "objective": combined(kept[key].values)})
         return kept[key]
 
-    def combined(values: Mapping[str, float]) -> float:
-        return sum(w * values[name] for name, w in weights.items())
+    def combined(values: Mapping[str, float], terms: Mapping[str, float] = weights) -> float:
+        return sum(w * values[name] for name, w in terms.items())
+
+    def slope_of(result: DesignResult, terms: Mapping[str, float]) -> np.ndarray:
+        gradient = result.gradient
+        assert gradient is not None
+        return np.array([sum(w * gradient[out][n] for out, w in terms.items())
+                         for n in names])
 
     u0 = np.ones(len(names))
     first = design_at(u0)
@@ -128,22 +138,21 @@ def optimize(build: Callable, params: Mapping[str, float], objective,
         return sign * combined(design_at(u).values) / size
 
     def jac(u):
-        gradient = design_at(u).gradient
-        assert gradient is not None
-        slope = [sum(w * gradient[out][n] for out, w in weights.items()) for n in names]
-        return sign * np.array(slope) * scale / size
+        return sign * slope_of(design_at(u), weights) * scale / size
 
     constraint_list = []
-    for out, (low, high) in limits.items():
-        magnitude = max(abs(v) for v in (low, high, first.values[out]) if v is not None) or 1.0
+    for key, (low, high) in limits.items():
+        terms = sums[key]
+        # a limit's unit: the largest of its bounds and of its terms at the start (a
+        # difference held at zero is measured against its terms)
+        magnitude = max([abs(v) for v in (low, high) if v is not None] +
+                        [abs(w * first.values[n]) for n, w in terms.items()]) or 1.0
 
-        def value(u, out=out, magnitude=magnitude):
-            return np.array([design_at(u).values[out] / magnitude])
+        def value(u, terms=terms, magnitude=magnitude):
+            return np.array([combined(design_at(u).values, terms) / magnitude])
 
-        def slope(u, out=out, magnitude=magnitude):
-            gradient = design_at(u).gradient
-            assert gradient is not None
-            return (np.array([gradient[out][n] for n in names]) * scale / magnitude)[None, :]
+        def slope(u, terms=terms, magnitude=magnitude):
+            return (slope_of(design_at(u), terms) * scale / magnitude)[None, :]
 
         lower = -np.inf if low is None else low / magnitude
         upper = np.inf if high is None else high / magnitude
@@ -162,21 +171,44 @@ def optimize(build: Callable, params: Mapping[str, float], objective,
         outputs=best.values, history=history, result=best)
 
 
-def _weights(objective) -> dict[str, float]:
-    """The objective as ``{output: weight}``: one output name, or a weighted sum."""
-    if isinstance(objective, str):
-        return {objective: 1.0}
-    if isinstance(objective, Mapping) and objective:
+#: the sign between two terms of a combination of outputs, with a space either side
+_BETWEEN = re.compile(r"\s+([+-])\s+")
+_WEIGHTED = re.compile(r"^([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*\*\s*(\S+)$")
+
+
+def combination(given, argument: str) -> dict[str, float]:
+    """Outputs and their weights, ``{output: weight}``, of an objective or a limited
+    quantity: an output name (``"f1"``), a sum of them in one string (``"C[5,4][2,2] -
+    C[105,104][2,2]"``, ``"2*f1 + f2"``, the signs with a space either side), or a dict of
+    names and weights.
+
+    Raises:
+        ArgumentError: anything else, named by ``argument``.
+    """
+    if isinstance(given, Mapping) and given:
         out = {}
-        for name, weight in objective.items():
+        for name, weight in given.items():
             if not isinstance(name, str) or isinstance(weight, bool) or not isinstance(
                     weight, (int, float, np.floating, np.integer)) or not math.isfinite(weight):
-                raise ArgumentError("objective", f"a weighted sum maps output names to "
-                                                 f"finite numbers, got {name!r}: {weight!r}")
-            out[name] = float(weight)
+                raise ArgumentError(argument, f"a weighted sum maps output names to "
+                                              f"finite numbers, got {name!r}: {weight!r}")
+            out[name.strip()] = out.get(name.strip(), 0.0) + float(weight)
         return out
-    raise ArgumentError("objective", f"give an output name, or a dict of output names and "
-                                     f"weights (their weighted sum), got {objective!r}")
+    if isinstance(given, str) and given.strip():
+        parts = _BETWEEN.split(" " + given.strip())
+        out = {}
+        signs = ["+", *parts[1::2]]
+        for sign, term in zip(signs, parts[0::2], strict=True):
+            term = term.strip()
+            weighted = _WEIGHTED.match(term)
+            weight, name = (float(weighted.group(1)), weighted.group(2)) if weighted \
+                else (1.0, term)
+            if not weighted and name[:1] in "+-" and len(name) > 1:   # "-f1": a sign, no weight
+                weight, name = (-1.0 if name[0] == "-" else 1.0), name[1:]
+            out[name] = out.get(name, 0.0) + (weight if sign == "+" else -weight)
+        return out
+    raise ArgumentError(argument, f"give an output name, a sum of them (\"f1 - f2\"), or a "
+                                  f"dict of output names and weights, got {given!r}")
 
 
 def _scale(value: float, bounds: tuple | None) -> float:
