@@ -1,6 +1,6 @@
 """
 Where the strips of a cross-spring pivot should cross: Wittrick's optimum
-========================================================================
+=========================================================================
 
 A cross-spring pivot's rotational stiffness changes with the load it carries along its
 axis: tension stiffens it, compression softens it, by an amount that depends on where
