@@ -401,3 +401,19 @@ def test_an_equality_on_a_difference_of_outputs():
     root = brentq(difference, 0.05, 0.3, xtol=1e-14)
     assert found.x["crossing"] == pytest.approx(root, rel=1e-6)
     assert found.x["crossing"] == pytest.approx(0.5 - math.sqrt(5) / 6, abs=0.02)
+
+
+def test_a_failed_analysis_keeps_the_optimisation_so_far():
+    """A design the analysis cannot converge ends the search with its error, the designs
+    analysed so far attached."""
+    def fragile(t):
+        if t > 0.8e-3:
+            raise fm.ConvergenceError("pretend: no equilibrium for so thick a leaf")
+        return leaf(t)
+
+    with pytest.raises(fm.ArgumentError, match="build.*pretend") as caught:
+        design.optimize(fragile, {"t": 0.5e-3}, "f3.3", maximize=True,
+                        bounds={"t": (1e-4, 2e-3)})
+    partial = caught.value.partial_result
+    assert partial.nfev >= 1 and not partial.success
+    assert partial.x["t"] <= 0.8e-3

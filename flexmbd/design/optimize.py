@@ -112,7 +112,7 @@ def optimize(build: Callable, params: Mapping[str, float], objective,
             try:
                 kept[key] = evaluate(build, values, outputs)
             except FlexmbdError as error:
-                error.partial_result = _result(history, names)   # type: ignore[attr-defined]
+                error.partial_result = _result(history, maximize)   # type: ignore[attr-defined]
                 raise
             history.append({"params": values, "objective": combined(kept[key].values)})
         return kept[key]
@@ -186,7 +186,7 @@ def combination(given, argument: str) -> dict[str, float]:
         ArgumentError: anything else, named by ``argument``.
     """
     if isinstance(given, Mapping) and given:
-        out = {}
+        out: dict[str, float] = {}
         for name, weight in given.items():
             if not isinstance(name, str) or isinstance(weight, bool) or not isinstance(
                     weight, (int, float, np.floating, np.integer)) or not math.isfinite(weight):
@@ -196,7 +196,7 @@ def combination(given, argument: str) -> dict[str, float]:
         return out
     if isinstance(given, str) and given.strip():
         parts = _BETWEEN.split(" " + given.strip())
-        out = {}
+        terms: dict[str, float] = {}
         signs = ["+", *parts[1::2]]
         for sign, term in zip(signs, parts[0::2], strict=True):
             term = term.strip()
@@ -205,8 +205,8 @@ def combination(given, argument: str) -> dict[str, float]:
                 else (1.0, term)
             if not weighted and name[:1] in "+-" and len(name) > 1:   # "-f1": a sign, no weight
                 weight, name = (-1.0 if name[0] == "-" else 1.0), name[1:]
-            out[name] = out.get(name, 0.0) + (weight if sign == "+" else -weight)
-        return out
+            terms[name] = terms.get(name, 0.0) + (weight if sign == "+" else -weight)
+        return terms
     raise ArgumentError(argument, f"give an output name, a sum of them (\"f1 - f2\"), or a "
                                   f"dict of output names and weights, got {given!r}")
 
@@ -239,10 +239,12 @@ def _slsqp_constraints(constraints: list) -> list[dict]:
     return out
 
 
-def _result(history: list[dict], names: list[str]):
+def _result(history: list[dict], maximize: bool):
+    """The optimisation so far, its best design first, for a failed analysis's error."""
     from scipy.optimize import OptimizeResult
 
-    best = min(history, key=lambda h: h["objective"]) if history else None
+    pick = max if maximize else min
+    best = pick(history, key=lambda h: h["objective"]) if history else None
     return OptimizeResult(x=None if best is None else best["params"],
                           fun=None if best is None else best["objective"],
                           nfev=len(history), history=history, success=False,

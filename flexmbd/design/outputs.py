@@ -34,10 +34,10 @@ import numpy as np
 
 from ..analysis.modes import buckling, node_compliance, vibration_modes
 from ..analysis.stresses import beam_stresses
-from ..elements.base import SPATIAL_ROTATIONAL
 from ..errors import ArgumentError
 from ..orientation import euler_forces
 from .data import STENCIL, rate
+from .state import DataChange
 
 __all__ = ["COMPETING", "KS_RHO", "REPEATED", "parse"]
 
@@ -98,11 +98,12 @@ def parse(name) -> Output:
 @dataclass
 class Sensitivity:
     """The state's change per unit of one parameter: all coordinates ``dx`` ``(nx,)``, the
-    constraint stresses ``dmu`` ``(nc,)``, the data's change and the workspaces of the
-    designs either side of ``h``."""
+    constraint stresses ``dmu`` ``(nc,)``, the data's change (its step ``h``) and the
+    workspaces of the designs around (at the points of
+    :data:`~flexmbd.design.data.STENCIL`)."""
     name: str
     h: float
-    data: object
+    data: DataChange
     dx: np.ndarray
     dmu: np.ndarray
     engines: Sequence
@@ -276,17 +277,6 @@ def ks(stresses: np.ndarray) -> float:
         return top
     return top * (1.0 + float(np.log(np.sum(np.exp(KS_RHO * (stresses / top - 1.0)))))
                   / KS_RHO)
-
-
-def rotational_columns(model, rot: int | None) -> list[int]:
-    """The coordinates of a rotational node (its Euler parameters in space)."""
-    if rot is None:
-        return []
-    return list(model.nodes[rot].coordinates)
-
-
-def is_spatial_rotational(model, rot: int | None) -> bool:
-    return rot is not None and model.nodes[rot].kind == SPATIAL_ROTATIONAL
 
 
 def moment_loads(lam: np.ndarray) -> np.ndarray:
