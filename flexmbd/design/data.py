@@ -140,7 +140,7 @@ def data_change(state: Equilibrium, nominal: Built, sides: tuple[Built, ...], h:
         ArgumentError: the structure differs on either side.
     """
     engines = Neighbours([side.model for side in sides])
-    compiled = [compiled_of(side.model) for side in sides]
+    compiled = [compiled_of(side.model, like=state.spec) for side in sides]
     for spec in compiled:
         _check_structure(state.spec, spec, name)
 

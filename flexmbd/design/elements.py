@@ -91,25 +91,35 @@ class Change:
 
 def deformations(group: ElementGroup, x: np.ndarray, coordinate_seeds: list,
                  parameter_seeds: list) -> np.ndarray:
-    """The group's deformations on hyper-dual numbers: ``parts`` ``(2^n, nd, n_el, K)``.
+    """The group's deformations on hyper-dual numbers: ``parts`` ``(2^n, nd, n_el, *K)``.
 
     Args:
         x: coordinates ``(nx,)``.
         coordinate_seeds: per infinitesimal, its direction on the element coordinates
-            ``(n_el, K, nc)`` (``K`` directions evaluated at once) or ``None``.
+            ``(n_el, *K, nc)`` (the axes ``K`` hold directions evaluated at once, sizes 1
+            broadcast) or ``None``.
         parameter_seeds: per infinitesimal, its direction on the reference parameters
-            ``(n_el, np)``, or ``(n_el, K, np)`` one per direction, or ``None``.
+            ``(n_el, np)`` (the same for every direction), ``(n_el, *K, np)``, or ``None``.
     """
     xe = x[group.coords]
-    n = len(coordinate_seeds)
-    c = [seed(xe[:, None, j], [None if d is None else d[:, :, j] for d in coordinate_seeds])
+    n_el = len(xe)
+    axes = max([d.ndim - 1 for d in (*coordinate_seeds, *parameter_seeds)
+                if d is not None] + [1])
+
+    def along(d: np.ndarray | None, j: int) -> np.ndarray | None:
+        """Column ``j`` of a seed, shaped ``(n_el, *K)``."""
+        if d is None:
+            return None
+        column = d[..., j]
+        return column.reshape(n_el, *(1,) * (axes - 1)) if d.ndim == 2 else column
+
+    rest = (1,) * (axes - 1)
+    c = [seed(xe[:, j].reshape(n_el, *rest), [along(d, j) for d in coordinate_seeds])
          for j in range(xe.shape[1])]
-    p = [seed(group.param[:, None, j], [None if d is None else
-                                        (d[:, :, j] if d.ndim == 3 else d[:, None, j])
-                                        for d in parameter_seeds])
+    p = [seed(group.param[:, j].reshape(n_el, *rest), [along(d, j) for d in parameter_seeds])
          for j in range(group.param.shape[1])]
     shape = np.broadcast_shapes(*(part.parts.shape[1:] for part in c))
-    out = np.zeros((1 << n, group.defs.shape[1], *shape))
+    out = np.zeros((1 << len(coordinate_seeds), group.defs.shape[1], *shape))
     for i, value in enumerate(group.etype.deformations(c, p, MATH)):
         if isinstance(value, HyperDual):
             out[:, i] = value.parts
@@ -123,35 +133,37 @@ def _elastic_rows(group: ElementGroup, elastic_def: np.ndarray) -> np.ndarray:
     return group.elastic[:, None] & elastic_def[group.defs]
 
 
-def stress_change(group: ElementGroup, dS: np.ndarray, e: np.ndarray, de: np.ndarray,
-                  dsigma: np.ndarray, elastic_def: np.ndarray) -> np.ndarray:
-    """``dsigma`` of the group's deformations ``(nd, n)``: ``S de + dS e`` on those that
-    carry an elastic stress, plus the given change ``dsigma`` ``(ne,)``; ``e``, ``de``
-    ``(nd, n)``."""
-    own = (np.einsum("kij,jk->ik", group.S, de) + np.einsum("kij,jk->ik", dS, e))
-    return np.where(_elastic_rows(group, elastic_def).T, own, 0.0) + dsigma[group.defs].T
-
-
 def force_change(groups: list[ElementGroup], x: np.ndarray, sigma: np.ndarray,
                  change: Change, elastic_def: np.ndarray, ne: int
                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The change of the internal loads ``D_x^T sigma`` ``(nx,)`` along ``change`` at ``x``
     with the stresses ``sigma`` ``(ne,)``, and the changes of the deformations and of the
-    stresses ``(ne,)`` each."""
-    force, de_all, dsig_all = np.zeros(len(x)), np.zeros(ne), np.zeros(ne)
-    for group, dp, dS in zip(groups, change.dp, change.dlaw, strict=True):
-        nc = group.coords.shape[1]
-        unit = np.broadcast_to(np.eye(nc), (len(group.at), nc, nc))
-        parts = deformations(group, x, [unit, change.u[group.coords][:, None, :]],
-                             [None, dp])
-        # parts: 0 e, 1 D_x (per unit direction), 2 de, 3 dD_x
-        e, de = parts[0][:, :, 0], parts[2][:, :, 0]
-        dsig = stress_change(group, dS, e, de, change.dsigma, elastic_def)
+    stresses ``(ne,)`` each; for :func:`stacked` changes each with a last axis over them
+    (``(nx, P)``, ``(ne, P)``), in one evaluation."""
+    many = change.u.ndim == 2
+    changes = change if many else stacked([change])
+    P = changes.u.shape[1]
+    force, de_all, dsig_all = np.zeros((len(x), P)), np.zeros((ne, P)), np.zeros((ne, P))
+    for group, dp, dS in zip(groups, changes.dp, changes.dlaw, strict=True):
+        nc, n = group.coords.shape[1], len(group.at)
+        unit = np.broadcast_to(np.eye(nc)[None, :, None, :], (n, nc, 1, nc))
+        along = changes.u[group.coords].transpose(0, 2, 1)[:, None, :, :]   # (n, 1, P, nc)
+        parts = deformations(group, x, [unit, along],
+                             [None, dp.transpose(0, 2, 1)[:, None, :, :]])
+        # parts (4, nd, n, nc, P): 0 e, 1 D_x (per unit direction), 2 de, 3 dD_x
+        e, de = parts[0][:, :, 0, 0], parts[2][:, :, 0, :]
+        rows = _elastic_rows(group, elastic_def).T[:, :, None]
+        own = (np.einsum("kij,jkP->ikP", group.S, de) + np.einsum("kijP,jk->ikP", dS, e))
+        dsig = np.where(rows, own, 0.0) + changes.dsigma[group.defs].transpose(1, 0, 2)
         sig = sigma[group.defs].T
-        local = np.einsum("ikc,ik->kc", parts[3], sig) + np.einsum("ikc,ik->kc", parts[1], dsig)
+        local = (np.einsum("ikcP,ik->kcP", parts[3], sig)
+                 + np.einsum("ikc,ikP->kcP", parts[1][:, :, :, 0], dsig))
         np.add.at(force, group.coords, local)
-        de_all[group.defs], dsig_all[group.defs] = de.T, dsig.T
-    return force, de_all, dsig_all
+        de_all[group.defs] = de.transpose(1, 0, 2)
+        dsig_all[group.defs] = dsig.transpose(1, 0, 2)
+    if many:
+        return force, de_all, dsig_all
+    return force[:, 0], de_all[:, 0], dsig_all[:, 0]
 
 
 def internal_force(groups: list[ElementGroup], x: np.ndarray, sigma: np.ndarray, ne: int

@@ -137,8 +137,6 @@ class Design:
         nc = len(state.constrained)
         self.dx = np.empty((len(sens), self.model.n_coordinates))
         self.dmu = np.empty((len(sens), nc))
-        self.de = np.empty((len(sens), self.model.n_deformations))
-        self.dsigma = np.empty_like(self.de)
         self.changes: list[Change] = []
         self.data = changes
         for n, s in enumerate(sens):
@@ -146,11 +144,12 @@ class Design:
             self.dx[n], self.dmu[n] = s.dx, s.dmu
             dsigma = np.array(changes[n].dsigma0, dtype=float)
             dsigma[state.constrained] += s.dmu
-            moved = Change(u=s.dx, dp=changes[n].dp, dlaw=changes[n].dlaw, dsigma=dsigma)
-            _, self.de[n], self.dsigma[n] = force_change(state.groups, self.x, self.sigma,
-                                                         moved, state.elastic_def, state.ne)
-            self.changes.append(moved)
+            self.changes.append(Change(u=s.dx, dp=changes[n].dp, dlaw=changes[n].dlaw,
+                                       dsigma=dsigma))
         self.all_changes = stacked(self.changes)
+        self.forces, de, dsigma = force_change(state.groups, self.x, self.sigma,
+                                               self.all_changes, state.elastic_def, state.ne)
+        self.de, self.dsigma = de.T, dsigma.T
         self.sens = sens
         return sens
 
@@ -299,12 +298,8 @@ class Design:
         """The change of the reactions ``(k_params, nx)`` (the result's ``f`` columns:
         ``D_x^T sigma - f`` on the held coordinates)."""
         state = self.state
-        out = np.zeros((len(self.changes), self.model.n_coordinates))
-        for n, change in enumerate(self.changes):
-            force, _, _ = force_change(state.groups, self.x, self.sigma, change,
-                                       state.elastic_def, state.ne)
-            out[n] = force - state.load_change(self.x, self.data[n].df) - self.data[n].dweight
-        return out
+        return np.array([self.forces[:, n] - state.load_change(self.x, data.df)
+                         - data.dweight for n, data in enumerate(self.data)])
 
 
 def evaluate(build: Callable, params: Mapping[str, float], outputs, gradient: bool = True

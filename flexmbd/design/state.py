@@ -180,23 +180,26 @@ class Equilibrium:
         return out
 
     def tangent_times(self, dz: np.ndarray, transposed: bool = False) -> np.ndarray:
-        """``A dz`` (``A^T dz``) ``(nfree + nc,)`` for ``dz`` ``(nfree + nc,)``, element by
-        element from the definitions: accurate to rounding of each element's terms, where
-        a solve on the factorisation is accurate to rounding of the whole matrix (whose
-        axial stiffness dwarfs the bending of thin leaves)."""
-        dx, dmu = self.full(dz, np.zeros(len(self.x)))
-        dsigma = np.zeros(self.ne)
-        dsigma[self.constrained] = dmu
-        change = Change(u=dx, dp=[np.zeros_like(g.param) for g in self.groups],
-                        dlaw=[np.zeros_like(g.S) for g in self.groups], dsigma=dsigma)
+        """``A dz`` (``A^T dz``) ``(nfree + nc, k)`` for the columns of ``dz`` ``(nfree +
+        nc, k)``, element by element from the definitions: accurate to rounding of each
+        element's terms, where a solve on the factorisation is accurate to rounding of
+        the whole matrix (whose axial stiffness dwarfs the bending of thin leaves)."""
+        nf, k = len(self.free), dz.shape[1]
+        dx = np.zeros((len(self.x), k))
+        dx[self.free] = dz[:nf]
+        dsigma = np.zeros((self.ne, k))
+        dsigma[self.constrained] = dz[nf:]
+        change = Change(u=dx, dp=[np.zeros((*g.param.shape, k)) for g in self.groups],
+                        dlaw=[np.zeros((*g.S.shape, k)) for g in self.groups], dsigma=dsigma)
         force, de, _ = force_change(self.groups, self.x, self.sigma, change,
                                     self.elastic_def, self.ne)
         total = self.engine.constant_loads + self.loads
         for at in self.engine.rotation_coordinates:   # a global moment's load stiffness
             block = euler_forces(np.eye(4), total[at[1:]]).T   # df/dlam, linear in lam
             force[at] -= (block.T if transposed else block) @ dx[at]
-        force -= self.gravity_times(dx, transposed=transposed)
-        return np.concatenate([force[self.free], de[self.constrained]])
+        for j in range(k):
+            force[:, j] -= self.gravity_times(dx[:, j], transposed=transposed)
+        return np.vstack([force[self.free], de[self.constrained]])
 
     def solve(self, rhs: np.ndarray, transposed: bool = False, refine: bool = False
               ) -> np.ndarray:
@@ -212,8 +215,7 @@ class Equilibrium:
         rhs = np.asarray(rhs, dtype=float).reshape(self.banded.size, -1)
         z = self.banded.solve(rhs, transposed)
         for _ in range(REFINEMENTS if refine else 0):
-            residual = rhs - np.column_stack([self.tangent_times(z[:, k], transposed)
-                                              for k in range(z.shape[1])])
+            residual = rhs - self.tangent_times(z, transposed)
             step = self.banded.solve(residual, transposed)
             z += step
             if np.abs(step).max(initial=0.0) <= 1e-13 * np.abs(z).max(initial=0.0):

@@ -280,9 +280,11 @@ def _nodal_loads(model: Model, f_const: np.ndarray) -> np.ndarray:
 
 
 def _orderings(model: Model, classes: Classification, laws: _Laws,
-               nodal_mass: np.ndarray) -> SquareSystems:
+               nodal_mass: np.ndarray, like: SquareSystems | None = None) -> SquareSystems:
     """The two square systems located and ordered: ``D_c``'s rows and columns as one
-    bipartite graph, the saddle-point matrix's unknowns as another."""
+    bipartite graph, the saddle-point matrix's unknowns as another. The orderings follow
+    from the entries' places alone: those of ``like`` (another model's systems) serve
+    when its entries sit in the same places."""
     dc_src, dc_row, dc_col = laws.dc.arrays()
     sc_src, sc_u, sc_v = laws.sc.arrays()
     sa_src, sa_u, sa_v = laws.sa.arrays()
@@ -290,21 +292,31 @@ def _orderings(model: Model, classes: Classification, laws: _Laws,
     sm_coord = np.flatnonzero((free_of >= 0) & (nodal_mass != 0.0))
     nr = len(classes.rows)
     ns = int(np.sum(free_of >= 0)) + int(np.sum(classes.mult_of_def >= 0))
-    both = _band_of(2 * nr, list(zip(dc_row.tolist(), (nr + dc_col).tolist(), strict=True)))
+    placed = (dc_row, dc_col, sa_u, sa_v, sc_u, sc_v)
+    if like is not None and all(
+            np.array_equal(a, b) for a, b in zip(placed, (like.dc_row, like.dc_col, like.sd_a_u,
+                                                          like.sd_a_v, like.sd_c_u, like.sd_c_v),
+                                                 strict=True)):
+        rowband, colband, sd_band = like.dc_rowband, like.dc_colband, like.sd_band
+    else:
+        both = _band_of(2 * nr, list(zip(dc_row.tolist(), (nr + dc_col).tolist(),
+                                         strict=True)))
+        rowband = np.argsort(np.argsort(both[:nr], kind="stable")).astype(_I32)
+        colband = np.argsort(np.argsort(both[nr:], kind="stable")).astype(_I32)
+        sd_band = _band_of(ns, list(zip(sa_u.tolist(), sa_v.tolist(), strict=True))
+                           + list(zip(sc_u.tolist(), sc_v.tolist(), strict=True)))
     return SquareSystems(
-        dc_src=dc_src, dc_row=dc_row, dc_col=dc_col,
-        dc_rowband=np.argsort(np.argsort(both[:nr], kind="stable")).astype(_I32),
-        dc_colband=np.argsort(np.argsort(both[nr:], kind="stable")).astype(_I32),
+        dc_src=dc_src, dc_row=dc_row, dc_col=dc_col, dc_rowband=rowband, dc_colband=colband,
         dc_colscale=np.asarray(model.coordinate_scale, float)[classes.dep],
-        sd_band=_band_of(ns, list(zip(sa_u.tolist(), sa_v.tolist(), strict=True))
-                         + list(zip(sc_u.tolist(), sc_v.tolist(), strict=True))),
-        sd_a_src=sa_src, sd_a_u=sa_u, sd_a_v=sa_v, sd_m_coord=sm_coord,
+        sd_band=sd_band, sd_a_src=sa_src, sd_a_u=sa_u, sd_a_v=sa_v, sd_m_coord=sm_coord,
         sd_m_u=free_of[sm_coord], sd_c_src=sc_src, sd_c_u=sc_u, sd_c_v=sc_v)
 
 
-def compile_model(model: Model) -> CoreSpec:
+def compile_model(model: Model, like: CoreSpec | None = None) -> CoreSpec:
     """The sizes and arrays of ``flexmbd.engine._core.Core`` for ``model``, checked
-    (:mod:`flexmbd.engine.spec`); see the module docstring for the steps.
+    (:mod:`flexmbd.engine.spec`); see the module docstring for the steps. ``like``, the
+    compiled arrays of a model of the same structure (a design's neighbour), lends its
+    band orderings where its entries sit in the same places.
 
     Raises:
         ModelError: ``D_c`` is not square.
@@ -316,7 +328,8 @@ def compile_model(model: Model) -> CoreSpec:
     classes = _classification(model)
     laws = _element_laws(model, elements, maps, classes)
     nodal_mass = _nodal_loads(model, laws.f_const)
-    systems = _orderings(model, classes, laws, nodal_mass)
+    systems = _orderings(model, classes, laws, nodal_mass,
+                         None if like is None else like.systems)
     sizes = Sizes(
         nx=model.n_coordinates, ne=model.n_deformations, nel=len(elements), nq=model.n_dof,
         nxm=len(model.independent_coordinates), nr=len(classes.rows),

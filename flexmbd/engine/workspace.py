@@ -153,10 +153,14 @@ def _compiled(model: Model) -> tuple[CoreSpec, float | None]:
     return entry["compiled"], entry.get("reference")
 
 
-def compiled_of(model: Model) -> CoreSpec:
-    """The model's compiled arrays (:func:`~flexmbd.engine.compile.compile_model`), made
-    once and kept beside the model with its workspaces."""
-    return _compiled(model)[0]
+def compiled_of(model: Model, like: CoreSpec | None = None) -> CoreSpec:
+    """The model's compiled arrays (:func:`~flexmbd.engine.compile.compile_model`, with
+    the band orderings of ``like`` where they fit), made once and kept beside the model
+    with its workspaces."""
+    entry = _kept(model)
+    if "compiled" not in entry:
+        entry["compiled"] = compile_model(model, like)
+    return entry["compiled"]
 
 
 def workspace_of(model: Model, tolerance: float | None = None,
