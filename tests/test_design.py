@@ -411,7 +411,7 @@ def test_a_failed_analysis_keeps_the_optimisation_so_far():
             raise fm.ConvergenceError("pretend: no equilibrium for so thick a leaf")
         return leaf(t)
 
-    with pytest.raises(fm.ArgumentError, match="build.*pretend") as caught:
+    with pytest.raises(fm.ArgumentError, match=r"build.*pretend") as caught:
         design.optimize(fragile, {"t": 0.5e-3}, "f3.3", maximize=True,
                         bounds={"t": (1e-4, 2e-3)})
     partial = caught.value.partial_result
