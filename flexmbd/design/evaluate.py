@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..analysis.linearization import turning_moments
 from ..analysis.statics import StaticResult, static_equilibrium
 from ..builder.recording import kept_releases
 from ..errors import ArgumentError
@@ -153,13 +154,6 @@ class Design:
         self.sens = sens
         return sens
 
-    def moments(self, df: np.ndarray | None = None) -> list[tuple[np.ndarray, np.ndarray]]:
-        """Per spatial rotational node: its coordinates and the global moment on it (the
-        model's and the applied, or the change ``df``)."""
-        state = self.state
-        total = (state.engine.constant_loads + state.loads) if df is None else df
-        return [(at, total[at[1:]]) for at in state.engine.rotation_coordinates]
-
     def tangent_changes(self, left: np.ndarray, right: np.ndarray, nu_left: np.ndarray,
                         nu_right: np.ndarray, geometric_weight: float = 1.0) -> np.ndarray:
         """``[l; nu_l]^T dA [r; nu_r]`` ``(k_params,)`` for ``left``, ``right`` ``(nx,)`` and
@@ -174,7 +168,8 @@ class Design:
         value += nu_right @ constraint_change(state.groups, self.x, self.all_changes, left,
                                               state.ne)[c]
         for n in range(len(self.changes)):
-            for at, dM in self.moments(self.data[n].df):   # the load stiffness -df/dx
+            for at in state.engine.rotation_coordinates:   # the load stiffness -df/dx
+                dM = self.data[n].df[at[1:]]                 # a global moment's change
                 value[n] -= geometric_weight * left[at] @ euler_forces(right[at], dM)
             value[n] -= geometric_weight * self.gravity_changes(n, left, right)
         return value
@@ -224,8 +219,7 @@ class Design:
                                    state.elastic_def, state.ne)
         elastic, _, _ = force_change(state.groups, self.x, np.zeros(state.ne), along,
                                      state.elastic_def, state.ne)
-        for at, moment in self.moments():   # buckling takes the symmetric part
-            block = euler_forces(np.eye(4), moment).T
+        for at, block in turning_moments(state.engine, state.loads):   # the symmetric part
             total[at] -= 0.5 * (block + block.T) @ phi[at]
         total -= 0.5 * (state.gravity_times(phi) + state.gravity_times(phi, transposed=True))
         product = elastic + factor * (total - elastic)

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..analysis.banded import BandedStatics
+from ..analysis.linearization import turning_moments
 from ..engine import Workspace
 from ..errors import SingularConfigurationError
 from ..model import CoordinateClass, Model
@@ -193,9 +194,7 @@ class Equilibrium:
                         dlaw=[np.zeros((*g.S.shape, k)) for g in self.groups], dsigma=dsigma)
         force, de, _ = force_change(self.groups, self.x, self.sigma, change,
                                     self.elastic_def, self.ne)
-        total = self.engine.constant_loads + self.loads
-        for at in self.engine.rotation_coordinates:   # a global moment's load stiffness
-            block = euler_forces(np.eye(4), total[at[1:]]).T   # df/dlam, linear in lam
+        for at, block in turning_moments(self.engine, self.loads):   # df/dx of moments
             force[at] -= (block.T if transposed else block) @ dx[at]
         for j in range(k):
             force[:, j] -= self.gravity_times(dx[:, j], transposed=transposed)
