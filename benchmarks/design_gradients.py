@@ -24,7 +24,6 @@ Run: ``python benchmarks/design_gradients.py [--beams 8 32] [--repeat 3]``.
 from __future__ import annotations
 
 import argparse
-import math
 import os
 import platform
 import sys
@@ -33,12 +32,11 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from flexure_pivot import _cpu
+from flexure_pivot import _cpu, build_pivot, turning_moment
 
 import flexmbd as fm
 from flexmbd import design
 
-GAP = 0.04
 OUTPUTS = ["f1", "f2", "f3", "C[9,10][4,4]", "C[9,10][2,2]", "C[9,10][0,4]", "x10.3",
            "stress_max"]
 PARAMS = {"t": 0.5e-3, "w": 0.03, "L": 0.1, "mass": 0.25, "turn": 0.3}
@@ -46,24 +44,10 @@ PARAMS = {"t": 0.5e-3, "w": 0.03, "L": 0.1, "mass": 0.25, "turn": 0.3}
 
 def pivot(t, w, L, mass, turn, beams=8, tolerance=None):
     """The flexure benchmark's pivot with its dimensions as parameters."""
-    steel = fm.Material.from_poisson(210e9, 0.3, 7800.0)
-    b = fm.ModelBuilder("cross-spring pivot")
-    h = L / math.sqrt(2)
-    b.add_node(1, -h / 2, 0, 0).add_node(3, h / 2, 0, h)
-    b.add_node(5, h / 2, GAP, 0).add_node(7, -h / 2, GAP, h)
-    b.add_spatial_beams(1, 1, 2, 3, 4, beams, (0, 1, 0), new_nodes=1000,
-                        section=fm.Rectangle(w, t), material=steel)
-    b.add_spatial_beams(201, 5, 6, 7, 8, beams, (0, 1, 0), new_nodes=2000,
-                        section=fm.Rectangle(w, t), material=steel)
-    b.add_node(9, 0, GAP / 2, h)
-    b.add_spatial_beam(401, 3, 4, 9, 10, (0, 0, 1)).add_spatial_beam(402, 9, 10, 7, 8,
-                                                                     (0, 0, 1))
-    b.fix(1).fix(2).fix(5).fix(6)
-    b.add_point_mass(9, mass).add_rotary_inertia(10, 1e-4, 0, 0, 1e-4, 0, 1e-4)
-    b.release_overconstraints()
-    moment = turn * 2 * steel.E * w * t**3 / 12 / L
-    return b.build(), fm.RunSettings(load_increment={"x10.3": moment}, load_steps=20,
-                                     tolerance=tolerance)
+    model = build_pivot(beams, thickness=t, width=w, length=L, stage_mass=mass)
+    moment = turning_moment(turn, thickness=t, width=w, length=L)
+    return model, fm.RunSettings(load_increment={"x10.3": moment}, load_steps=20,
+                                 tolerance=tolerance)
 
 
 def parallel_guide(t=0.3e-3, L=0.06, w=0.02, gap=0.04, stroke=4e-3, beams=8):

@@ -37,21 +37,19 @@ import numpy as np
 
 LENGTH, WIDTH, THICKNESS, GAP = 0.1, 0.03, 0.5e-3, 0.04   #: [m]
 STAGE_MASS, ROTATION, STEPS = 0.25, 0.3, 20
+E = 210e9   #: steel [Pa]
 
 
-def job(nbeams: int, door: str = "table") -> dict[str, float]:
-    """The job at ``nbeams`` beams per leaf, its linearized analyses through ``door``:
-    ``"table"`` (:func:`flexmbd.load_step_table`) or ``"per-step"`` (a loop over the
-    steps with the public analyses, as the linearized-analyses guide writes it); wall
-    times [s] of its parts."""
-    start = time.perf_counter()
+def build_pivot(nbeams: int, thickness: float = THICKNESS, width: float = WIDTH,
+                length: float = LENGTH, stage_mass: float = STAGE_MASS):
+    """The pivot (module docstring) with ``nbeams`` beams per leaf, its over-constraints
+    released; dimensions [m], mass [kg]."""
     import flexmbd as fm
 
-    steel = fm.Material.from_poisson(210e9, 0.3, 7800.0)
-    leaf = fm.Rectangle(WIDTH, THICKNESS)
-    imported = time.perf_counter()
+    steel = fm.Material.from_poisson(E, 0.3, 7800.0)
+    leaf = fm.Rectangle(width, thickness)
     b = fm.ModelBuilder("cross-spring pivot")
-    h = LENGTH / math.sqrt(2)
+    h = length / math.sqrt(2)
     b.add_node(1, -h / 2, 0, 0).add_node(3, h / 2, 0, h)
     b.add_node(5, h / 2, GAP, 0).add_node(7, -h / 2, GAP, h)
     b.add_spatial_beams(1, 1, 2, 3, 4, nbeams, (0, 1, 0), new_nodes=1000, section=leaf,
@@ -62,11 +60,30 @@ def job(nbeams: int, door: str = "table") -> dict[str, float]:
     b.add_spatial_beam(401, 3, 4, 9, 10, (0, 0, 1)).add_spatial_beam(402, 9, 10, 7, 8,
                                                                      (0, 0, 1))
     b.fix(1).fix(2).fix(5).fix(6)
-    b.add_point_mass(9, STAGE_MASS).add_rotary_inertia(10, 1e-4, 0, 0, 1e-4, 0, 1e-4)
+    b.add_point_mass(9, stage_mass).add_rotary_inertia(10, 1e-4, 0, 0, 1e-4, 0, 1e-4)
     b.release_overconstraints()
-    model = b.build()
+    return b.build()
+
+
+def turning_moment(rotation: float, thickness: float = THICKNESS, width: float = WIDTH,
+                   length: float = LENGTH) -> float:
+    """The moment [N m] that turns the pivot by about ``rotation`` [rad] at its small-angle
+    stiffness ``2 EI/L``."""
+    return rotation * 2 * E * width * thickness**3 / 12 / length
+
+
+def job(nbeams: int, door: str = "table") -> dict[str, float]:
+    """The job at ``nbeams`` beams per leaf, its linearized analyses through ``door``:
+    ``"table"`` (:func:`flexmbd.load_step_table`) or ``"per-step"`` (a loop over the
+    steps with the public analyses, as the linearized-analyses guide writes it); wall
+    times [s] of its parts."""
+    start = time.perf_counter()
+    import flexmbd as fm
+
+    imported = time.perf_counter()
+    model = build_pivot(nbeams)
     built = time.perf_counter()
-    stiffness = 2 * steel.E * WIDTH * THICKNESS**3 / 12 / LENGTH
+    stiffness = turning_moment(1.0)
     statics = fm.static_equilibrium(model, load_increment={"x10.3": ROTATION * stiffness},
                                     steps=STEPS, progress=False)
     solved = time.perf_counter()

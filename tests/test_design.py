@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pytest
 import sympy as sp
+from flexmbd.examples import crossing_pivots
 
 import flexmbd as fm
 from flexmbd import design
@@ -346,39 +347,9 @@ def test_a_weighted_sum_is_an_objective():
         design.optimize(leaf, {"t": 0.5e-3}, {"f1.3": "2"})
 
 
-def cross_pivots(crossing=0.2, beams=4):
-    """Three planar cross-spring pivots alike (strips at +-45 degrees crossing at
-    ``crossing`` of their length), unloaded, pulled and pushed along their axis through
-    the crossing point."""
-    EI, length = 210e9 * 0.01 * 0.2e-3**3 / 12, 0.05
-    load = 0.1 * EI / length**2
-    b = fm.ModelBuilder("cross pivots")
-    c = math.cos(math.pi / 4)
-    for k in range(3):
-        base = 10000 * k
-        ends = []
-        for strip, ux in enumerate((c, -c)):
-            first = base + 1000 * (strip + 1)
-            points = [first + 1 + 2 * j for j in range(beams + 1)]
-            for j, node in enumerate(points):
-                f = j / beams - crossing
-                b.add_node(node, k + f * length * ux, f * length * c)
-            for j in range(beams):
-                number = first + j + 1
-                b.add_beam(number, points[j], points[j] + 1, points[j + 1], points[j + 1] + 1)
-                b.set_mass(number, 0.0156).set_stiffness(number, axial=4.2e5, bending=EI)
-                if strip and j == beams - 1:
-                    b.release(number, 1, 2, 3)
-                else:
-                    b.dynamic_deformation(number)
-            b.fix(points[0]).fix(points[0] + 1)
-            ends.append(points[-1])
-        b.add_node(base + 5, k, 0.0)
-        b.add_rigid_beam(base + 1, ends[0], ends[0] + 1, ends[1])
-        b.add_hinge(base + 2, ends[0] + 1, ends[1] + 1)
-        b.add_rigid_beam(base + 3, ends[0], ends[0] + 1, base + 5)
-    return b.build(), fm.RunSettings(load_increment={"x10005.2": load, "x20005.2": -load},
-                                     load_steps=1)
+def cross_pivots(crossing=0.2):
+    """The three pivots of :mod:`flexmbd.examples.crossing_pivots` on a coarse mesh."""
+    return crossing_pivots.pivots(crossing, beams=4)
 
 
 def test_an_equality_on_a_difference_of_outputs():
@@ -387,7 +358,7 @@ def test_an_equality_on_a_difference_of_outputs():
     the root a search on the analyses alone finds."""
     from scipy.optimize import brentq
 
-    names = [f"C[{10000 * k + 5},{10000 * k + 1010}][2,2]" for k in range(3)]
+    names = [crossing_pivots.stage_compliance(k, beams=4) for k in range(3)]
     found = design.optimize(cross_pivots, {"crossing": 0.2}, names[0],
                             constraints={f"{names[1]} - {names[2]}": (0.0, 0.0)},
                             bounds={"crossing": (0.05, 0.3)})
@@ -400,7 +371,7 @@ def test_an_equality_on_a_difference_of_outputs():
 
     root = brentq(difference, 0.05, 0.3, xtol=1e-14)
     assert found.x["crossing"] == pytest.approx(root, rel=1e-6)
-    assert found.x["crossing"] == pytest.approx(0.5 - math.sqrt(5) / 6, abs=0.02)
+    assert found.x["crossing"] == pytest.approx(crossing_pivots.WITTRICK, abs=0.02)
 
 
 def test_a_failed_analysis_keeps_the_optimisation_so_far():
