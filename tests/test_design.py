@@ -388,3 +388,71 @@ def test_a_failed_analysis_keeps_the_optimisation_so_far():
     partial = caught.value.partial_result
     assert partial.nfev >= 1 and not partial.success
     assert partial.x["t"] <= 0.8e-3
+
+
+# --- several starts ---------------------------------------------------------------------------
+def wavy(theta):
+    """A node at height ``sin(3 theta) + theta / 5`` (a fixed end of a spring): the height
+    has local minima at ``3 theta = 2 pi k - acos(-1/15)`` and at ``theta = 0``."""
+    b = fm.ModelBuilder("wavy")
+    b.add_node(1, 0, 0).add_node(2, 1, 0).add_truss(1, 1, 2).dynamic_deformation(1)
+    b.set_stiffness(1, axial=100.0).fix(1).fix(2, "y")
+    height = math.sin(3 * theta) + 0.2 * theta
+    b.add_node(3, theta, height).add_node(4, theta + 1.0, height)
+    b.add_truss(2, 3, 4).dynamic_deformation(2).set_stiffness(2, axial=100.0)
+    b.fix(3).fix(4, "y")
+    return b.build(), fm.RunSettings(load_increment={"x2.1": 1.0}, load_steps=1)
+
+
+WAVY_LOCAL = (4 * math.pi - math.acos(-1 / 15)) / 3    # 3.643
+WAVY_BEST = (2 * math.pi - math.acos(-1 / 15)) / 3     # 1.549, the lowest on [0, 4]
+
+
+def test_starts_spread_over_the_bounds_find_the_lowest_optimum():
+    one = design.optimize(wavy, {"theta": 3.5}, "x3.2", bounds={"theta": (0, 4)})
+    assert one.x["theta"] == pytest.approx(WAVY_LOCAL, abs=1e-6)
+    several = design.optimize(wavy, {"theta": 3.5}, "x3.2", bounds={"theta": (0, 4)},
+                              starts=4, progress=False)
+    assert several.x["theta"] == pytest.approx(WAVY_BEST, abs=1e-7)
+    assert several.fun == pytest.approx(math.sin(3 * WAVY_BEST) + 0.2 * WAVY_BEST, abs=1e-12)
+    assert several.starts[0]["theta"] == 3.5 and len(several.starts) == 4
+    assert all(0 <= row["theta"] <= 4 and row["status"] == "ok" for row in several.starts)
+    assert several.nfev > sum(row["nfev"] for row in several.starts)   # and the polish
+    listed = design.optimize(wavy, {"theta": 3.5}, "x3.2", bounds={"theta": (0, 4)},
+                             starts=[{"theta": 1.2}], progress=False)
+    assert listed.x["theta"] == pytest.approx(WAVY_BEST, abs=1e-7)
+
+
+def test_starts_run_on_dask_as_in_this_process():
+    distributed = pytest.importorskip("distributed")
+    serial = design.optimize(wavy, {"theta": 3.5}, "x3.2", bounds={"theta": (0, 4)},
+                             starts=3, progress=False)
+    with distributed.Client(processes=False, n_workers=1, threads_per_worker=1,
+                            dashboard_address=":0") as client:
+        on_dask = design.optimize(wavy, {"theta": 3.5}, "x3.2", bounds={"theta": (0, 4)},
+                                  starts=3, client=client, progress=False)
+    assert [r["x"] for r in on_dask.starts] == pytest.approx([r["x"] for r in serial.starts])
+    assert on_dask.x["theta"] == pytest.approx(serial.x["theta"], abs=1e-9)
+
+
+@pytest.mark.parametrize("starts, words", [
+    (3, r"starts.*\['theta'\].*bounds"),
+    (0, r"starts.*1 or more"),
+    ([{"phi": 1.0}], r"starts.*start 0.*\['phi'\] are not parameters"),
+    ([{"theta": "1"}], r"starts.*'theta' must be a finite number"),
+    ("many", r"starts.*a number of starts or a list"),
+])
+def test_bad_starts_are_refused_by_name(starts, words):
+    with pytest.raises(fm.ArgumentError, match=words):
+        design.optimize(wavy, {"theta": 3.5}, "x3.2", starts=starts)
+
+
+def test_every_start_failing_is_an_error_with_the_starts():
+    def broken(theta):
+        raise fm.ConvergenceError(f"pretend: no equilibrium at {theta}")
+
+    with pytest.raises(fm.SimulationError, match=r"every one of the 2 starts.*pretend") \
+            as caught:
+        design.optimize(broken, {"theta": 1.0}, "x3.2", starts=[{"theta": 2.0}],
+                        progress=False)
+    assert [row["status"] for row in caught.value.partial_result] == ["failed", "failed"]

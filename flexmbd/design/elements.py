@@ -199,44 +199,48 @@ def stacked(changes: list[Change]) -> Change:
 
 def tangent_change(groups: list[ElementGroup], x: np.ndarray, sigma: np.ndarray,
                    changes: Change, elastic_def: np.ndarray, left: np.ndarray,
-                   right: np.ndarray, geometric_weight: float = 1.0) -> np.ndarray:
-    """``left^T dK right`` ``(P,)`` for ``left`` and ``right`` ``(nx,)`` along each of the
-    :func:`stacked` ``changes``: the change of the elements' tangent ``K = D_x^T S D_x + g
-    sum_i sigma_i D_xx,i`` (the elastic law wherever an element has one, the stresses
-    ``sigma`` ``(ne,)`` of the state, elastic and constraint, ``g`` the
-    ``geometric_weight``: 1 for the tangent, a load factor for buckling), by the third
-    derivatives of the deformations."""
-    out = np.zeros(changes.u.shape[1])
+                   right: np.ndarray, geometric_weight: np.ndarray) -> np.ndarray:
+    """``l_q^T dK r_q`` ``(Q, P)`` for the pairs of columns of ``left`` and ``right``
+    ``(nx, Q)`` along each of the :func:`stacked` ``changes``: the change of the elements'
+    tangent ``K = D_x^T S D_x + g_q sum_i sigma_i D_xx,i`` (the elastic law wherever an
+    element has one, the stresses ``sigma`` ``(ne,)`` of the state, elastic and
+    constraint, ``g`` the ``geometric_weight`` ``(Q,)``: 1 for the tangent, a load factor
+    for buckling), by the third derivatives of the deformations; all pairs and parameters
+    in one evaluation per element type."""
+    out = np.zeros((left.shape[1], changes.u.shape[1]))
     for group, dp, dS in zip(groups, changes.dp, changes.dlaw, strict=True):
-        along = changes.u[group.coords].transpose(0, 2, 1)        # (n, P, nc)
-        parts = deformations(group, x, [left[group.coords][:, None, :],
-                                        right[group.coords][:, None, :], along],
-                             [None, None, dp.transpose(0, 2, 1)])
-        # parts (8, nd, n, P): 1 dl e, 2 dr e, 3 dl dr e, 4 de, 5 dl de, 6 dr de, 7 dl dr de
+        along = changes.u[group.coords].transpose(0, 2, 1)[:, None]     # (n, 1, P, nc)
+        parts = deformations(group, x, [left[group.coords].transpose(0, 2, 1)[:, :, None],
+                                        right[group.coords].transpose(0, 2, 1)[:, :, None],
+                                        along],
+                             [None, None, dp.transpose(0, 2, 1)[:, None]])
+        # parts (8, nd, n, Q, P): 1 dl e, 2 dr e, 3 dl dr e, 4 de, 5 dl de, 6 dr de, 7 dl dr de
         e, de = parts[0], parts[4]
-        rows = _elastic_rows(group, elastic_def).T[:, :, None]
-        own = (np.einsum("kij,jkP->ikP", group.S, de) + np.einsum("kijP,jkP->ikP", dS, e))
-        dsig = np.where(rows, own, 0.0) + changes.dsigma[group.defs].transpose(1, 0, 2)
-        sig = sigma[group.defs].T[:, :, None]
+        rows = _elastic_rows(group, elastic_def).T[:, :, None, None]
+        own = (np.einsum("kij,jkQP->ikQP", group.S, de)
+               + np.einsum("kijP,jkQP->ikQP", dS, e))
+        dsig = (np.where(rows, own, 0.0)
+                + changes.dsigma[group.defs].transpose(1, 0, 2)[:, :, None])
+        sig = sigma[group.defs].T
         S = np.where(group.elastic[:, None, None], group.S, 0.0)
         dSe = np.where(group.elastic[:, None, None, None], dS, 0.0)
-        elastic = (np.einsum("ikP,kij,jkP->P", parts[5], S, parts[2])
-                   + np.einsum("ikP,kij,jkP->P", parts[1], S, parts[6])
-                   + np.einsum("ikP,kijP,jkP->P", parts[1], dSe, parts[2]))
-        geometric = (np.einsum("ikP,ikP->P", dsig, parts[3])
-                     + np.einsum("ikP,ikP->P", sig, parts[7]))
-        out += elastic + geometric_weight * geometric
+        elastic = (np.einsum("ikQP,kij,jkQP->QP", parts[5], S, parts[2])
+                   + np.einsum("ikQP,kij,jkQP->QP", parts[1], S, parts[6])
+                   + np.einsum("ikQP,kijP,jkQP->QP", parts[1], dSe, parts[2]))
+        geometric = (np.einsum("ikQP,ikQP->QP", dsig, parts[3])
+                     + np.einsum("ik,ikQP->QP", sig, parts[7]))
+        out += elastic + np.asarray(geometric_weight)[:, None] * geometric
     return out
 
 
 def constraint_change(groups: list[ElementGroup], x: np.ndarray, changes: Change,
-                      direction: np.ndarray, ne: int) -> np.ndarray:
-    """``d(D_x v)`` ``(ne, P)`` along each of the :func:`stacked` ``changes`` for ``v``
-    ``direction`` ``(nx,)``: how the deformation rates of ``v`` change."""
-    out = np.zeros((ne, changes.u.shape[1]))
+                      directions: np.ndarray, ne: int) -> np.ndarray:
+    """``d(D_x v_q)`` ``(ne, Q, P)`` along each of the :func:`stacked` ``changes`` for the
+    columns ``v_q`` of ``directions`` ``(nx, Q)``: how their deformation rates change."""
+    out = np.zeros((ne, directions.shape[1], changes.u.shape[1]))
     for group, dp in zip(groups, changes.dp, strict=True):
-        parts = deformations(group, x, [direction[group.coords][:, None, :],
-                                        changes.u[group.coords].transpose(0, 2, 1)],
-                             [None, dp.transpose(0, 2, 1)])
-        out[group.defs] = parts[3].transpose(1, 0, 2)
+        parts = deformations(group, x, [directions[group.coords].transpose(0, 2, 1)[:, :, None],
+                                        changes.u[group.coords].transpose(0, 2, 1)[:, None]],
+                             [None, dp.transpose(0, 2, 1)[:, None]])
+        out[group.defs] = parts[3].transpose(1, 0, 2, 3)
     return out

@@ -155,45 +155,51 @@ class Design:
         return sens
 
     def tangent_changes(self, left: np.ndarray, right: np.ndarray, nu_left: np.ndarray,
-                        nu_right: np.ndarray, geometric_weight: float = 1.0) -> np.ndarray:
-        """``[l; nu_l]^T dA [r; nu_r]`` ``(k_params,)`` for ``left``, ``right`` ``(nx,)`` and
-        their constraint parts ``(nc,)``: the bordered tangent's change along each
-        parameter's change of state and data; the geometric stiffness (stresses and the
-        load stiffness) weighted by ``geometric_weight``."""
+                        nu_right: np.ndarray, geometric_weight: np.ndarray) -> np.ndarray:
+        """``[l_q; nu_l,q]^T dA [r_q; nu_r,q]`` ``(Q, k_params)`` for the columns of
+        ``left``, ``right`` ``(nx, Q)`` and their constraint parts ``(nc, Q)``: the
+        bordered tangent's change along each parameter's change of state and data; the
+        geometric stiffness (stresses and the load stiffness) weighted by
+        ``geometric_weight`` ``(Q,)``. All pairs in one evaluation of the elements."""
         state, c = self.state, self.state.constrained
+        weight = np.asarray(geometric_weight, dtype=float)
         value = tangent_change(state.groups, self.x, self.sigma, self.all_changes,
-                               state.elastic_def, left, right, geometric_weight)
-        value += nu_left @ constraint_change(state.groups, self.x, self.all_changes, right,
-                                             state.ne)[c]
-        value += nu_right @ constraint_change(state.groups, self.x, self.all_changes, left,
-                                              state.ne)[c]
+                               state.elastic_def, left, right, weight)
+        value += np.einsum("cq,cqP->qP", nu_left, constraint_change(
+            state.groups, self.x, self.all_changes, right, state.ne)[c])
+        value += np.einsum("cq,cqP->qP", nu_right, constraint_change(
+            state.groups, self.x, self.all_changes, left, state.ne)[c])
         for n in range(len(self.changes)):
             for at in state.engine.rotation_coordinates:   # the load stiffness -df/dx
                 dM = self.data[n].df[at[1:]]                 # a global moment's change
-                value[n] -= geometric_weight * left[at] @ euler_forces(right[at], dM)
-            value[n] -= geometric_weight * self.gravity_changes(n, left, right)
+                value[:, n] -= weight * np.array([
+                    left[at, q] @ euler_forces(right[at, q], dM) for q in range(len(weight))])
+            value[:, n] -= weight * self.gravity_changes(n, left, right)
         return value
 
-    def gravity_changes(self, n: int, left: np.ndarray, right: np.ndarray) -> float:
-        """``left^T d(dg/dx) right`` along parameter ``n``'s change: the turning weight's
-        load stiffness, on the designs around at the state moved alike (the data's
-        central differences); zero without gravity on element masses."""
+    def gravity_changes(self, n: int, left: np.ndarray, right: np.ndarray) -> np.ndarray:
+        """``l_q^T d(dg/dx) r_q`` ``(Q,)`` for the columns of ``left``, ``right`` ``(nx, Q)``
+        along parameter ``n``'s change: the turning weight's load stiffness, on the
+        designs around at the state moved alike (the data's central differences); zero
+        without gravity on element masses."""
         state, s = self.state, self.sens[n]
         if not (np.any(state.spec.loads.gravity) and np.any(state.spec.elements.emass)):
-            return 0.0
-        values = [left @ state.gravity_times(right, self.x + k * s.h * s.dx, engine)
-                  for (k, _), engine in zip(STENCIL, s.engines, strict=True)]
-        return float(rate(values, s.h))
+            return np.zeros(left.shape[1])
+        values = [np.einsum("iq,iq->q", left, np.column_stack([
+            state.gravity_times(r, self.x + k * s.h * s.dx, engine) for r in right.T]))
+            for (k, _), engine in zip(STENCIL, s.engines, strict=True)]
+        return rate(values, s.h)
 
     def mass_changes(self, left: np.ndarray, right: np.ndarray) -> np.ndarray:
-        """``left^T dM right`` ``(k_params,)`` for ``(nx,)`` vectors: the mass's change along
-        each parameter's change (the data's central differences, on the designs around,
-        at the state moved alike)."""
-        out = np.empty(len(self.sens))
+        """``l_q^T dM r_q`` ``(Q, k_params)`` for the columns of ``left``, ``right``
+        ``(nx, Q)``: the mass's change along each parameter's change (the data's central
+        differences, on the designs around, at the state moved alike)."""
+        out = np.empty((left.shape[1], len(self.sens)))
         for n, s in enumerate(self.sens):
-            masses = [left @ engine.mass(self.x + k * s.h * s.dx)[0] @ right
+            masses = [np.einsum("iq,ij,jq->q", left, engine.mass(self.x + k * s.h * s.dx)[0],
+                                right)
                       for (k, _), engine in zip(STENCIL, s.engines, strict=True)]
-            out[n] = rate(masses, s.h)
+            out[:, n] = rate(masses, s.h)
         return out
 
     def bordered_mode(self, phi: np.ndarray, omega2: float, transposed: bool = False
@@ -352,15 +358,12 @@ def evaluate(build: Callable, params: Mapping[str, float], outputs, gradient: bo
         evaluator = Evaluator(design)
         results = {out.name: evaluator.value(out) for out in wanted}
         analysed = time.perf_counter()
-        grads, notes = None, []
+        grads, notes = None, list[str]()
         if gradient:
             sens = design.sensitivities()
-            grads = {}
-            for out in wanted:
-                g, note = evaluator.gradient(out, sens)
-                grads[out.name] = {s.name: float(v) for s, v in zip(sens, g, strict=True)}
-                if note:
-                    notes.append(note)
+            found, notes = evaluator.gradients(wanted, sens)
+            grads = {name: {s.name: float(v) for s, v in zip(sens, g, strict=True)}
+                     for name, g in found.items()}
     done = time.perf_counter()
     return DesignResult(values, results, grads, design.statics, notes,
                         {"analysis": analysed - start, "gradient": done - analysed})

@@ -15,8 +15,10 @@ from collections.abc import Callable, Mapping
 
 import numpy as np
 
-from ..errors import ArgumentError, FlexmbdError
+from ..errors import ArgumentError, FlexmbdError, SimulationError
+from ..studies.runner import check_client, run_cases
 from .evaluate import DesignResult, _checked_params, evaluate
+from .starts import Starts, spread_starts
 
 __all__ = ["optimize"]
 
@@ -52,9 +54,11 @@ def optimize(build: Callable, params: Mapping[str, float], objective,
              constraints: Mapping[str, tuple] | None = None,
              bounds: Mapping[str, tuple] | None = None, *, method: str = "SLSQP",
              maximize: bool = False, tol: float = 1e-8, max_iterations: int = 100,
-             options: Mapping | None = None):
+             options: Mapping | None = None, starts=None, client="serial",
+             progress: bool | None = None):
     """The design that minimises (or maximises) an output, within bounds on the parameters
-    and limits on other outputs, by SciPy's ``minimize`` with exact gradients.
+    and limits on other outputs, by SciPy's ``minimize`` with exact gradients; from
+    several starts, the best of their optima.
 
     Args:
         build: ``build(**params)``, as for :func:`~flexmbd.design.evaluate`.
@@ -73,31 +77,83 @@ def optimize(build: Callable, params: Mapping[str, float], objective,
             analyses' rounding, about 1e-10, sets its floor).
         max_iterations: iterations before the optimiser stops.
         options: further options of the SciPy method.
+        starts: ``None`` (one start, ``params``); a number of starts in all (``params``
+            and the rest spread over the bounds by a Latin hypercube, the same on every
+            run: every parameter needs both bounds); or a list of further designs to
+            start from (parameters left out keep ``params``' values). The starts run as
+            the cases of a study (:func:`~flexmbd.sweep`'s machinery): a start whose
+            analysis fails is reported, not the end of the search.
+        client: where the starts run, as for :func:`~flexmbd.sweep`: ``"serial"`` (this
+            process, the default), ``None`` (a new local Dask cluster, one worker per
+            core; ``build`` must then be a module's function), a scheduler address or a
+            ``dask.distributed.Client``.
+        progress: with ``starts``, a bar counting them (``None``: on a terminal only).
 
     Returns:
         ``scipy.optimize.OptimizeResult``: ``x`` (a dict in the parameters' names),
         ``fun`` (the objective there), ``nfev`` (analyses run: each gives the objective,
-        the constraints and their gradients), ``nit``, ``success``, ``message``,
-        ``outputs`` (every output at ``x``), ``history`` (each analysis's design and
-        objective) and ``result`` (the :class:`DesignResult` at ``x``).
+        the constraints and their gradients; over all starts), ``nit``, ``success``,
+        ``message``, ``outputs`` (every output at ``x``), ``history`` (each analysis's
+        design and objective; with ``starts``, the best start's) and ``result`` (the
+        :class:`DesignResult` at ``x``); with ``starts``, also ``starts``: one dict per
+        start (``case``, the start, ``x``, ``fun``, ``success``, ``nfev``, ``message``,
+        ``status``, ``error``, ``wall_time``), in the starts' order.
 
     Raises:
-        ArgumentError: unknown outputs or parameters in the limits, or bad limits.
+        ArgumentError: unknown outputs or parameters in the limits, or bad limits or
+            starts.
         FlexmbdError: an analysis failed (a design the structure cannot carry); its
-            ``partial_result`` holds the optimisation so far.
+            ``partial_result`` holds the optimisation so far. With ``starts``: every
+            start failed.
     """
-    from scipy.optimize import NonlinearConstraint, OptimizeResult, minimize
-
     start = _checked_params(params)
-    names = list(start)
-    limits = _pairs(constraints, "constraints", "outputs")
     ranges = _pairs(bounds, "bounds", "parameters")
     unknown = [key for key in ranges if key not in start]
     if unknown:
         raise ArgumentError("bounds", f"{unknown} are not parameters of the design "
-                                      f"(its parameters: {names})")
+                                      f"(its parameters: {list(start)})")
     if method not in METHODS:
         raise ArgumentError("method", f"must be one of {METHODS}, got {method!r}")
+    settings = dict(objective=objective, constraints=constraints, bounds=bounds,
+                    method=method, maximize=maximize, tol=tol,
+                    max_iterations=max_iterations, options=options)
+    if starts is None:
+        return _optimize_once(build, start, **settings)
+    return _best_of(build, spread_starts(start, starts, ranges), settings, client, progress)
+
+
+def _best_of(build: Callable, designs: list[dict[str, float]], settings: dict, client,
+             progress: bool | None):
+    """The best of the optimisations from ``designs``, run as a study's cases."""
+    check_client(client)
+    rows: list[dict] = []
+    run_cases(Starts(_optimize_once, build, settings), list(enumerate(designs)), client,
+              rows.append, progress, len(designs))
+    rows.sort(key=lambda row: row["case"])
+    finished = [row for row in rows if row["status"] == "ok"]
+    if not finished:
+        failure = SimulationError(f"optimize: every one of the {len(rows)} starts failed; "
+                                  f"the first: {rows[0]['error']}")
+        failure.partial_result = rows
+        raise failure
+    pick = max if settings["maximize"] else min
+    # a converged optimum before one stopped by its iteration limit
+    best = pick([r for r in finished if r["success"]] or finished, key=lambda r: r["fun"])
+    found = _optimize_once(build, best["x"], **settings)   # its result, at its optimum
+    found.nfev += sum(row["nfev"] for row in rows)
+    found.starts = rows
+    return found
+
+
+def _optimize_once(build: Callable, start: dict[str, float], objective, constraints,
+                   bounds, method: str, maximize: bool, tol: float, max_iterations: int,
+                   options: Mapping | None):
+    """One optimisation from ``start`` (:func:`optimize`'s arguments checked)."""
+    from scipy.optimize import NonlinearConstraint, OptimizeResult, minimize
+
+    names = list(start)
+    limits = _pairs(constraints, "constraints", "outputs")
+    ranges = _pairs(bounds, "bounds", "parameters")
     weights = combination(objective, "objective")
     sums = {key: combination(key, "constraints") for key in limits}
     outputs = list(dict.fromkeys([*weights, *(n for terms in sums.values() for n in terms)]))

@@ -27,7 +27,7 @@ change (:meth:`Design.sensitivities`) and the data's:
 from __future__ import annotations
 
 import re
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -109,6 +109,21 @@ class Sensitivity:
     engines: Sequence
 
 
+@dataclass(frozen=True)
+class _Pair:
+    """What an eigenvalue's or a compliance's derivative needs of the tangent's change,
+    ``[l; nu_l]^T dA [r; nu_r]`` with the geometric stiffness weighted by ``weight`` (and,
+    when ``weighed``, ``l^T dM r``), and how it ``finish``es: ``(dA, dM)`` ``(k,)`` each
+    to the output's derivative ``(k,)``."""
+    left: np.ndarray
+    right: np.ndarray
+    nu_left: np.ndarray
+    nu_right: np.ndarray
+    weight: float
+    finish: Callable[[np.ndarray, np.ndarray], np.ndarray]
+    weighed: bool = False
+
+
 class Evaluator:
     """The values and derivatives of outputs at one design (``Design`` holds the state)."""
 
@@ -160,17 +175,35 @@ class Evaluator:
                          for s in beam.ends])
 
     # --- derivatives ----------------------------------------------------------------------
-    def gradient(self, out: Output, sens: list[Sensitivity]) -> tuple[np.ndarray, str]:
-        """The derivative to each parameter ``(k,)`` and a note (empty when none)."""
-        if out.kind == "column":
-            return self._column(out), ""
-        if out.kind == "frequency":
-            return self._frequency(out), ""
-        if out.kind == "compliance":
-            return self._compliance(out), ""
-        if out.kind == "buckling":
-            return self._buckling(out), ""
-        return self._stress(out, sens)
+    def gradients(self, outs: list[Output], sens: list[Sensitivity]
+                  ) -> tuple[dict[str, np.ndarray], list[str]]:
+        """Each output's derivative to each parameter ``(k,)`` by name, and the notes.
+        The frequencies', compliances' and buckling factors' tangent changes are one
+        evaluation of the elements for all of them."""
+        found: dict[str, np.ndarray] = {}
+        notes: list[str] = []
+        pairs: dict[str, _Pair] = {}
+        for out in outs:
+            if out.kind == "column":
+                found[out.name] = self._column(out)
+            elif out.kind in ("stress_max", "stress_ks"):
+                found[out.name], note = self._stress(out, sens)
+                notes += [note] if note else []
+            else:
+                pairs[out.name] = {"frequency": self._frequency, "compliance":
+                                   self._compliance, "buckling": self._buckling}[out.kind](out)
+        if pairs:
+            d, batch = self.design, list(pairs.values())
+            columns = [np.column_stack(v) for v in zip(*((p.left, p.right, p.nu_left,
+                                                          p.nu_right) for p in batch), strict=True)]
+            dA = d.tangent_changes(*columns, np.array([p.weight for p in batch]))
+            weighed = [q for q, p in enumerate(batch) if p.weighed]
+            dM = np.zeros_like(dA)
+            if weighed:
+                dM[weighed] = d.mass_changes(columns[0][:, weighed], columns[1][:, weighed])
+            for q, (name, pair) in enumerate(pairs.items()):
+                found[name] = pair.finish(dA[q], dM[q])
+        return {out.name: found[out.name] for out in outs}, notes
 
     def _column(self, out: Output) -> np.ndarray:
         d = self.design
@@ -184,7 +217,7 @@ class Evaluator:
         index = model._deformation_index(f"e{label}")
         return (d.de if prefix == "e" else d.dsigma)[:, index]
 
-    def _frequency(self, out: Output) -> np.ndarray:
+    def _frequency(self, out: Output) -> _Pair:
         d, k = self.design, out.args[0]
         modes = self.modes(k)
         omega2 = modes.omega2
@@ -200,23 +233,23 @@ class Evaluator:
         phi = transfer @ shape
         psi = transfer @ d.left_mode(shape, value)
         nu, eta = d.bordered_mode(phi, value), d.bordered_mode(psi, value, transposed=True)
-        dA = d.tangent_changes(psi, phi, eta, nu)
-        dM = d.mass_changes(psi, phi)
         mass = psi @ d.state.engine.mass(d.x)[0] @ phi
-        domega2 = (dA - value * dM) / mass
-        return domega2 / (8.0 * np.pi**2 * modes.frequencies[k - 1])
+        hz = 8.0 * np.pi**2 * modes.frequencies[k - 1]
+        return _Pair(psi, phi, eta, nu, 1.0, weighed=True,
+                     finish=lambda dA, dM: (dA - value * dM) / mass / hz)
 
-    def _compliance(self, out: Output) -> np.ndarray:
+    def _compliance(self, out: Output) -> _Pair:
         d = self.design
         node, rot, i, j = out.args
         T = d.unit_loads(node, rot)                   # (nx, m)
         W, nu_w = d.bordered_solve(T, transposed=False)
         V, nu_v = d.bordered_solve(T, transposed=True)
-        dA = d.tangent_changes(V[:, i], W[:, j], nu_v[:, i], nu_w[:, j])
         dT = d.unit_load_changes(node, rot)           # (k_params, nx, m)
-        return dT[:, :, i] @ W[:, j] + dT[:, :, j] @ V[:, i] - dA
+        turned = dT[:, :, i] @ W[:, j] + dT[:, :, j] @ V[:, i]
+        return _Pair(V[:, i], W[:, j], nu_v[:, i], nu_w[:, j], 1.0,
+                     finish=lambda dA, dM: turned - dA)
 
-    def _buckling(self, out: Output) -> np.ndarray:
+    def _buckling(self, out: Output) -> _Pair:
         """``d lambda = -(psi^T (dK0 + lambda dG0) phi + 2 nu^T dD_c phi) / phi^T G0 phi`` on
         the symmetric problem :func:`~flexmbd.buckling` solves (its matrices'
         symmetric parts: a quadratic form sees only those)."""
@@ -234,10 +267,10 @@ class Evaluator:
                                            f"another output")
         phi = found.linearization.F_q[:, found.linearization.dynamic] @ found.shapes[:, k - 1]
         nu = d.buckling_border(phi, factor)
-        change = d.tangent_changes(phi, phi, nu, nu, geometric_weight=factor)
         G = found.linearization.block("G0")
         shape = found.shapes[:, k - 1]
-        return -change / (shape @ G @ shape)
+        curvature = shape @ G @ shape
+        return _Pair(phi, phi, nu, nu, factor, finish=lambda dA, dM: -dA / curvature)
 
     def _stress(self, out: Output, sens: list[Sensitivity]) -> tuple[np.ndarray, str]:
         """``stress_max`` (the maximising point's derivative) or ``stress_ks``: central

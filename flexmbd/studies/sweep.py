@@ -3,9 +3,7 @@ Dask cluster (local by default) or in this process."""
 
 from __future__ import annotations
 
-import math
 import os
-import uuid
 from collections.abc import Callable
 from importlib.util import find_spec
 from pathlib import Path
@@ -13,11 +11,10 @@ from typing import Any
 
 from ..errors import ArgumentError, OptionalDependencyError
 from ..io.outputs import check_output
-from ..progress import case_counter
-from .case import ANALYSES, Study, check_outputs, describe
-from .cluster import check_main_guard, connected
+from .case import ANALYSES, Study, check_outputs
 from .grid import cases as grid_cases
 from .grid import check_name
+from .runner import check_client, run_cases
 from .store import Journal, history_columns, table
 
 
@@ -102,30 +99,19 @@ def sweep(build, grid, analysis, outputs, client=None, *,
         journal = Journal(out, cases, list(outputs))
         if restart:
             journal.discard()
-    if not (client is None or client == "serial" or isinstance(client, str) or
-            hasattr(client, "submit")):
-        raise ArgumentError("client", f"must be None, 'serial', a scheduler address or a "
-                                      f"dask.distributed.Client, got {client!r}")
-    if client is None:
-        check_main_guard()
+    check_client(client)
     study = Study(build, analysis, outputs)
     rows = journal.load() if journal else []
     finished = {row["case"] for row in rows}
     pending = [(k, case) for k, case in enumerate(cases) if k not in finished]
-    try:
-        with case_counter(len(cases), len(rows), progress) as counted:
-            def record(row: dict) -> None:
-                rows.append(row)
-                if journal:
-                    journal.add(row)
-                counted(row["status"] == "ok")
 
-            if pending:
-                if client == "serial":
-                    for index, case in pending:
-                        record(study.run(index, case))
-                else:
-                    _on_dask(study, pending, record, client)
+    def record(row: dict) -> None:
+        rows.append(row)
+        if journal:
+            journal.add(row)
+
+    try:
+        run_cases(study, pending, client, record, progress, len(cases), len(rows))
     except BaseException as stop:
         if journal:
             journal.close(rows)
@@ -156,37 +142,6 @@ def _check_build(build, cases: list[dict]) -> Callable:
         raise ArgumentError("build", f"must be a function returning a model or the path of a "
                                      f"SPACAR file, got {type(build).__name__}")
     return build
-
-
-def _on_dask(study: Study, pending: list[tuple[int, dict]], record, client) -> None:
-    """Run the cases on Dask as futures and ``record`` each row as it finishes; a case
-    whose worker died is recorded as failed. An interrupt cancels what has not run."""
-    _require("distributed", "sweeps on Dask")
-    from dask.distributed import as_completed
-
-    with connected(client) as client:
-        shared = client.scatter(study, broadcast=True)  # sent once, not with every case
-        token = uuid.uuid4().hex[:8]
-        futures = {client.submit(_run, shared, index, case, key=f"flexmbd-{token}-{index}",
-                                 pure=False): (index, case) for index, case in pending}
-        try:
-            for future in as_completed(futures):
-                try:
-                    row = future.result()
-                except Exception as failure:  # a lost worker fails its case
-                    index, case = futures[future]
-                    row = {"case": index, **case, **dict.fromkeys(study.outputs, math.nan),
-                           "status": "failed", "error": f"worker: {describe(failure)}",
-                           "wall_time": math.nan}
-                record(row)
-                future.release()
-        finally:
-            client.cancel(list(futures))
-
-
-def _run(study: Study, index: int, case: dict) -> dict:
-    """One case on a worker."""
-    return study.run(index, case)
 
 
 def _result(rows: list[dict], outputs: list[str]):
