@@ -18,6 +18,10 @@
    length at its bound, the drive force at its limit) from a root search on the
    analyses alone.
 
+4. **The floor under the cost.** One call of the pivot's build against one whole
+   analysis, taking turns (at least 7): every parameter's data derivative needs at
+   least one build.
+
 Run: ``python benchmarks/design_gradients.py [--beams 8 32] [--repeat 3]``.
 """
 
@@ -156,6 +160,24 @@ def optimisation() -> dict[str, dict[str, float]]:
             "true": {"t": true_t, "L": 0.2}}
 
 
+def build_share(beams: int, repeat: int) -> tuple[float, float, float]:
+    """One call of the pivot's build and one whole ``evaluate(..., gradient=False)``
+    (which includes a build), taking turns: their medians and the median of their
+    run-by-run ratios. The data's derivatives need at least one build per parameter."""
+    build = lambda **p: pivot(**p, beams=beams)  # noqa: E731
+    design.evaluate(build, PARAMS, OUTPUTS, gradient=False)
+    builds, analyses = [], []
+    for _ in range(repeat):
+        start = time.perf_counter()
+        build(**PARAMS)
+        builds.append(time.perf_counter() - start)
+        start = time.perf_counter()
+        design.evaluate(build, PARAMS, OUTPUTS, gradient=False)
+        analyses.append(time.perf_counter() - start)
+    ratio = float(np.median([b / a for b, a in zip(builds, analyses, strict=True)]))
+    return float(np.median(builds)), float(np.median(analyses)), ratio
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--beams", type=int, nargs="*", default=[8, 32])
@@ -175,6 +197,11 @@ def main() -> None:
         print(f"| {beams} | {c['analysis']:.3f} | {c['with']:.3f} | "
               f"{c['with'] / c['analysis']:.2f} | {c['gradient'] / c['analysis']:.2f} | "
               f"{worst} |")
+    print("\n| beams per leaf | one build [s] | one analysis [s] | build / analysis |")
+    print("|---|---|---|---|")
+    for beams in args.beams:
+        built, analysed, ratio = build_share(beams, max(args.repeat, 7))
+        print(f"| {beams} | {built:.3f} | {analysed:.3f} | {ratio:.2f} |")
     o = optimisation()
     true = o["true"]
     print("\n| method | analyses | time [s] | t [mm] | L [mm] | error of t | converged |")
