@@ -197,9 +197,33 @@ def test_the_guide_lists_every_keyword_the_reader_knows():
     assert listed == {*KINEMATICS, *DYNAMICS, *TRANSFER, *UNSUPPORTED, *INSTEAD}
 
 
-def test_a_beam_without_orientation_asks_for_it():
+def test_a_beam_without_orientation_takes_spacars_choice_and_says_so():
+    """SPACAR takes the global axis in which the beam is smallest, the last of equal ones,
+    made perpendicular to the beam: a beam along x gets ey0 = z (y and z tie); SPACAR 2019
+    stored ey0 = y for a beam along z (x and y tie)."""
     text = CANTILEVER.format(block2="").replace("\t\t0.000000\t1.000000\t0.000000\t\t#beam",
                                                 "", 1)
-    with pytest.raises(InputFileError, match=r"beam\.dat:5: BEAM: element 1 has no "
-                                             r"orientation vector .* add it"):
-        dat_from_text(text, "beam.dat")
+    dat = dat_from_text(text, "beam.dat")
+    frame = np.array(dat.model.elements[1].reference[1:10]).reshape(3, 3)   # rows ex, ey, ez
+    assert frame == pytest.approx(np.array([[1, 0, 0], [0, 0, 1], [0, -1, 0]]), abs=1e-15)
+    assert [n for n in dat.settings.notes if "orientation" in n] == [
+        "line 5: no orientation vector; the local y axis is SPACAR's choice, the global axis "
+        "in which the element's direction is smallest (the last of equal ones) made "
+        "perpendicular to it"]
+    upright = text.replace("X\t\t  3\t\t\t0.100000\t0.000000\t0.000000",
+                           "X\t\t  3\t\t\t0.000000\t0.000000\t0.100000")
+    frame = np.array(dat_from_text(upright, "beam.dat").model.elements[1].reference[1:10])
+    assert frame[3:6] == pytest.approx([0, 1, 0], abs=1e-15)
+
+
+@pytest.mark.parametrize("axis, ey0", [((0, 0, 1), (-1, 0, 0)), ((1, 0, 0), (0, -1, 0)),
+                                       ((0, 1, 0), (1, 0, 0)),
+                                       ((1, 1, 0), (0.5**0.5, -(0.5**0.5), 0))])
+def test_hinge_frames_are_spacars(axis, ey0):
+    """``ey0 = unit(ex0 x e_k)``, ``e_k`` the global axis of the axis's smallest component
+    (the last of equal ones): about z, ``ey0 = -x`` as SPACAR stores it."""
+    from flexmbd.elements.spatial_hinge import hinge_frame
+
+    frame = hinge_frame(np.array([axis], dtype=float))[0]      # columns ex0, ey0, ez0
+    assert frame[:, 1] == pytest.approx(ey0, abs=1e-15)
+    assert frame[:, 2] == pytest.approx(np.cross(frame[:, 0], frame[:, 1]), abs=1e-15)

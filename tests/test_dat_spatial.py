@@ -210,8 +210,6 @@ MALFORMED = {
                                    "orientation vector (2.0, 0.0, 0.0) lies along the beam"),
     "huge axis": ("HINGE 1 2 3 1e308 0 1\nFIX 2\nEND\nEND\n", 1,
                   "axis (1e+308, 0.0, 1.0) is not finite numbers of at most 1e+100"),
-    "beam without its orientation": (ARM.replace("BEAM 1 1 2 3 4 0 0 1", "BEAM 1 1 2 3 4"), 1,
-                                     "element 1 has no orientation vector"),
     "hinge without its axis": ("HINGE 1 2 3\nEND\nEND\n", 1,
                                "takes HINGE element lam_p lam_q ax ay az"),
     "planar gravity in a spatial file": (ARM.format(dynamics="GRAVITY 0 -9.81"), 10,

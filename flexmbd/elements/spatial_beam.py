@@ -59,11 +59,25 @@ def beam_frame(chord: np.ndarray, orientation: np.ndarray) -> np.ndarray:
     return np.stack([ex, ey, np.cross(ex, ey)], axis=2)
 
 
+def default_orientation(directions: np.ndarray) -> np.ndarray:
+    """SPACAR's choice for an element given no orientation vector: for each direction
+    ``(n, 3)``, the global unit axis ``(n, 3)`` along which it has its smallest component,
+    the last of equal ones (SPACAR 2019 stores ``ey0`` = global y for a beam along z, where
+    x and y tie; the first of them would give x)."""
+    magnitude = np.abs(np.atleast_2d(directions))
+    last_smallest = 2 - np.argmin(magnitude[:, ::-1], axis=1)
+    axes = np.zeros_like(magnitude)
+    axes[np.arange(len(magnitude)), last_smallest] = 1.0
+    return axes
+
+
 class SpatialBeam(ElementType):
     """Coordinates ``[x_p, y_p, z_p, lam_p (4), x_q, y_q, z_q, lam_q (4)]``.
 
     Element data: ``orientation``, a vector [-] not along the beam that fixes the local
-    ``y`` axis, and ``bending_linked`` (1: the second-order terms on, as SPACAR; 0: off).
+    ``y`` axis (``(0, 0, 0)`` or none on a ``BEAM`` line: SPACAR's choice,
+    :func:`default_orientation` made perpendicular to the beam), and ``bending_linked``
+    (1: the second-order terms on, as SPACAR; 0: off).
 
     Properties: ``EM`` ``rhoA`` [kg/m] (consistent Hermite mass of the centre line),
     ``ESTIFF`` ``EA`` [N], ``GIt`` [N m^2], ``EIy``, ``EIz`` [N m^2] and the shear
@@ -81,7 +95,8 @@ class SpatialBeam(ElementType):
     deformation_units = ("m",) * 6
     reference = 11   # l0, the frame ex0, ey0, ez0, the bending-linked switch
     element_data: ClassVar[dict[str, tuple[float, ...] | None]] = {
-        "orientation": None, "bending_linked": (1.0,)}
+        "orientation": (0.0, 0.0, 0.0), "bending_linked": (1.0,)}
+    optional_data: ClassVar[tuple[str, ...]] = ("orientation",)
     stiffness_values = (AXIAL_STIFFNESS, Value("torsion", "GIt", "N m^2"),
                         Value("bending_y", "EIy", "N m^2"), Value("bending_z", "EIz", "N m^2"),
                         Value("shear_y", "sy", "m^2"), Value("shear_z", "sz", "m^2"))
@@ -131,8 +146,10 @@ class SpatialBeam(ElementType):
         xe0 = np.atleast_2d(np.asarray(xe0, dtype=float))
         d, length = chord_lengths(xe0, 0, 7)
         data = data or {}
-        orientation = np.asarray(data.get("orientation", np.tile([0.0, 0.0, 1.0], (len(xe0), 1))),
-                                 dtype=float).reshape(len(xe0), 3)
+        given = np.asarray(data.get("orientation", np.zeros((len(xe0), 3))),
+                           dtype=float).reshape(len(xe0), 3)
+        missing = ~np.any(given, axis=1, keepdims=True)   # none: SPACAR's choice
+        orientation = np.where(missing, default_orientation(d), given)
         linked = np.asarray(data.get("bending_linked", np.ones(len(xe0))),
                             dtype=float).reshape(len(xe0), 1)
         frame = beam_frame(d, orientation).transpose(0, 2, 1).reshape(len(xe0), 9)
@@ -142,12 +159,12 @@ class SpatialBeam(ElementType):
     def check_data(cls, xe0, data):
         """The orientation vector must be finite and not (nearly) along the chord."""
         d = np.asarray(xe0[7:10], dtype=float) - np.asarray(xe0[0:3], dtype=float)
-        o = np.asarray(data.get("orientation", (0.0, 0.0, 1.0)), dtype=float)
-        if o.shape != (3,) or not np.all(np.isfinite(o)) or not np.any(o):
+        o = np.asarray(data.get("orientation", (0.0, 0.0, 0.0)), dtype=float)
+        if o.shape != (3,) or not np.all(np.isfinite(o)):
             return [f"orientation vector {tuple(o.ravel().tolist())} is not three finite "
-                    f"numbers, not all zero"]
-        if not np.linalg.norm(d) > 0.0:  # a beam of zero length: the builder names it
-            return []
+                    f"numbers"]
+        if not np.any(o) or not np.linalg.norm(d) > 0.0:  # none given: SPACAR's choice;
+            return []                                   # a zero length: the builder says
         sine = np.linalg.norm(np.cross(d, o)) / (np.linalg.norm(d) * np.linalg.norm(o))
         if sine < PARALLEL_LIMIT:
             return [f"orientation vector {tuple(o.tolist())} lies along the beam "

@@ -18,19 +18,17 @@ import numpy as np
 
 from .base import ElementType, Value, spatial_rotational
 from .rotations import dot, frame_columns, rotate
-
-#: below this ``|axis x e_Y|`` the hinge frame takes ``e_Z`` instead of ``e_Y``
-AXIS_NEAR_Y = 1e-3
+from .spatial_beam import default_orientation
 
 
 def hinge_frame(axis: np.ndarray) -> np.ndarray:
     """Reference frames ``(n, 3, 3)`` (columns ``ex0, ey0, ez0``) of ``n`` hinges with axes
-    ``(n, 3)``: ``ex0`` the unit axis, ``ey0 = unit(ex0 x e_Y)`` (``ex0 x e_Z`` for an
-    axis near ``Y``), ``ez0 = ex0 x ey0``."""
+    ``(n, 3)``, as SPACAR sets them: ``ex0`` the unit axis, ``ey0 = unit(ex0 x e_k)`` with
+    ``e_k`` the global axis along which the axis has its smallest component (the last of
+    equal ones, :func:`~flexmbd.elements.spatial_beam.default_orientation`), ``ez0 = ex0
+    x ey0``. A hinge about z has ``ey0 = -x``, ``ez0 = y``."""
     ex = axis / np.linalg.norm(axis, axis=1, keepdims=True)
-    ey = np.cross(ex, [0.0, 1.0, 0.0])
-    near = np.linalg.norm(ey, axis=1) < AXIS_NEAR_Y
-    ey[near] = np.cross(ex[near], [0.0, 0.0, 1.0])
+    ey = np.cross(ex, default_orientation(ex))
     ey = ey / np.linalg.norm(ey, axis=1, keepdims=True)
     return np.stack([ex, ey, np.cross(ex, ey)], axis=2)
 

@@ -29,17 +29,9 @@ from .base import (
     spatial_translational,
 )
 from .rotations import dot, frame_columns, rotate
-from .spatial_beam import PARALLEL_LIMIT, beam_frame
+from .spatial_beam import PARALLEL_LIMIT, beam_frame, default_orientation
 from .spatial_truss import chord_lengths
 from .truss import along_chord
-
-
-def default_orientation(chords: np.ndarray) -> np.ndarray:
-    """The orientation vectors ``(n, 3)`` of elements given none: the global axis along
-    which each chord ``(n, 3)`` has its smallest component (the first of equal ones)."""
-    axes = np.zeros_like(chords)
-    axes[np.arange(len(chords)), np.argmin(np.abs(chords), axis=1)] = 1.0
-    return axes
 
 
 class SpatialRigidBeam(ElementType):
@@ -47,7 +39,8 @@ class SpatialRigidBeam(ElementType):
     ``q``: coordinates ``[x_p, y_p, z_p, lam_p (4), x_q, y_q, z_q]``.
 
     Element data: ``orientation``, a vector [-] across the chord that fixes the body's y
-    axis; optional (``(0, 0, 0)``: the global axis in which the chord is smallest). It
+    axis; optional (``(0, 0, 0)``: SPACAR's choice, the global axis in which the chord is
+    smallest, the last of equal ones, made perpendicular to it). It
     orients only the section inertia.
 
     Properties: ``EM`` ``rhoA`` [kg/m] (the rod's linear velocity field, exact for a rigid

@@ -169,6 +169,8 @@ class _Reader:
         self.ignored: dict[str, list[int]] = {}
         #: how lines were read where SPACAR's meaning is not the plain one, a note each
         self.remarks: list[str] = []
+        #: lines of beams without an orientation vector (SPACAR's choice, noted once)
+        self.unoriented: list[int] = []
         #: FIX, INPUTX and DYNX lines of nodes not known when they were read
         self.pending: list[Statement] = []
         self.by_line = {s.line: s for s in (*text.kinematics, *text.dynamics, *text.transfer)}
@@ -197,6 +199,13 @@ class _Reader:
             model = self.builder.build()
         except ModelError as error:
             raise self.located(error.problems) from None
+        if self.unoriented:
+            lines = self.unoriented
+            self.remarks.append(
+                f"line{'s' if len(lines) > 1 else ''} {', '.join(map(str, lines))}: no "
+                f"orientation vector; the local y axis is SPACAR's choice, the global axis "
+                f"in which the element's direction is smallest (the last of equal ones) "
+                f"made perpendicular to it")
         for note in self.builder.notes:   # e.g. a flexible beam without ESTIFF
             line = next((self.line_of(kind, key) for kind, key in getattr(note, "about", ())),
                         None)
@@ -308,6 +317,8 @@ class _Reader:
                                      f", got {len(given[at:at + len(words)])}")
                     data[name] = tuple(given[at:at + len(words)])
                     at += len(words)
+            if "orientation" in etype.element_data and not any(data.get("orientation", ())):
+                self.unoriented.append(s.line)
             self.elements[number] = (s.keyword, nodes, s.line)
             b.add_element(number, etype, nodes, **data)
         elif s.keyword == "X":

@@ -332,12 +332,6 @@ def parse_text(text: str, path: str | Path | None = None) -> DatText:
                                  f"got {keyword}", path, number)
         if keyword not in tables[state]:
             raise InputFileError(_unknown(keyword, state), path, number)
-        if keyword == "BEAM" and state == "kinematics" and len(rest) == 5:
-            raise InputFileError(f"BEAM: element {rest[0]} has no orientation vector (ox oy "
-                                 f"oz, a direction across the beam that fixes its local y "
-                                 f"axis); flexmbd does not guess the axis SPACAR picks without "
-                                 f"one: add it, e.g. 0 0 1 for a beam in the x-y plane",
-                                 path, number)
         blocks[state].append(_statement(keyword, rest, tables[state][keyword], path, number))
     if state != "done":
         missing = {"kinematics": "END ending the kinematics block",
