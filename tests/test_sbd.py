@@ -15,7 +15,7 @@ from flexmbd.cli import main as cli
 from flexmbd.errors import InputFileError
 from flexmbd.io.dat import dat_from_text
 from flexmbd.io.sbd import read_sbd, write_records
-from flexmbd.io.sbd.records import generalized_loads
+from flexmbd.io.sbd.records import generalized_loads, model_tables
 from flexmbd.orientation import euler_forces
 
 EXAMPLES = Path(__file__).parent.parent / "examples"
@@ -324,3 +324,20 @@ def test_spacar_own_output_is_reproduced(tmp_path):
 def _squared_frequencies(sbm, k: int) -> np.ndarray:
     stiffness = sbm["K0"][k] + sbm["N0"][k] + sbm["G0"][k]
     return np.sort(np.linalg.eigvals(np.linalg.solve(sbm["M0"][k], stiffness)).real)
+
+
+def test_warping_beams_have_spacars_tables():
+    """SPACAR's output for four BEAMWs and six BEAMs (tests/data/spacar/SOURCE.md): the
+    element types, frames, stiffness constants (with ``ECw/l0^5``), the zero ``RQ`` and
+    the numbering, which puts the calculable warping deformations after all others."""
+    model, _ = fm.read_dat(SPACAR / "beamw.dat")
+    mine = model_tables(model, 9)
+    with np.load(SPACAR / "beamw.npz") as stored:
+        theirs = {key.split(".")[2]: stored[key] for key in stored.files
+                  if key.startswith("beamw.sbd.")}
+    for record in ("NXP", "NEP", "LE", "IT"):
+        assert np.array_equal(mine[record], theirs[record]), record
+    assert mine["RQ"].shape == theirs["RQ"].shape and not np.any(theirs["RQ"])
+    for record in ("RL0", "RXYZ"):
+        np.testing.assert_allclose(mine[record], theirs[record], rtol=0, atol=1e-10)
+    np.testing.assert_allclose(mine["STIF"], theirs["STIF"], rtol=1e-12)

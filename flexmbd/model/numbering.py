@@ -6,7 +6,9 @@ class first, as its log shows (``NXO``, ``NXC``, ``NXMM``, ``NXM``):
 * position parameters: fixed ``x(o)``, calculable ``x(c)``, input ``x(m)``, dynamic
   ``x(m)``; within a class by node number, then by direction;
 * deformation parameters: rigid ``e(o)``, input ``e(m)``, dynamic ``e(m)``, calculable
-  (released) ``e(c)``; within a class by element number, then by deformation;
+  (released) ``e(c)``; within a class by element number, then by deformation, except
+  the calculable warping deformations of ``BEAMW`` elements, which come after all other
+  calculable ones;
 * degrees of freedom: the input coordinates, the dynamic coordinates, the input
   deformations, the dynamic deformations.
 
@@ -29,10 +31,18 @@ _X_RANK = {CoordinateClass.FIXED: 0, CoordinateClass.DEPENDENT: 1, CoordinateCla
 _E_RANK = {DeformationClass.RIGID: 0, DeformationClass.INPUT: 1, DeformationClass.DYNAMIC: 2,
            DeformationClass.RELEASED: 3}
 
-#: SPACAR's element type codes (record ``IT``), as SPACAR's own drawing routine reads
-#: them; HINGE's 3 follows from codes below 4 being the spatial elements. Types whose code
-#: is not established are written as 0.
-ELEMENT_CODES = {"BEAM": 1, "TRUSS": 2, "HINGE": 3, "EULER": 4, "PLBEAM": 5, "PLTRUSS": 7}
+#: SPACAR's element type codes (record ``IT``), as SPACAR's drawing and stress routines read
+#: them: ``BEAMW`` 18 read off SPACAR's own output; HINGE's 3 follows from codes below 4
+#: being the spatial elements, PLHINGE's 6 from the order of SPACAR's planar types
+#: (PLBEAM 5, PLHINGE, PLTRUSS 7). flexmbd's own types take the code of the SPACAR type
+#: they are drawn as (a rigid beam as a beam, a spring as a truss), so that SPACAR's
+#: tools tell a planar model from a spatial one.
+ELEMENT_CODES = {"BEAM": 1, "TRUSS": 2, "HINGE": 3, "EULER": 4, "PLBEAM": 5, "PLHINGE": 6,
+                 "PLTRUSS": 7, "BEAMW": 18, "RBEAM": 1, "PLRBEAM": 5, "PLBEAM2": 5,
+                 "PLSPRING": 7}
+#: the deformations SPACAR numbers after all other calculable ones: a BEAMW's warping
+#: (read off SPACAR's output: its released ``e7, e8`` come after every other element's)
+LAST_CALCULABLE = {"BEAMW": (6, 7)}
 #: widths of the tables LNP (coordinates per node), LE (deformations per element) and LN
 #: (nodes per element), as SPACAR writes them
 LNP_WIDTH, LE_WIDTH, LN_WIDTH = 4, 8, 6
@@ -58,8 +68,15 @@ class SpacarNumbering:
 
     @cached_property
     def e(self) -> np.ndarray:
-        ranks = [_E_RANK[DeformationClass(c)] for c in self.model.deformation_class]
-        return np.argsort(np.asarray(ranks, dtype=int), kind="stable")
+        ranks = np.array([_E_RANK[DeformationClass(c)] for c in self.model.deformation_class],
+                         dtype=int)
+        released = _E_RANK[DeformationClass.RELEASED]
+        for element in self.model.elements.values():
+            for k in LAST_CALCULABLE.get(element.type.keyword, ()):
+                index = element.deformations[k]
+                if ranks[index] == released:
+                    ranks[index] = released + 1
+        return np.argsort(ranks, kind="stable")
 
     @cached_property
     def q(self) -> np.ndarray:

@@ -1,11 +1,12 @@
 """What a flexmbd run writes into SPACAR's binary data file ``.sbd``: the records, their
 names, shapes and meaning, in SPACAR's numbering (:mod:`.numbering`).
 
-Tables: ``NX NE NDOF NDDO NKDO NKDD NXP NEP LNP LE LN IT MODE RL0 RXYZ STIF ESIG``. Per
+Tables: ``NX NE NDOF NDDO NKDO NKDD NXP NEP LNP LE LN IT MODE RL0 RXYZ RQ STIF ESIG``
+(``RQ`` zeros, as SPACAR writes it for beams, hinges and pin bodies). Per
 step: ``T X XD XDD E ED EDD FX FXT SIG DX DE`` and, for static runs and files of one
 step, ``BIGD`` (the rates and loads a run did not record are left out).
 ``docs/guide/spacar-files.md`` gives every record's meaning; the records SPACAR writes and
-flexmbd does not (``KDEF RQ DR0 EINI DAMP EM FXG XCL``) are there too, with the
+flexmbd does not (``KDEF DR0 EINI DAMP EM FXG XCL``) are there too, with the
 reason. The linearized equations (``.sbm``, ``.ltv``) are :mod:`.linear`'s.
 """
 
@@ -30,6 +31,9 @@ from ...orientation import euler_forces, moment_of
 from ...results import KinematicResult, SimulationResult
 from .binary import write_records
 
+#: where each spatial type's reference parameters hold its frame ``ex0, ey0, ez0`` (the
+#: ``RXYZ`` row SPACAR writes); planar types have none
+FRAME_AT = {"BEAM": 1, "BEAMW": 1, "RBEAM": 1, "HINGE": 0}
 #: SPACAR's modes by what they compute (``MODE`` record); flexmbd's run kinds map onto them
 SPACAR_MODES = {"kinematic": 1, "dynamic": 1, "inverse": 2, "linear": 3, "static": 10}
 
@@ -50,8 +54,9 @@ def model_tables(model: Model, mode: int) -> dict[str, np.ndarray]:
         it[0, k - 1] = ELEMENT_CODES.get(element.type.keyword, 0)
         if element.type.ends() is not None and element.reference:
             rl0[k - 1, 0] = element.reference[0]
-        if element.type.keyword == "BEAM":  # the reference frame's axes ex0, ey0, ez0
-            rxyz[k - 1] = element.reference[1:10]
+        frame = FRAME_AT.get(element.type.keyword)
+        if frame is not None:   # the reference frame's axes ex0, ey0, ez0
+            rxyz[k - 1] = element.reference[frame:frame + 9]
         properties = model.element_properties.get(k)
         if properties is not None and properties.prestress is not None:
             esig[k - 1, :len(properties.prestress)] = properties.prestress
@@ -60,33 +65,30 @@ def model_tables(model: Model, mode: int) -> dict[str, np.ndarray]:
     tables: dict[str, np.ndarray] = {name: np.array([[value]], dtype=np.int32)
                                      for name, value in count.items()}
     tables.update(NXP=nxp, NEP=nep, LNP=number.node_table(), LE=number.element_table(),
-                  LN=ln, IT=it, MODE=np.array([[mode]], dtype=np.int32), RL0=rl0, RXYZ=rxyz)
-    stiffness = stiffness_table(model)
-    if stiffness is not None:
-        tables["STIF"] = stiffness
-    tables["ESIG"] = esig
+                  LN=ln, IT=it, MODE=np.array([[mode]], dtype=np.int32), RL0=rl0, RXYZ=rxyz,
+                  RQ=np.zeros((largest_element, 9)), STIF=stiffness_table(model), ESIG=esig)
     return tables
 
 
-def stiffness_table(model: Model) -> np.ndarray | None:
+def stiffness_table(model: Model) -> np.ndarray:
     """``STIF`` ``(elements, 12)``: SPACAR's stiffness parameters of a spatial beam,
-    ``EA/l0, GIt/l0^3, EIy/l0^3, EIz/l0^3, 12 sy/l0^2, 12 sz/l0^2`` (read off SPACAR's
-    output), zero for elements without stiffness; ``None`` when another element type has
-    a stiffness, whose layout in SPACAR's table is not established."""
+    ``EA/l0, GIt/l0^3, EIy/l0^3, EIz/l0^3, 12 sy/l0^2, 12 sz/l0^2`` and for a ``BEAMW``
+    ``ECw/l0^5`` after them (read off SPACAR's output); zero rows for the other types,
+    whose layout in SPACAR's table is not established (SPACAR's tools read only the
+    beams' rows: their shear coefficients)."""
     table = np.zeros((max(model.elements), 12))
     for k, element in model.elements.items():
         properties = model.element_properties.get(k)
         values = dict(properties.stiffness) if properties is not None else {}
-        if not any(values.values()):
+        if element.type.keyword not in ("BEAM", "BEAMW") or not any(values.values()):
             continue
-        if element.type.keyword != "BEAM":
-            return None
         l0 = element.reference[0]
-        table[k - 1, :6] = [values.get("axial", 0.0) / l0, values.get("torsion", 0.0) / l0**3,
+        table[k - 1, :7] = [values.get("axial", 0.0) / l0, values.get("torsion", 0.0) / l0**3,
                             values.get("bending_y", 0.0) / l0**3,
                             values.get("bending_z", 0.0) / l0**3,
                             12 * values.get("shear_y", 0.0) / l0**2,
-                            12 * values.get("shear_z", 0.0) / l0**2]
+                            12 * values.get("shear_z", 0.0) / l0**2,
+                            values.get("warping", 0.0) / l0**5]
     return table
 
 
