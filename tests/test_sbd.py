@@ -200,13 +200,15 @@ def test_euler_parameter_loads_do_the_work_of_the_moment():
     moment = rng.normal(size=3)
     loads = np.zeros((1, model.n_coordinates))
     loads[0, list(node.coordinates[1:])] = moment
-    force = generalized_loads(model, x, loads)[0, list(node.coordinates)]
+    force = generalized_loads(model, x, loads, reactions=True)[0, list(node.coordinates)]
     assert force[0] == pytest.approx(0.0, abs=1e-14)
     rate = rng.normal(size=4)
     rate -= (rate @ lam) * lam   # a rate that keeps |lam| = 1
     omega = fm.angular_velocity(lam, rate)
     assert force @ rate == pytest.approx(moment @ omega, rel=1e-12)
     assert euler_forces(lam, moment) @ rate == pytest.approx(moment @ omega, rel=1e-12)
+    applied = generalized_loads(model, x, loads)[0, list(node.coordinates)]   # FX's form
+    assert applied == pytest.approx(euler_forces(lam, moment), abs=1e-15)
 
 
 def test_spacar_modes_run_and_write_their_files(tmp_path, capsys):
@@ -341,3 +343,17 @@ def test_warping_beams_have_spacars_tables():
     for record in ("RL0", "RXYZ"):
         np.testing.assert_allclose(mine[record], theirs[record], rtol=0, atol=1e-10)
     np.testing.assert_allclose(mine["STIF"], theirs["STIF"], rtol=1e-12)
+
+
+def test_a_moment_is_stored_as_spacar_stores_it(tmp_path):
+    """SPACAR's ``FX`` of a moment on a rotational node is ``2 E(lam)^T M`` on the four
+    Euler parameters (tests/data/spacar/SOURCE.md, ``moment``: 24 beams, 4 load steps)."""
+    shutil.copy(SPACAR / "moment.dat", tmp_path / "moment.dat")
+    assert cli(["spacar", "10", str(tmp_path / "moment")]) == 0
+    mine = read_sbd(tmp_path / "moment.sbd")
+    with np.load(SPACAR / "moment.npz") as stored:
+        theirs = {key.split(".")[2]: stored[key] for key in stored.files}
+    assert np.array_equal(mine["LNP"], theirs["LNP"])
+    for record in ("X", "FX", "FXT"):
+        scale = np.abs(theirs[record]).max()
+        assert np.abs(mine[record] - theirs[record]).max() < 1e-9 * scale, record

@@ -101,12 +101,14 @@ def own_loads(model: Model) -> np.ndarray:
     return loads
 
 
-def generalized_loads(model: Model, x: np.ndarray, loads: np.ndarray) -> np.ndarray:
+def generalized_loads(model: Model, x: np.ndarray, loads: np.ndarray,
+                      reactions: bool = False) -> np.ndarray:
     """Loads as SPACAR stores them, ``(n, nx)`` from ``(n, nx)`` at coordinates ``x``: on a
     spatial rotational node the generalized forces on its Euler parameters in place of
-    the global moment flexmbd gives (``f = 2 E(lam)^T M + c lam``, with ``c`` such that the
-    force is zero on the node's calculable parameter, where a load of supports and drives
-    acts not)."""
+    the global moment flexmbd gives, ``f = 2 E(lam)^T M`` (``FX``, SPACAR's to 3e-17); for
+    ``reactions`` (``FXT``) plus ``c lam``, with ``c`` such that the force is zero on the
+    node's calculable parameter, where a load of supports and drives acts not. Either
+    gives the moment back (:func:`moment_loads`): ``E(lam) lam = 0``."""
     out = np.array(loads, dtype=float)
     for node in model.nodes.values():
         if node.kind != SPATIAL_ROTATIONAL:
@@ -117,7 +119,7 @@ def generalized_loads(model: Model, x: np.ndarray, loads: np.ndarray) -> np.ndar
         free = [a for a, i in enumerate(at)
                 if model.coordinate_class[i] in (CoordinateClass.DEPENDENT,
                                                  CoordinateClass.DYNAMIC)]
-        if free:
+        if free and reactions:
             rows = np.arange(len(lam))
             pick = np.asarray(free)[np.argmax(np.abs(lam[:, free]), axis=1)]
             force -= (force[rows, pick] / lam[rows, pick])[:, None] * lam
@@ -198,7 +200,8 @@ def state_records(model: Model, states: Mapping[str, np.ndarray | None], slopes:
     for name, key in (("FX", "loads"), ("FXT", "reactions")):
         loads = states.get(key)
         if loads is not None:
-            records[name] = column(generalized_loads(model, x, loads), number.x)
+            records[name] = column(generalized_loads(model, x, loads, name == "FXT"),
+                                   number.x)
     sigma = states.get("sigma")
     if sigma is not None:
         records["SIG"] = column(sigma, number.e)
