@@ -23,6 +23,7 @@ from .errors import (
     LabelError,
     ModelError,
     ModelWarning,
+    ResultFileWarning,
     SimulationError,
     SingularConfigurationError,
     StiffnessError,
@@ -69,7 +70,7 @@ _MODULE_OF = {name: module for module, names in _NAMES.items() for name in names
 
 __all__ = ["AccuracyWarning", "AnalysisWarning", "ArgumentError", "ColumnError", "ConvergenceError",
            "FlexmbdError", "InputFileError", "LabelError", "ModelError", "ModelWarning",
-           "SimulationError", "SingularConfigurationError", "StiffnessError",
+           "ResultFileWarning", "SimulationError", "SingularConfigurationError", "StiffnessError",
            "UnstressedError", "__version__"]
 __all__ += sorted(_MODULE_OF)
 

@@ -150,3 +150,9 @@ class ModelWarning(UserWarning):
     """A model that builds but that some analysis will refuse: a degree of freedom that
     moves no mass in a model that has mass (a simulation or vibration modes need it; a
     static analysis does not)."""
+
+
+class ResultFileWarning(UserWarning):
+    """A result file read with a caveat: it ends inside its steps (a run interrupted while
+    writing), and the complete steps were read; the message names the file and what was
+    left out."""

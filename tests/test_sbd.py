@@ -3,6 +3,7 @@ the records of runs, ``flexmbd spacar MODE FILE`` and ``flexmbd compare``."""
 
 import shutil
 import struct
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -92,7 +93,7 @@ def test_the_writer_lays_out_bytes_as_spacar(tmp_path):
     (lambda b: b[:40], "byte"),
     (lambda b: b"XYZ " + b[4:], "not a SPACAR binary file"),
     (lambda b: b[:39] + struct.pack("<i", 7) + b[43:], "type 7"),
-    (lambda b: b[:-9], "TDEF announces 2 steps"),
+    (lambda b: b[:-(8 * 3 + 9)], "TDEF announces 2 steps.*not one whole step"),
     (lambda b: b[:45], "ends inside a record head"),
     (lambda b: b"", "not a SPACAR binary file"),
 ])
@@ -107,8 +108,9 @@ def test_a_damaged_file_is_refused_at_its_byte(tmp_path, damage, where):
 @settings(max_examples=300, deadline=None, derandomize=True)
 @given(st.data())
 def test_any_damage_is_read_or_refused_never_a_crash(tmp_path_factory, data):
-    """Bytes changed, cut or inserted anywhere in a file: read_sbd reads it or refuses it
-    with the file and the byte, whatever the damage claims (sizes, types, counts)."""
+    """Bytes changed, cut or inserted anywhere in a file: read_sbd reads it (a file cut
+    inside its steps: the whole ones) or refuses it with the file and the byte, whatever
+    the damage claims (sizes, types, counts)."""
     raw = bytearray(_sample_bytes())
     for _ in range(data.draw(st.integers(1, 4))):
         at = data.draw(st.integers(0, len(raw)))
@@ -125,7 +127,9 @@ def test_any_damage_is_read_or_refused_never_a_crash(tmp_path_factory, data):
     path = tmp_path_factory.mktemp("fuzz") / "f.sbd"
     path.write_bytes(bytes(raw))
     try:
-        f = read_sbd(path)
+        with warnings.catch_warnings():   # a cut inside the steps reads the whole ones
+            warnings.simplefilter("ignore", fm.ResultFileWarning)
+            f = read_sbd(path)
     except InputFileError as error:
         assert str(path) in str(error) and "byte" in str(error)
     else:
@@ -357,3 +361,22 @@ def test_a_moment_is_stored_as_spacar_stores_it(tmp_path):
     for record in ("X", "FX", "FXT"):
         scale = np.abs(theirs[record]).max()
         assert np.abs(mine[record] - theirs[record]).max() < 1e-9 * scale, record
+
+
+def test_a_file_cut_inside_its_steps_reads_the_whole_ones(tmp_path):
+    """A run stopped while writing: the steps written whole are read, with a warning that
+    names the file and the step it ends in."""
+    whole = _sample_bytes()
+    full = tmp_path / "full.sbd"
+    full.write_bytes(whole)
+    expected = read_sbd(full)
+    cut = tmp_path / "cut.sbd"
+    cut.write_bytes(whole[:-9])
+    with pytest.warns(fm.ResultFileWarning, match=r"cut\.sbd: TDEF announces 2 steps, the "
+                                                  r"file ends inside step 2; read steps 1 \.\. 1"):
+        f = read_sbd(cut)
+    assert f.n_steps == 1
+    for name in expected.steps:
+        assert np.array_equal(f[name], expected[name][:1])
+    for name in expected.tables:
+        assert np.array_equal(f[name], expected[name])

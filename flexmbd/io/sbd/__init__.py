@@ -17,6 +17,9 @@ def read_sbd(path) -> SpacarFile:
         ``f.step("X", k)`` for step ``k`` (1-based). Names are matched as SPACAR's
         ``getfrsbf`` matches them: any case, first four characters.
 
+    A file that ends inside its steps (a run stopped while writing it) gives its whole
+    steps, with a :class:`~flexmbd.ResultFileWarning` naming the step it ends in.
+
     Raises:
         InputFileError: the file cannot be read or is not such a file; names the byte.
     """

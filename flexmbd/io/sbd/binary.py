@@ -20,13 +20,14 @@ from __future__ import annotations
 
 import os
 import struct
+import warnings
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from ...errors import InputFileError, LabelError
+from ...errors import InputFileError, LabelError, ResultFileWarning
 
 _HEAD = struct.Struct("<4s4i")
 #: record types: code -> (numpy dtype, bytes per value)
@@ -166,17 +167,19 @@ def _parse(data: bytes, path: Path | None) -> SpacarFile:
         if code == _MARKER:
             if key != "TDEF":
                 raise fail(offset, f"marker {key!r} where TDEF or a table was expected")
-            n_steps = rows
-            offset, steps = _read_steps(data, offset + _HEAD.size, n_steps, head, fail)
+            offset, n_steps, steps = _read_steps(data, offset + _HEAD.size, rows, head,
+                                                 fail, where)
             continue
         tables[key] = values(offset + _HEAD.size, key, code, rows, cols).copy()
         offset += _HEAD.size + rows * cols * _TYPES[code][1]
     return SpacarFile(path, name, version, tables, steps, n_steps)
 
 
-def _read_steps(data: bytes, offset: int, n_steps: int, head, fail
-                ) -> tuple[int, dict[str, np.ndarray]]:
-    """The heads after ``TDEF`` up to ``TDAT``, then ``n_steps`` blocks of their values."""
+def _read_steps(data: bytes, offset: int, n_steps: int, head, fail, where: str | None
+                ) -> tuple[int, int, dict[str, np.ndarray]]:
+    """The heads after ``TDEF`` up to ``TDAT``, then ``n_steps`` blocks of their values
+    (the whole ones, with a :class:`ResultFileWarning`, of a file that ends inside them):
+    the offset after them, the steps read and the records."""
     heads = []
     while True:
         key, code, _, rows, cols = head(offset)
@@ -191,15 +194,24 @@ def _read_steps(data: bytes, offset: int, n_steps: int, head, fail
         heads.append((key, rows, cols))
     per_step = sum(rows * cols for _, rows, cols in heads)
     need = n_steps * per_step * 8
-    if offset + need > len(data):
-        raise fail(offset, f"TDEF announces {n_steps} steps of {per_step} values "
-                           f"({need} bytes); the file has {len(data) - offset} left")
+    end = offset + need
+    if end > len(data):
+        complete = (len(data) - offset) // (per_step * 8) if per_step else 0
+        if not complete:
+            raise fail(offset, f"TDEF announces {n_steps} steps of {per_step} values "
+                               f"({need} bytes); the file has {len(data) - offset} left, "
+                               f"not one whole step")
+        # a run stopped while writing: its whole steps are its result so far
+        warnings.warn(f"{where or 'the file'}: TDEF announces {n_steps} steps, the file "
+                      f"ends inside step {complete + 1}; read steps 1 .. {complete}",
+                      ResultFileWarning, stacklevel=5)   # read_sbd's caller
+        n_steps, need, end = complete, complete * per_step * 8, len(data)
     block = np.frombuffer(data, "<f8", n_steps * per_step, offset).reshape(n_steps, per_step)
     steps, column = {}, 0
     for key, rows, cols in heads:
         steps[key] = block[:, column:column + rows * cols].reshape(n_steps, rows, cols).copy()
         column += rows * cols
-    return offset + need, steps
+    return end, n_steps, steps
 
 
 def write_records(path: str | os.PathLike, kind: str, tables: Mapping[str, np.ndarray],
