@@ -380,3 +380,38 @@ def test_a_file_cut_inside_its_steps_reads_the_whole_ones(tmp_path):
         assert np.array_equal(f[name], expected[name][:1])
     for name in expected.tables:
         assert np.array_equal(f[name], expected[name])
+
+
+CLAMPED_CHAIN = """\
+PLBEAM 1 1 2 3 4
+PLBEAM 2 3 4 5 6
+PLBEAM 3 5 6 7 8
+X 1 0 0
+X 3 1 0
+X 5 2 0
+X 7 3 0
+FIX 1
+FIX 2
+FIX 7
+FIX 8
+END
+END
+"""
+
+
+def test_mode_0_writes_d_x_when_the_count_does_not_close(tmp_path, capsys):
+    """A chain of three rigid beams clamped at both ends is three times over-constrained:
+    mode 0 says so and still writes the initial configuration with ``BIGD``, from which
+    the over-constraints are found as SPACAR's tools find them (an SVD of the rows of the
+    fixed deformations against the calculable coordinates)."""
+    (tmp_path / "chain.dat").write_text(CLAMPED_CHAIN)
+    assert cli(["spacar", "0", str(tmp_path / "chain")]) == 1
+    assert "the degree-of-freedom count does not close" in capsys.readouterr().out
+    f = read_sbd(tmp_path / "chain.sbd")
+    nep, nxp, D = f["NEP"][0], f["NXP"][0], f["BIGD"][0]
+    assert "DX" not in f and D.shape == (9, 12)
+    D_cc = D[:nep[0] + nep[2] + nep[3], nxp[0]:nxp[0] + nxp[1]]
+    s = np.linalg.svd(D_cc, compute_uv=False)
+    assert D_cc.shape == (9, 6) and int(np.sum(s > 1e-8 * s[0])) == 6   # 9 - 6 = 3 over
+    # beam 1's elongation: -1 on node 1's x (fixed, first), +1 on node 3's x (calculable)
+    assert D[0, 0] == pytest.approx(-1.0) and D[0, nxp[0]] == pytest.approx(1.0)

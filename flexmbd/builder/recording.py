@@ -627,6 +627,18 @@ class ModelBuilder:
         self._records.deformation_requests = kept
         self.release(element, k)
 
+    def assemble(self) -> tuple[Model, list[str]]:
+        """The model as described, with the problems of its constraints (a
+        degree-of-freedom count that does not close, a singular ``D_c``) listed instead
+        of refused: what SPACAR's mode 0 stores to show them (``D_x`` at the initial
+        configuration). Use :meth:`build` for a model to analyse.
+
+        Raises:
+            ModelError: any other problem of the description.
+        """
+        model = validation.assemble_checked(self._records)
+        return model, [str(problem) for problem in check_solvability(model)]
+
     def build(self) -> Model:
         """Check the description and return the immutable :class:`Model`.
 

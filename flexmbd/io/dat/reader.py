@@ -112,6 +112,19 @@ def read_dat(path: str | Path, *, release: bool = False) -> DatFile:
     return dat_from_text(read_text(path), path, release=release)
 
 
+def read_unchecked(path: str | Path) -> tuple[DatFile, list[str]]:
+    """:func:`read_dat` that lists the problems of the model's constraints (a
+    degree-of-freedom count that does not close, a singular ``D_c``) instead of refusing
+    them, as SPACAR's mode 0 does: it stores ``D_x`` so that they can be found.
+
+    Raises:
+        InputFileError: any other problem, naming the file and the line.
+    """
+    constraints: list[str] = []
+    dat = _Reader(parse_text(read_text(path), path), False).read(constraints)
+    return dat, constraints
+
+
 def read_text(path: str | Path) -> str:
     """The text of a SPACAR input file, refused when it cannot be one (too large, binary).
 
@@ -181,7 +194,10 @@ class _Reader:
     def fail(self, statement: Statement, message: str):
         raise InputFileError(f"{statement.keyword}: {message}", self.path, statement.line)
 
-    def read(self) -> DatFile:
+    def read(self, constraints: list[str] | None = None) -> DatFile:
+        """The file's model and settings; with a ``constraints`` list, problems of the
+        model's constraints (:meth:`~flexmbd.ModelBuilder.assemble`) are added to it
+        instead of refused."""
         for statement in self.text.kinematics:
             self.kinematic(statement)
         self.check_positions()
@@ -196,7 +212,11 @@ class _Reader:
                 if released:
                     self.remarks.append("released over-constraints as SPACAR Light does: " +
                                         ", ".join(f"RLSE {e} {k}" for e, k in released))
-            model = self.builder.build()
+            if constraints is None:
+                model = self.builder.build()
+            else:
+                model, found = self.builder.assemble()
+                constraints += found
         except ModelError as error:
             raise self.located(error.problems) from None
         if self.unoriented:

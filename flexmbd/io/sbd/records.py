@@ -23,6 +23,7 @@ from ...analysis.kinematics import first_order_transfer, jacobian, quadratic_vel
 from ...analysis.linearization import Linearization
 from ...analysis.statics import StaticResult
 from ...elements.base import SPATIAL_ROTATIONAL
+from ...engine import deformations_and_jacobian
 from ...engine.laws import load_slots
 from ...errors import ArgumentError
 from ...model import CoordinateClass, Model
@@ -174,12 +175,13 @@ def linearization_records(linearizations: Sequence[Linearization], times: np.nda
     return state_records(model, states, slopes=False)
 
 
-def state_records(model: Model, states: Mapping[str, np.ndarray | None], slopes: bool
-                  ) -> dict[str, np.ndarray]:
+def state_records(model: Model, states: Mapping[str, np.ndarray | None], slopes: bool,
+                  transfers: bool = True) -> dict[str, np.ndarray]:
     """Per-step records from arrays over the steps: ``t`` ``(n,)``; ``x xd xdd``
     ``(n, nx)``; ``e ed edd sigma`` ``(n, ne)``; ``loads`` and ``reactions`` ``(n, nx)``
     in flexmbd's form (moments on rotational nodes). Missing or ``None`` arrays are left
-    out; ``BIGD`` (``D_x`` per step) is written when ``slopes``."""
+    out; ``BIGD`` (``D_x`` per step) is written when ``slopes``; ``DX`` and ``DE`` unless
+    ``transfers`` is off (a model whose constraints do not determine its coordinates)."""
     number = SpacarNumbering(model)
     x = np.asarray(states["x"])
     n = len(x)
@@ -205,13 +207,16 @@ def state_records(model: Model, states: Mapping[str, np.ndarray | None], slopes:
     sigma = states.get("sigma")
     if sigma is not None:
         records["SIG"] = column(sigma, number.e)
-    transfers = [first_order_transfer(model, row) for row in x]
-    jacobians = [jacobian(model, row) for row in x]
-    records["DX"] = np.array([F[np.ix_(number.x, number.q)] for F in transfers]
-                             ).reshape(n, model.n_coordinates, model.n_dof)
-    records["DE"] = np.array([(D @ F)[np.ix_(number.e, number.q)]
-                              for D, F in zip(jacobians, transfers, strict=True)]
-                             ).reshape(n, model.n_deformations, model.n_dof)
+    # a model whose constraints do not close cannot be compiled: element by element
+    jacobians = ([jacobian(model, row) for row in x] if transfers else
+                 [deformations_and_jacobian(model, row)[1] for row in x])
+    if transfers:
+        F_q = [first_order_transfer(model, row) for row in x]
+        records["DX"] = np.array([F[np.ix_(number.x, number.q)] for F in F_q]
+                                 ).reshape(n, model.n_coordinates, model.n_dof)
+        records["DE"] = np.array([(D @ F)[np.ix_(number.e, number.q)]
+                                  for D, F in zip(jacobians, F_q, strict=True)]
+                                 ).reshape(n, model.n_deformations, model.n_dof)
     if slopes:
         records["BIGD"] = np.array([D[np.ix_(number.e, number.x)] for D in jacobians]
                                    ).reshape(n, model.n_deformations, model.n_coordinates)

@@ -5,7 +5,9 @@ files it writes (``flexmbd spacar MODE FILE``).
 mode   what                                                   files
 =====  =====================================================  ==========================
 0      the input checked: kinematics at the initial            ``.sbd`` (one step, BIGD)
-       configuration
+       configuration; also when the constraints do not
+       determine the coordinates (then as drawn, and the
+       run says what is wrong)
 1      the motion over TIMESTEP: forward dynamics, or          ``.sbd``
        kinematics when every degree of freedom is prescribed
 2      inverse dynamics over TIMESTEP                          ``.sbd``
@@ -37,7 +39,7 @@ from ...analysis.linearization import Linearization, linearize_free
 from ...analysis.runs import analyse, default_mode
 from ...analysis.statespace import StateSpace, state_space
 from ...analysis.statics import StaticResult, refuse_routines, static_equilibrium
-from ...engine import MAX_ITERATIONS
+from ...engine import MAX_ITERATIONS, deformations_and_jacobian
 from ...errors import ArgumentError, InputFileError
 from ...model import Model
 from ...progress import progress_bar
@@ -45,6 +47,7 @@ from ...results import KinematicResult
 from ...settings import RunSettings
 from ...summary import dataclass_repr
 from ..dat import read_dat
+from ..dat.reader import read_unchecked
 from .binary import SpacarFile, read_records, write_records
 from .linear import ltv_records, sbm_records
 from .records import (
@@ -53,6 +56,7 @@ from .records import (
     moment_loads,
     own_loads,
     sbd_records,
+    state_records,
 )
 
 #: the modes flexmbd runs, by what they do
@@ -119,8 +123,12 @@ def spacar_run(mode: int, name: str | os.PathLike, progress: bool | None = None
                                     f"negatives), got {mode}")
     path = input_path(name)
     base = path.with_suffix("")
-    model, settings = read_dat(path)
     run = SpacarRun(mode, base)
+    if mode == 0:   # the input checked: its constraints' problems are the result
+        (model, settings), problems = read_unchecked(path)
+        _check(run, model, settings, problems)
+        return run
+    model, settings = read_dat(path)
     try:
         _analyse(run, model, settings, path, progress)
     except KeyboardInterrupt as interrupt:
@@ -136,12 +144,7 @@ def spacar_run(mode: int, name: str | os.PathLike, progress: bool | None = None
 def _analyse(run: SpacarRun, model: Model, settings: RunSettings, path: Path,
              progress: bool | None) -> None:
     kind, base = abs(run.mode), run.base
-    if kind == 0:
-        x = solve_position(model, initial_q(model), tolerance=settings.tolerance)
-        result = KinematicResult(model, np.zeros(1), x[None, :],
-                                 e=deformations(model, x)[None, :])
-        run.files["SBD"] = _file("SBD", *sbd_records(result, 0))
-    elif kind in (1, 2):
+    if kind in (1, 2):
         times = settings.output_times()
         if times is None:
             raise InputFileError(f"mode {kind} runs over the file's TIMESTEP, and it has none",
@@ -154,6 +157,29 @@ def _analyse(run: SpacarRun, model: Model, settings: RunSettings, path: Path,
         _linearize_path(run, model, base.with_name(base.name + ".sbd"), kind, progress)
     else:
         _statics(run, model, settings, kind, progress)
+
+
+def _check(run: SpacarRun, model: Model, settings: RunSettings, problems: list[str]
+           ) -> None:
+    """Mode 0: the model's tables and its initial configuration with ``D_x`` (``BIGD``);
+    where its constraints do not determine its coordinates (``problems``), as drawn
+    (SPACAR writes the file then too, and SPACAR Light's automatic releases read its
+    ``BIGD``), without the transfer functions, which do not exist, and the run says
+    why."""
+    if problems:
+        x = np.asarray(model.x0, dtype=float)
+        e = deformations_and_jacobian(model, x)[0]
+    else:
+        x = solve_position(model, initial_q(model), tolerance=settings.tolerance)
+        e = deformations(model, x)
+    states = {"t": np.zeros(1), "x": x[None, :], "e": e[None, :]}
+    run.files["SBD"] = _file("SBD", model_tables(model, 0),
+                             state_records(model, states, slopes=True,
+                                           transfers=not problems))
+    if problems:
+        run.success = False
+        run.message = ("; ".join(problems) + " (the .sbd holds D_x at the initial "
+                       "configuration, BIGD, to find them)")
 
 
 def _file(kind: str, tables: dict, steps: dict) -> SpacarFile:
