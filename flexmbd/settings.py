@@ -25,6 +25,10 @@ class RunSettings:
         max_iterations: Newton iterations of the position solve (ITERSTEP).
         load_steps: load steps of a static analysis (ITERSTEP's second value).
         tolerance: Newton tolerance of the position solve [m, rad] (ITERSTEP).
+        iteration_options: ITERSTEP's values after the tolerance, SPACAR's options of its
+            solver and storage (SPACAR Light writes ``1 3 n`` for loads with increments,
+            ``1 1 n`` for loads without: then SPACAR stores one step, the equilibrium of
+            those loads, which ``flexmbd spacar`` follows); kept to write the file back.
         load_increment: total load increments of a static analysis by coordinate label,
             ``{"x5.2": -10.0}`` [N, N m] (DELXF).
         input_increment: total increments of prescribed inputs by label (DELINPX,
@@ -52,6 +56,7 @@ class RunSettings:
     max_iterations: int | None = None
     load_steps: int | None = None
     tolerance: float | None = None
+    iteration_options: tuple[float, ...] = ()
     load_increment: Mapping[str, float] = field(default_factory=lambda: FrozenMap({}))
     input_increment: Mapping[str, float] = field(default_factory=lambda: FrozenMap({}))
     force_inputs: tuple[str, ...] = ()

@@ -415,3 +415,29 @@ def test_mode_0_writes_d_x_when_the_count_does_not_close(tmp_path, capsys):
     assert D_cc.shape == (9, 6) and int(np.sum(s > 1e-8 * s[0])) == 6   # 9 - 6 = 3 over
     # beam 1's elongation: -1 on node 1's x (fixed, first), +1 on node 3's x (calculable)
     assert D[0, 0] == pytest.approx(-1.0) and D[0, nxp[0]] == pytest.approx(1.0)
+
+
+def test_mode_9_writes_spacars_records(tmp_path):
+    """SPACAR's mode 9 of the warping-beam model (tests/data/spacar/SOURCE.md): one step
+    (``ITERSTEP .. 1 1 0``: the equilibrium of loads without increments), ``.sbm`` with
+    ``NDOF NKDO NNOM`` and the inputs' generalized forces ``B0``, ``.ltv`` with ``DFT`` 1
+    and ``D``, ``NNOM NYS X0 U0 Y0``. SPACAR stopped its Newton iteration with the free
+    warping coordinates 2.5e-5 from equilibrium (its accelerations there 2e6), which
+    moves the input matrices by 4e-7 of their size."""
+    shutil.copy(SPACAR / "beamw.dat", tmp_path / "beamw.dat")
+    assert cli(["spacar", "9", str(tmp_path / "beamw")]) == 0
+    with np.load(SPACAR / "beamw.npz") as stored:
+        theirs = {key.removeprefix("beamw."): stored[key] for key in stored.files}
+    sbd = read_sbd(tmp_path / "beamw.sbd")
+    assert sbd.n_steps == 1
+    for kind, exact, close in (("sbm", ("NDOF", "NKDO", "NNOM"), ("B0",)),
+                               ("ltv", ("NX", "NU", "NY", "NNOM", "NYS", "DFT", "X0", "D",
+                                        "U0"), ("C", "Y0"))):
+        mine = read_sbd(tmp_path / f"beamw.{kind}")
+        assert mine.n_steps == 1
+        for record in exact:
+            assert np.array_equal(mine[record], theirs[f"{kind}.{record}"]), record
+        for record in close:
+            expected = theirs[f"{kind}.{record}"]
+            assert np.abs(mine[record] - expected).max() < 1e-6 * np.abs(expected).max(), \
+                record

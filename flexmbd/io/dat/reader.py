@@ -502,6 +502,9 @@ class _Reader:
             self.settings["load_steps"] = int(rest[0])
         if len(rest) > 1:
             self.settings["tolerance"] = rest[1]
+        if len(rest) > 2:
+            self.settings["iteration_options"] = tuple(
+                int(v) if float(v).is_integer() else v for v in rest[2:])
 
     def _usersig(self, s: Statement) -> None:
         self.routine(s, "user_loads")

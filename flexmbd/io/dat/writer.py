@@ -175,8 +175,8 @@ def _settings(settings: RunSettings) -> list[str]:
             or settings.tolerance is not None):
         values: list[float] = [settings.max_iterations or MAX_ITERATIONS,
                                settings.load_steps or 1]
-        if settings.tolerance is not None:
-            values.append(settings.tolerance)
+        if settings.tolerance is not None:   # the options follow it, as SPACAR reads them
+            values += [settings.tolerance, *settings.iteration_options]
         lines.append(_line("ITERSTEP", *values))
     return lines
 

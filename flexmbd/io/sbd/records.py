@@ -152,8 +152,10 @@ def step_records(result: KinematicResult) -> dict[str, np.ndarray]:
                        for name in ("xd", "xdd", "ed", "edd")})
     states["t"] = np.zeros(n) if static else np.asarray(result.t)
     applied = getattr(result, "applied", None)   # a static result's loads
-    if applied is not None:
-        states["loads"] = applied + own_loads(model)
+    # a motion's: the constant XF (SPACAR stores FX per step in mode 1 too; a USERSIG
+    # routine's loads are not among them)
+    states["loads"] = (np.tile(own_loads(model), (n, 1)) if applied is None else
+                       applied + own_loads(model))
     if isinstance(result, SimulationResult):
         states["reactions"], states["sigma"] = result.reactions, result.sigma
     return state_records(model, states, slopes=static or n == 1)

@@ -196,9 +196,13 @@ def _statics(run: SpacarRun, model: Model, settings: RunSettings, kind: int,
     """Modes 7, 9 and 10: ITERSTEP's load steps, each stored (also without increments,
     as SPACAR stores them)."""
     refuse_routines(settings)
+    steps = settings.load_steps or 0
+    increments = bool(settings.load_increment or settings.input_increment)
+    if not increments and settings.iteration_options[1:2] == (1,):
+        steps = 0   # ITERSTEP .. 1 1 n: SPACAR stores the one equilibrium of the loads
     result: StaticResult = static_equilibrium(
         model, load_increment=dict(settings.load_increment) or None,
-        input_increment=settings.input_increment, steps=settings.load_steps or 0,
+        input_increment=settings.input_increment, steps=steps,
         tolerance=settings.tolerance, max_iterations=settings.max_iterations or MAX_ITERATIONS,
         on_failure="return", progress=progress)
     _conclude(run, result)
@@ -206,9 +210,9 @@ def _statics(run: SpacarRun, model: Model, settings: RunSettings, kind: int,
     if kind == 7 or not len(result.t):
         return
     linearizations = [result.linearization(k) for k in range(len(result.t))]
-    run.files["SBM"] = _file("SBM", *sbm_records(linearizations))
-    if kind == 9:
-        systems = [_state_space(lin, settings) for lin in linearizations]
+    systems = [_state_space(lin, settings) for lin in linearizations] if kind == 9 else None
+    run.files["SBM"] = _file("SBM", *sbm_records(linearizations, systems=systems))
+    if systems is not None:
         run.files["LTV"] = _file("LTV", *ltv_records(linearizations, systems))
 
 
