@@ -66,6 +66,7 @@ from ...frozen import FrozenMap
 from ...model import CoordinateClass, DeformationClass, Model
 from ...motion import Polynomial
 from ...settings import RunSettings
+from .spacar95 import is_spacar95, parse_spacar95
 from .syntax import LINE_DATA, DatText, Statement, parse_text
 
 #: the load components of a node of each kind, as XF and DELXF name them
@@ -121,7 +122,7 @@ def read_unchecked(path: str | Path) -> tuple[DatFile, list[str]]:
         InputFileError: any other problem, naming the file and the line.
     """
     constraints: list[str] = []
-    dat = _Reader(parse_text(read_text(path), path), False).read(constraints)
+    dat = _reader_of(read_text(path), path, False).read(constraints)
     return dat, constraints
 
 
@@ -153,7 +154,17 @@ def read_text(path: str | Path) -> str:
 def dat_from_text(text: str, path: str | Path | None = None, *, release: bool = False
                   ) -> DatFile:
     """:func:`read_dat` for the text of a file (``path`` is used in messages and the name)."""
-    return _Reader(parse_text(text, path), release).read()
+    return _reader_of(text, path, release).read()
+
+
+def _reader_of(text: str, path: str | Path | None, release: bool) -> _Reader:
+    """The reader of a UT SPACAR or a SPACAR95 (Delft) text (:mod:`.spacar95`)."""
+    if not is_spacar95(text, path):
+        return _Reader(parse_text(text, path), release)
+    parsed, notes = parse_spacar95(text, path)
+    reader = _Reader(parsed, release)
+    reader.remarks += notes
+    return reader
 
 
 class _Reader:
