@@ -241,7 +241,7 @@ def _classify(t: _Translation, keyword: str, rest: list[str], line: int) -> None
     what = "x" if keyword.endswith("X") else "e"
     target = t.inputs if keyword.startswith("INPUT") else t.dynamic
     number = _int(t, rest[0], keyword, line) if rest else 0
-    directions = [_int(t, w, keyword, line) for w in rest[1:]] or [None]
+    directions: list[int | None] = [_int(t, w, keyword, line) for w in rest[1:]] or [None]
     target.update((what, number, k) for k in directions)
 
 
