@@ -29,7 +29,7 @@ from ..orientation import moment_of, rotation_matrix
 from ..results import KinematicResult
 from ..summary import dataclass_repr
 
-__all__ = ["BeamStress", "StressHistory", "beam_stresses", "stress_history"]
+__all__ = ["BeamStress", "StressHistory", "beam_resultants", "beam_stresses", "stress_history"]
 
 
 @dataclass(frozen=True)
@@ -94,34 +94,43 @@ def beam_stresses(model: Model, x, sigma, elements=None) -> dict[int, BeamStress
                                  f"({model.n_deformations},), got {x.shape} and {sigma.shape}")
     out = {}
     for k in beams:
-        element = model.elements[k]
-        coords, defs = list(element.coordinates), list(element.deformations)
-        D = element_jacobian(element, x)
-        loads = D.T @ sigma[defs]
-        warping = element.type.keyword == "BEAMW"
-        if warping:   # the beam's columns; the warping nodes' loads are the bimoments
-            coords, loads = [coords[j] for j in BEAM_COLUMNS], loads[list(BEAM_COLUMNS)]
-        # loads (14,): p, lam_p, q, lam_q
-        frame0 = np.array(element.reference[1:10]).reshape(3, 3).T   # columns ex0, ey0, ez0
-        ends = []
-        for sign, at in ((-1.0, 0), (1.0, 7)):
-            lam = x[coords[at + 3:at + 7]]
-            axes = rotation_matrix(lam) @ frame0
-            force = sign * loads[at:at + 3]
-            moment = sign * moment_of(lam, loads[at + 3:at + 7])
-            ends.append(np.concatenate([axes.T @ force, axes.T @ moment]))
-        if warping:
-            l0 = element.reference[0]
-            bimoments = -l0**2 * sigma[defs[6:8]]
-            ends = [np.append(end, b) for end, b in zip(ends, bimoments, strict=True)]
-        resultants = np.array(ends)
+        resultants = beam_resultants(model, x, sigma, k)
         section = model.element_properties[k].section
-        assert section is not None and model.nodes[element.nodes[1]].kind == SPATIAL_ROTATIONAL
+        assert section is not None
         (stress_p, point_p), (stress_q, point_q) = (section.largest_stress(r)
                                                     for r in resultants)
         von_mises, where = max((stress_p, f"p, {point_p}"), (stress_q, f"q, {point_q}"))
         out[k] = BeamStress(k, resultants, von_mises, where, (stress_p, stress_q))
     return out
+
+
+def beam_resultants(model: Model, x: np.ndarray, sigma: np.ndarray, k: int) -> np.ndarray:
+    """The section resultants of spatial beam ``k`` at both ends ``(2, 6)`` (a warping
+    beam's ``(2, 7)``): at p and at q, ``(N, Qy, Qz, T, My, Mz[, B])`` [N, N m, N m^2] in
+    the end node's local axes (module docstring), at coordinates ``x`` ``(nx,)`` and
+    generalized stresses ``sigma`` ``(ne,)``."""
+    element = model.elements[k]
+    assert model.nodes[element.nodes[1]].kind == SPATIAL_ROTATIONAL
+    coords, defs = list(element.coordinates), list(element.deformations)
+    D = element_jacobian(element, x)
+    loads = D.T @ sigma[defs]
+    warping = element.type.keyword == "BEAMW"
+    if warping:   # the beam's columns; the warping nodes' loads are the bimoments
+        coords, loads = [coords[j] for j in BEAM_COLUMNS], loads[list(BEAM_COLUMNS)]
+    # loads (14,): p, lam_p, q, lam_q
+    frame0 = np.array(element.reference[1:10]).reshape(3, 3).T   # columns ex0, ey0, ez0
+    ends = []
+    for sign, at in ((-1.0, 0), (1.0, 7)):
+        lam = x[coords[at + 3:at + 7]]
+        axes = rotation_matrix(lam) @ frame0
+        force = sign * loads[at:at + 3]
+        moment = sign * moment_of(lam, loads[at + 3:at + 7])
+        ends.append(np.concatenate([axes.T @ force, axes.T @ moment]))
+    if warping:
+        l0 = element.reference[0]
+        bimoments = -l0**2 * sigma[defs[6:8]]
+        ends = [np.append(end, b) for end, b in zip(ends, bimoments, strict=True)]
+    return np.array(ends)
 
 
 @dataclass(frozen=True)

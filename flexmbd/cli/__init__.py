@@ -104,7 +104,8 @@ def _one_blas_thread(argv: list[str]) -> None:
 #: the commands besides ``example`` and what adds each one's parser (a group adds several)
 _GROUPS = {"example": None, "run": _add_run, "static": _add_linear, "modes": _add_linear,
            "buckling": _add_linear, "statespace": _add_linear, "exercise": _add_course,
-           "sweep": _add_sweep, "spacar": _add_spacar, "compare": _add_spacar}
+           "sweep": _add_sweep, "spacar": _add_spacar, "compare": _add_spacar,
+           "stressbeam": _add_spacar}
 
 
 class _Version(argparse.Action):
@@ -208,10 +209,11 @@ def main(argv: list[str] | None = None) -> int:
             from .course import run as run_course
 
             return run_course(args)
-        if args.command in ("spacar", "compare"):
-            from .spacar import run_compare, run_spacar
+        if args.command in ("spacar", "compare", "stressbeam"):
+            from .spacar import run_compare, run_spacar, run_stressbeam
 
-            return run_spacar(args) if args.command == "spacar" else run_compare(args)
+            return {"spacar": run_spacar, "compare": run_compare,
+                    "stressbeam": run_stressbeam}[args.command](args)
         if args.command in ("static", "modes", "buckling", "statespace"):
             from .linear import run as run_linear
 

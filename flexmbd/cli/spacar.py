@@ -1,5 +1,6 @@
 """``flexmbd spacar MODE FILE`` (a run as ``spacar(mode, file)``, with SPACAR's result
-files) and ``flexmbd compare A B`` (two result files, or a result file and a run)."""
+files), ``flexmbd compare A B`` (two result files, or a result file and a run) and
+``flexmbd stressbeam FILE STEP`` (beam stresses of a result, for SPACAR's tools)."""
 
 from __future__ import annotations
 
@@ -35,6 +36,21 @@ def add_commands(commands) -> None:
                               "(default 1e-6)")
     compare.add_argument("--mode", type=int,
                          help="SPACAR mode to run OTHER.dat in (default: REFERENCE's MODE)")
+    stress = commands.add_parser(
+        "stressbeam", help="largest stresses at both ends of beams of a SPACAR result",
+        description="The largest von Mises stress at both ends of spatial beams (BEAM, "
+                    "BEAMW) at one step of a SPACAR result: the positions and stresses of "
+                    "FILE.sbd, of the model FILE.dat, each beam with its cross-section. "
+                    "Prints one line per beam: its number and the stress at p and at q "
+                    "[Pa]. The stressbeam of flexmbd's MATLAB face (matlab/) runs it.")
+    stress.add_argument("file", metavar="FILE",
+                        help="the result, FILE.sbd (or FILE), beside its FILE.dat")
+    stress.add_argument("step", type=int, metavar="STEP", help="the step (1-based)")
+    stress.add_argument("--beam", nargs="+", action="append", required=True,
+                        metavar="ELEMENT SHAPE DIMENSION",
+                        help="a beam and its section: ELEMENT rect WIDTH THICKNESS, or "
+                             "ELEMENT circ DIAMETER [m] (as SPACAR Light's cshape and dim); "
+                             "once per beam")
 
 
 def run_spacar(args: argparse.Namespace) -> int:
@@ -116,3 +132,53 @@ def _run_for(reference, args: argparse.Namespace):
                                       f"(it writes {', '.join(run.files)})")
     print(f"ran {args.other} in mode {mode}: {run.message}")
     return run.files[reference.kind]
+
+
+def run_stressbeam(args: argparse.Namespace) -> int:
+    """``flexmbd stressbeam``: the beams' largest stresses at both ends, one line each."""
+    import numpy as np
+
+    from ..analysis.stresses import beam_resultants
+    from ..io.dat import read_dat
+    from ..io.sbd import read_sbd
+    from ..model.numbering import SpacarNumbering
+
+    base = Path(args.file)
+    if base.suffix.lower() in (*RESULT_SUFFIXES, ".dat"):
+        base = base.with_suffix("")
+    model, _ = read_dat(base.with_suffix(".dat"))
+    result = read_sbd(base.with_suffix(".sbd"))
+    number = SpacarNumbering(model)
+    x, sigma = np.empty(model.n_coordinates), np.empty(model.n_deformations)
+    x[number.x] = result.step("X", args.step)[:, 0]
+    sigma[number.e] = result.step("SIG", args.step)[:, 0]
+    for spec in args.beam:
+        element, section = _beam_section(spec, model)
+        ends = [section.largest_stress(r)[0]
+                for r in beam_resultants(model, x, sigma, element)]
+        print(f"{element} {ends[0]:.17g} {ends[1]:.17g}")
+    return 0
+
+
+def _beam_section(spec: list[str], model):
+    """``ELEMENT rect WIDTH THICKNESS`` or ``ELEMENT circ DIAMETER`` as the element's number
+    and its :class:`~flexmbd.sections.Section`."""
+    from ..sections import Circle, Rectangle
+
+    shapes = {"rect": (Rectangle, 2), "circ": (Circle, 1)}
+    usage = "give --beam ELEMENT rect WIDTH THICKNESS or --beam ELEMENT circ DIAMETER"
+    if len(spec) < 2 or spec[1] not in shapes:
+        raise ArgumentError("--beam", f"{' '.join(spec)!r}: {usage}")
+    make, count = shapes[spec[1]]
+    try:
+        element = int(spec[0])
+        dimensions = [float(v) for v in spec[2:]]
+    except ValueError:
+        raise ArgumentError("--beam", f"{' '.join(spec)!r}: {usage}") from None
+    if len(dimensions) != count:
+        raise ArgumentError("--beam", f"{' '.join(spec)!r}: {usage}")
+    found = model.elements.get(element)
+    if found is None or found.type.keyword not in ("BEAM", "BEAMW"):
+        raise ArgumentError("--beam", f"element {element} is not a spatial beam (BEAM, BEAMW) "
+                                      f"of the model")
+    return element, make(*dimensions)

@@ -165,7 +165,7 @@ def _check(run: SpacarRun, model: Model, settings: RunSettings, problems: list[s
     where its constraints do not determine its coordinates (``problems``), as drawn
     (SPACAR writes the file then too, and SPACAR Light's automatic releases read its
     ``BIGD``), without the transfer functions, which do not exist, and the run says
-    why."""
+    why: a finding of the check, which completes (SPACAR Light reads the file after it)."""
     if problems:
         x = np.asarray(model.x0, dtype=float)
         e = deformations_and_jacobian(model, x)[0]
@@ -176,8 +176,7 @@ def _check(run: SpacarRun, model: Model, settings: RunSettings, problems: list[s
     run.files["SBD"] = _file("SBD", model_tables(model, 0),
                              state_records(model, states, slopes=True,
                                            transfers=not problems))
-    if problems:
-        run.success = False
+    if problems:   # the check's finding, not a failure: SPACAR's mode 0 returns normally
         run.message = ("; ".join(problems) + " (the .sbd holds D_x at the initial "
                        "configuration, BIGD, to find them)")
 
