@@ -227,3 +227,24 @@ def test_hinge_frames_are_spacars(axis, ey0):
     frame = hinge_frame(np.array([axis], dtype=float))[0]      # columns ex0, ey0, ez0
     assert frame[:, 1] == pytest.approx(ey0, abs=1e-15)
     assert frame[:, 2] == pytest.approx(np.cross(frame[:, 0], frame[:, 1]), abs=1e-15)
+
+
+def test_a_planar_beams_rotary_inertia_turns_with_it():
+    """``EM e rhoA rhoI`` on a planar beam: a rigid beam on a hinge spring ``k`` about its
+    end has ``omega^2 = k / (rhoA L^3 / 3 + rhoI L)``; the builder takes ``(rhoI,)``, and a
+    spatial beam's four values are refused on a planar one."""
+    import flexmbd as fm
+
+    L, rho_a, rho_i, k = 0.5, 2.0, 0.03, 7.0
+    text = (f"PLBEAM 1 1 2 3 4\nPLHINGE 2 5 2\nX 3 {L} 0\nFIX 1\nFIX 5\nDYNE 2 1\nEND\nHALT\n"
+            f"EM 1 {rho_a} {rho_i}\nESTIFF 2 {k}\nEND\nEND\n")
+    model, _ = dat_from_text(text, "rotary.dat")
+    frequency = fm.vibration_modes(fm.static_equilibrium(model).linearization(), 1)
+    expected = np.sqrt(k / (rho_a * L**3 / 3 + rho_i * L)) / (2 * np.pi)
+    assert frequency.frequencies[0] == pytest.approx(expected, rel=1e-10)
+    assert model.section_masses[2] == pytest.approx(0.5 * L * rho_i)
+    b = fm.ModelBuilder("rotary").add_node(1, 0, 0).add_node(3, L, 0)
+    b.add_beam(1, 1, 2, 3, 4).set_mass(1, rho_a, section_inertia=(1e-3, 0, 0, 0))
+    with pytest.raises(fm.ModelError, match=r"a beam takes one section inertia, its rotary "
+                                            r"inertia per length \(rhoI,\)"):
+        b.fix(1).fix(2).build()

@@ -123,7 +123,7 @@ def test_a_spacar_light_beamw_file_runs(tmp_path):
     twist = 2 * math.asin(statics["x5.2"][-1])
     assert twist == pytest.approx(1e-3 * 0.02 / (_vlasov(0.02, 4, True, True) * GIT),
                                   rel=1e-5)   # the 1e-3 N m torque turns it 1e-3 rad
-    assert model.warping_inertias[9] == pytest.approx(0.005 * STEEL.rho * STRIP.properties().Cw)
+    assert model.section_masses[9] == pytest.approx(0.005 * STEEL.rho * STRIP.properties().Cw)
     fm.write_dat(model, tmp_path / "again.dat", settings)
     again, _ = fm.read_dat(tmp_path / "again.dat")
     for m in (model, again):

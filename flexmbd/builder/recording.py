@@ -443,18 +443,20 @@ class ModelBuilder:
         A spatial beam also takes ``section_inertia = (Jxx, Jyy, Jzz, Jyz)`` [kg m] per
         unit length (torsional ``rho (Iy + Iz)``, ``rho Iy``, ``rho Iz``, ``rho Iyz``), lumped
         on its two rotational nodes (THEORY-SPATIAL 4); a warping beam a fifth, ``Jw = rho
-        Cw`` [kg m^3], lumped on its warping nodes.
+        Cw`` [kg m^3], lumped on its warping nodes; a planar beam one, ``(rhoI,)`` [kg m],
+        the rotary inertia of its cross-section, half of ``l0 rhoI`` on each rotational
+        node.
         """
         if section_inertia is not None:
             try:
                 inertia = tuple(float(v) for v in section_inertia)
             except (TypeError, ValueError):
                 inertia = ()
-            if len(inertia) not in (4, 5) or not all(map(math.isfinite, inertia)):
+            if len(inertia) not in (1, 4, 5) or not all(map(math.isfinite, inertia)):
                 self._problem(f"set_mass element {element}: section_inertia "
                                       f"{section_inertia!r} is not four finite numbers "
-                                      f"(Jxx, Jyy, Jzz, Jyz), or five with a warping "
-                                      f"beam's Jw")
+                                      f"(Jxx, Jyy, Jzz, Jyz), five with a warping "
+                                      f"beam's Jw, or a planar beam's one (rhoI)")
                 return self
             self._records.section_inertias[element] = inertia
         if formulation not in MASS_FORMULATIONS:

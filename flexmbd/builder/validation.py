@@ -28,7 +28,7 @@ from ..elements import (
     ElementType,
     EulerNormalization,
 )
-from ..elements.base import is_translational
+from ..elements.base import ROTATIONAL, is_translational
 from ..engine import workspace_of
 from ..engine.diagnosis import mass_is_regular, massless_message
 from ..errors import ModelError, ModelWarning, Problem
@@ -221,26 +221,27 @@ def assemble(records: Records, kinds: dict[int, str], problems: list[str]) -> Mo
         input_laws=FrozenMap(laws),
         element_properties=FrozenMap(element_properties),
         nodal_masses=FrozenMap(dict(records.nodal_masses)),
-        warping_inertias=FrozenMap(_warping_masses(records, elements, nodes)),
+        section_masses=FrozenMap(_section_masses(records, elements, nodes)),
         nodal_inertias=FrozenMap(dict(records.nodal_inertias)),
         nodal_forces=FrozenMap(dict(records.nodal_forces)),
         gravity=records.gravity or ((0.0,) * (3 if _spatial(records) else 2)),
     )
 
 
-def _warping_masses(records: Records, elements, nodes) -> dict[int, float]:
-    """The lumped warping inertia ``(l0/2) Jw`` on warping nodes of the warping beams
-    with a section inertia, by node."""
+def _section_masses(records: Records, elements, nodes) -> dict[int, float]:
+    """The section inertias lumped on single-coordinate nodes, by node: a warping beam's
+    ``(l0/2) Jw`` on its warping nodes, a planar beam's ``(l0/2) rhoI`` on its rotational
+    nodes."""
     masses: dict[int, float] = {}
     for number, inertia in records.section_inertias.items():
         element = elements.get(number)
-        if element is None or not element.type.takes_section_inertia or \
-                len(inertia) < 5:
+        if element is None or not element.type.takes_section_inertia:
             continue
         for role, lumped in element.type.section_inertia_on_nodes(element.reference,
                                                                   inertia):
             node = element.nodes[role]
-            if lumped.shape == (1, 1) and nodes[node].kind == WARPING and lumped[0, 0]:
+            if lumped.shape == (1, 1) and nodes[node].kind in (WARPING, ROTATIONAL) \
+                    and lumped[0, 0]:
                 masses[node] = masses.get(node, 0.0) + float(lumped[0, 0])
     return masses
 
@@ -315,7 +316,17 @@ def _element_properties(records: Records, elements, problems) -> dict[int, Eleme
                 problems.append(f"set_mass element {number}: a {etype.name} takes no "
                                 f"section inertia (a {' or '.join(takers)} does)")
             fields["section_inertia"] = records.section_inertias[number]
-            if len(fields["section_inertia"]) == 5 and not etype.calculable:
+            count = len(fields["section_inertia"])
+            if not etype.takes_section_inertia:
+                pass
+            elif not etype.is_spatial() and count != 1:
+                problems.append(f"set_mass element {number}: a {etype.name} takes one "
+                                f"section inertia, its rotary inertia per length (rhoI,) "
+                                f"[kg m]")
+            elif etype.is_spatial() and count == 1:
+                problems.append(f"set_mass element {number}: a {etype.name} takes four "
+                                f"section inertias (Jxx, Jyy, Jzz, Jyz) [kg m]")
+            elif count == 5 and not etype.calculable:
                 problems.append(f"set_mass element {number}: a {etype.name} takes four "
                                 f"section inertias (Jxx, Jyy, Jzz, Jyz); Jw is a warping "
                                 f"beam's")

@@ -67,6 +67,25 @@ class Beam(ElementType):
                         Value("shear", "GA_s", "N"))
     damping_values = (AXIAL_DAMPING, Value("bending", "c_I", "N m^2 s"))
     has_mass = True
+    takes_section_inertia = True
+
+    @classmethod
+    def section_inertia_on_nodes(cls, p: np.ndarray, section: tuple[float, ...]
+                                 ) -> list[tuple[int, np.ndarray]]:
+        """The rotary inertia of the cross-section, ``rhoI`` [kg m] per length, half of
+        ``l0 rhoI`` on each rotational node, as a spatial beam lumps its section inertia
+        (exact for the beam turning as a body)."""
+        lumped = np.array([[0.5 * p[0] * section[0]]])
+        return [(1, lumped), (3, lumped)]
+
+    @classmethod
+    def mass_line(cls, extra: tuple[float, ...]) -> tuple[dict[str, object], list[str]]:
+        """``EM e rhoA [rhoI]``: the rotary inertia per length ``rhoI`` [kg m] lumped on the
+        rotational nodes (:meth:`section_inertia_on_nodes`)."""
+        if len(extra) > 1:
+            raise ValueError(f"EM takes rhoA [rhoI] for a planar beam, got {len(extra) + 1} "
+                             f"values")
+        return ({"section_inertia": (float(extra[0]),)} if extra and extra[0] else {}), []
 
     @staticmethod
     def deformations(c, p, m):

@@ -138,9 +138,11 @@ class Model:
         element_properties: mass, stiffness, damping and pre-stress by element number.
         nodal_masses: point mass [kg] of a translational node or rotary inertia
             [kg m^2] of a planar rotational node, by node number.
-        warping_inertias: the warping beams' warping inertia ``(l0/2) Jw`` [kg m^3] lumped
-            on their warping nodes, by node number (the engine adds it to the point
-            masses; a ``.dat`` file gives it on the EM lines).
+        section_masses: beams' section inertias lumped on single-coordinate nodes, by
+            node number: a warping beam's ``(l0/2) Jw`` [kg m^3] on its warping nodes, a
+            planar beam's rotary inertia ``(l0/2) rhoI`` [kg m^2] on its rotational nodes
+            (the engine adds them to the point masses; a ``.dat`` file gives them on the
+            EM lines).
         nodal_inertias: inertia tensor ``(Ixx, Ixy, Ixz, Iyy, Iyz, Izz)`` [kg m^2] of a
             spatial rotational node as given (``XM``); the Euler elements carry it with
             the beams' rotary inertia.
@@ -166,7 +168,7 @@ class Model:
     nodal_forces: Mapping[int, tuple[float, ...]] = field(default_factory=dict)
     gravity: tuple[float, ...] = (0.0, 0.0)
     nodal_inertias: Mapping[int, tuple[float, ...]] = field(default_factory=dict)
-    warping_inertias: Mapping[int, float] = field(default_factory=dict)
+    section_masses: Mapping[int, float] = field(default_factory=dict)
 
     #: ``x(o)``
     fixed: np.ndarray = field(init=False, repr=False)
@@ -294,9 +296,9 @@ class Model:
     @property
     def point_masses(self) -> dict[int, float]:
         """The masses on single nodes the engine adds: ``nodal_masses`` and the
-        ``warping_inertias``, by node number [kg, kg m^2, kg m^3]."""
+        ``section_masses``, by node number [kg, kg m^2, kg m^3]."""
         masses = dict(self.nodal_masses)
-        for node, value in self.warping_inertias.items():
+        for node, value in self.section_masses.items():
             masses[node] = masses.get(node, 0.0) + value
         return masses
 

@@ -128,7 +128,8 @@ KINEMATICS = {
 DYNAMICS = {
     "EM": _syntax("element:int rhoA:float", rest="inertia:float",
                   meaning="mass per length [kg/m] of an element, consistent; a planar "
-                          "element's rhoI must be 0, a spatial beam's section inertias "
+                          "beam's rotary inertia rhoI [kg m] per length may follow (other "
+                          "planar elements' must be 0), a spatial beam's section inertias "
                           "Jxx Jyy Jzz Jyz [kg m] per length follow, and a warping beam's "
                           "Jw [kg m^3]"),
     "EMLUMP": _syntax("element:int rhoA:float", rest="inertia:float",
