@@ -146,6 +146,23 @@ def test_mode_3_frees_the_prescribed_directions():
     (lambda: light.run(GUIDE_NODES, GUIDE_ELEMENTS, {1: {"fix": True}},
                        [{"elems": 1}, {"elems": [1, 2]}]), r"element 1 is already in eprops"),
     (lambda: _guide({"fix_warp": True, "fix": True}), r"fix is combined"),
+    # a student's and a designer's first-week mistakes, each named where it is
+    (lambda: light.run([*GUIDE_NODES, [0.5, 0.5, 0.5]], GUIDE_ELEMENTS,
+                       {1: {"fix": True}, 3: {"fix": True}, 6: {"force": [0, 0, 1]}},
+                       [dict(LEAF, elems=[1, 2])], {"silent": True}),
+     r"nprops\(6\): gives force, but node 6 is not attached to an element"),
+    (lambda: light.run(GUIDE_NODES, GUIDE_ELEMENTS, {1: {"fix": True}, 3: {"fix": True}},
+                       [dict(LEAF, elems=[1, 2]), {"elems": [3, 4]}],
+                       {"silent": True, "rls": {3: [2, 3]}}),
+     r"opt\.rls\(3\): element 3 belongs to a set without flex \(eprops\(2\)\): its "
+     r"deformations are rigid"),
+    (lambda: light.run(GUIDE_NODES, GUIDE_ELEMENTS, {1: {"fix": True}, 3: {"fix": True}},
+                       [{k: v for k, v in LEAF.items()}], {"silent": True}),
+     r"eprops\(1\)\.elems: is missing: the set gives emod, .* but names no element"),
+    (lambda: light.run(GUIDE_NODES, GUIDE_ELEMENTS, {1: {"fix": True}, 3: {"fix": True}},
+                       [{k: v for k, v in LEAF.items() if k != "flex"} | {"elems": [1, 2]}],
+                       {"silent": True}),
+     r"eprops: no element set has flex, so every element is rigid"),
 ])
 def test_what_spacar_light_refuses_is_refused_by_name(call, match):
     with pytest.raises(ArgumentError, match=match):

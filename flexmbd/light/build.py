@@ -17,12 +17,13 @@ and ``displ_initial_*``, ``rot_initial*`` act from the first load step; ``force`
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..builder import ModelBuilder
-from ..errors import ArgumentError
+from ..errors import ArgumentError, ModelError
 from ..model import Model
 from ..motion import Polynomial
 from ..sections import Circle, Material, Rectangle, Section
@@ -130,13 +131,22 @@ def assemble(positions: np.ndarray, elements: np.ndarray, props: dict[int, NodeP
     if opt.gravity is not None:
         builder.set_gravity(*opt.gravity)
     releases = [(e, k) for e, ks in sorted(_user_releases(beams, opt).items()) for k in ks]
-    if opt.rls is None:
-        releases = builder.release_overconstraints()   # names an under-constrained model
-        if releases:
-            notes.append("over-constraints released: " +
-                         ", ".join(f"element {_user_element(beams, e)} (beam {e}) "
-                                   f"deformation {k}" for e, k in releases))
-    model = builder.build()
+    try:
+        if opt.rls is None:
+            releases = builder.release_overconstraints()   # names an under-constrained one
+            if releases:
+                notes.append("over-constraints released: " +
+                             ", ".join(f"element {_user_element(beams, e)} (beam {e}) "
+                                       f"deformation {k}" for e, k in releases))
+        model = builder.build()
+    except ModelError as error:
+        if any(s is not None and s.flex for s in owner.values()):
+            raise
+        raise ArgumentError("eprops", "no element set has flex, so every element is rigid, "
+                                      "and the rigid elements constrain each other (" +
+                                      str(error).removeprefix("invalid model: ")[:200] +
+                                      "...): give the sets of the flexures flex, the "
+                                      "deformations that bend (1 to 6)") from None
     inputs, outputs = _transfer(props, opt)
     return LightModel(model, positions, elements, beams, {i: owner.get(i) for i in beams},
                       connected, increments[0], increments[1], inputs, outputs, releases, opt,
@@ -224,6 +234,18 @@ def _user_releases(beams, opt: Options) -> dict[int, tuple[int, ...]]:
 
 
 def _classify(builder: ModelBuilder, beams, owner, opt: Options) -> None:
+    for i, ks in sorted((opt.rls or {}).items()):
+        s = owner.get(i)
+        if ks and not (s is not None and s.flex):
+            what = (f"belongs to a set without flex (eprops({s.number}))" if s is not None
+                    else "is in no element set")
+            raise ArgumentError(f"opt.rls({i})", f"element {i} {what}: its deformations are "
+                                                 f"rigid, and releasing them would leave the "
+                                                 f"body free to bend there, a hinge without "
+                                                 f"stiffness; release only deformations of "
+                                                 f"flexible elements (a set with flex), or "
+                                                 f"leave rls out to release over-constraints "
+                                                 f"automatically")
     released = _user_releases(beams, opt)
     for i, numbers in beams.items():
         s = owner.get(i)
@@ -245,8 +267,12 @@ def _nodes(builder: ModelBuilder, positions, props: dict[int, NodeProps], connec
     static = opt.mode == 10 and not opt.transfer
     for j, p in sorted(props.items()):
         if j not in connected:
-            if _has_any(p):
-                raise ArgumentError(f"nprops({j})", "the node is not attached to an element")
+            given = _given_fields(p)
+            if given:
+                raise ArgumentError(f"nprops({j})", f"gives {', '.join(given)}, but node {j} "
+                                                    f"is not attached to an element (no row "
+                                                    f"of elements names it): attach it, or "
+                                                    f"give these to a node that is")
             continue
         t, r = translational(j), rotational(j)
         if p.fix or p.fix_pos:
@@ -291,8 +317,21 @@ def _nodes(builder: ModelBuilder, positions, props: dict[int, NodeProps], connec
     return loads, inputs
 
 
-def _has_any(p: NodeProps) -> bool:
-    return p != NodeProps()
+def _given_fields(p: NodeProps) -> list[str]:
+    """The fields of a node's properties that differ from the defaults (arrays
+    compared by value)."""
+    default = NodeProps()
+    given = []
+    for f in dataclasses.fields(p):
+        value, unset = getattr(p, f.name), getattr(default, f.name)
+        if isinstance(value, np.ndarray) or isinstance(unset, np.ndarray):
+            same = (value is None and unset is None) or (
+                value is not None and unset is not None and np.array_equal(value, unset))
+        else:
+            same = value == unset
+        if not same:
+            given.append(f.name)
+    return given
 
 
 def _transfer(props: dict[int, NodeProps], opt: Options

@@ -299,7 +299,13 @@ def element_sets(eprops, n_elements: int, notes: list[str]) -> list[ElementSet]:
             if name not in ELEMENT_FIELDS:
                 raise unknown(where, str(name), ELEMENT_FIELDS)
         if not _given(props, "elems"):
-            notes.append(f"{where} has no elems; it is ignored")
+            others = [str(name) for name in props if _given(props, name)]
+            if others:   # its properties would reach no element
+                raise ArgumentError(f"{where}.elems", f"is missing: the set gives "
+                                                      f"{', '.join(others)} but names no "
+                                                      f"element; give elems, the rows of "
+                                                      f"elements it applies to")
+            notes.append(f"{where} is empty; it is ignored")
             continue
         elems = _numbers(props, "elems", where, None)
         assert elems is not None
