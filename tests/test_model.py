@@ -183,14 +183,18 @@ def test_a_spring_damper_is_released_and_massless():
 
 
 def test_summary_mentions_inputs():
-    assert "x2.1 (node 2, phi)" in slider_crank().summary()
+    """Coordinates and deformations apart, and what an input angle's law counts from."""
+    line = slider_crank().summary().splitlines()[1]
+    assert line == ("  inputs: coordinates x2.1 (node 2, phi); deformations none (an input "
+                    "angle counts from the drawn orientation: 0 is as drawn)")
 
 
 def test_summary_shortens_long_lists():
     from examples.slider_crank_flex import build_model
 
     line = build_model(nbeams=4, eps1flex=True).summary().splitlines()[2]
-    assert line.startswith("  dynamic: none; 12 (e2.1 (beam 2, elongation), ..., ")
+    assert line.startswith("  dynamic: coordinates none; deformations 12 (e2.1 (beam 2, "
+                           "elongation), ..., ")
     assert line.endswith("e5.3 (beam 5, bending at q))")
 
 

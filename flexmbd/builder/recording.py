@@ -411,7 +411,11 @@ class ModelBuilder:
         """Prescribe coordinates of ``node`` as kinematic inputs (INPUTX).
 
         ``law`` (for one direction) is the default motion, e.g.
-        :class:`~flexmbd.motion.Polynomial`; analyses may override it.
+        :class:`~flexmbd.motion.Polynomial`; analyses may override it. A law gives the
+        coordinate's value: a position is absolute [m], but a planar node's angle counts
+        from the drawn orientation [rad] (the elements hold the drawn angles), so a crank
+        drawn at 90 degrees starts as drawn with ``Polynomial(0, omega)``;
+        ``Polynomial(pi/2, omega)`` would start it at 180 degrees.
         """
         return self._coordinates(CoordinateClass.INPUT, node, directions, law, "input_coordinate")
 

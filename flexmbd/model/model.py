@@ -25,7 +25,7 @@ from enum import IntEnum
 import numpy as np
 
 from ..elements import ElementType
-from ..elements.base import SPATIAL_KINDS, SPATIAL_ROTATIONAL, is_translational
+from ..elements.base import ROTATIONAL, SPATIAL_KINDS, SPATIAL_ROTATIONAL, is_translational
 from ..errors import LabelError
 from ..frozen import FrozenMap
 from ..motion import Law
@@ -404,9 +404,14 @@ class Model:
                 f"model {self.name!r}: {len(self.nodes)} nodes, {len(self.elements)} elements, "
                 f"{self.n_coordinates} coordinates, {self.n_deformations} deformations, "
                 f"{self.n_dof} degrees of freedom",
-                f"  inputs: {names(np.flatnonzero(x_in), self.describe_coordinate)}; "
-                f"{names(np.flatnonzero(e_in), self.describe_deformation)}",
-                f"  dynamic: {names(np.flatnonzero(x_dyn), self.describe_coordinate)}; "
+                f"  inputs: coordinates "
+                f"{names(np.flatnonzero(x_in), self.describe_coordinate)}; deformations "
+                f"{names(np.flatnonzero(e_in), self.describe_deformation)}"
+                + (" (an input angle counts from the drawn orientation: 0 is as drawn)"
+                   if any(self.nodes[_parse_label(self.coordinate_labels[i], "x")[0]].kind
+                          == ROTATIONAL for i in np.flatnonzero(x_in)) else ""),
+                f"  dynamic: coordinates "
+                f"{names(np.flatnonzero(x_dyn), self.describe_coordinate)}; deformations "
                 f"{names(np.flatnonzero(e_dyn), self.describe_deformation)}",
             ]
         )
