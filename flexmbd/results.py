@@ -257,6 +257,16 @@ class SimulationResult(KinematicResult):
     __repr__ = KinematicResult.__repr__
     __str__ = KinematicResult.__repr__
 
+    @property
+    def sig(self) -> np.ndarray:
+        """:attr:`sigma` under its columns' prefix (``res["sig2.1"]`` is a column of it)."""
+        return self.sigma
+
+    @property
+    def f(self) -> np.ndarray | None:
+        """:attr:`reactions` under its columns' prefix (``res["f1.2"]``)."""
+        return self.reactions
+
     def _more_groups(self) -> list[str]:
         groups = [f"sig ({self.model.n_deformations})"] if self.sigma is not None else []
         if self.reactions is not None:
@@ -273,7 +283,13 @@ class SimulationResult(KinematicResult):
             if stripped.startswith("sig"):
                 index = self.model._deformation_index("e" + stripped[3:])
                 return self._recorded("sigma", name)[:, index]
-            if stripped.startswith("f") and self.reactions is not None:
+            if stripped.startswith("f") and _COLUMN.match("x" + stripped[1:]):
+                if self.reactions is None:   # a reaction column of a run that kept none
+                    self.model._coordinate_index("x" + stripped[1:])   # names a bad label
+                    raise ColumnError(f"{name!r} is a reaction (the load of a support or "
+                                      f"drive), which this run did not compute: run "
+                                      f"simulate(..., with_reactions=True) to get the f.. "
+                                      f"columns (inverse_dynamics keeps them by default)")
                 return self.reactions[:, self.model._coordinate_index("x" + stripped[1:])]
         except ColumnError:
             raise

@@ -63,3 +63,20 @@ def test_a_full_disk_is_an_output_error():
     assert caught.value.errno == errno.ENOSPC
     with pytest.raises(OutputError, match="cannot write /dev/full"):
         write_csv("/dev/full", {"t": np.arange(20000.0)})
+
+
+def test_a_reaction_column_of_a_run_without_reactions_says_how_to_get_it():
+    """``res["f2.1"]`` of a simulation run without reactions names ``with_reactions``; the
+    attributes answer to their columns' prefixes too (``res.sig``, ``res.f``)."""
+    import flexmbd as fm
+    from examples.slider_crank_flex import build_model
+
+    model = build_model(nbeams=1)
+    plain = fm.simulate(model, np.linspace(0.0, 0.01, 3))
+    with pytest.raises(fm.ColumnError, match=r"'f2\.1' is a reaction .* with_reactions=True"):
+        plain["f2.1"]
+    with pytest.raises(fm.ColumnError, match=r"node 99 is not in the model"):
+        plain["f99.1"]
+    kept = fm.simulate(model, np.linspace(0.0, 0.01, 3), with_reactions=True)
+    assert kept.f is kept.reactions and kept.sig is kept.sigma
+    assert np.array_equal(kept["f2.1"], kept.f[:, model._coordinate_index("x2.1")])
