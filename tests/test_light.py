@@ -78,6 +78,16 @@ def test_buckling_keeps_its_sign():
     assert down.step[2].buck[0] == down.buck[0, 1]
 
 
+def test_buckling_under_a_prescribed_stroke_says_what_its_factors_multiply():
+    """With a displacement input the factors multiply the drive's loads too (SPACAR Light
+    warns so); they exist, and the note no longer says there are none."""
+    res = _guide({"displ_x": 1e-3}, {"calcbuck": True, "loadsteps": 2})
+    assert not np.all(np.isnan(res.buck[:, -1]))
+    assert any("a displacement is prescribed, so the buckling load factors also multiply"
+               in note for note in res.notes)
+    assert not any("no buckling load factors" in note for note in res.notes)
+
+
 def test_a_leaf_s_root_stress_and_its_largest_stress_per_element():
     """A cantilever leaf (100 x 20 x 1 mm) with 0.1 N across its thickness at the tip:
     6 F L / (w t^2) = 3 MPa at the root's surface (FLEXURES 4), zero before the load."""
@@ -275,3 +285,13 @@ def test_spacar_light_s_parallel_guide_transfer_example(capsys):
     EI = 210e9 * 50e-3 * 0.2e-3**3 / 12
     assert 1 / gain == pytest.approx(24 * EI / 0.1**3, rel=1e-4)
     assert "cw is deprecated" in capsys.readouterr().out
+
+
+def test_one_load_step_applies_no_increment_and_says_so():
+    """SPACAR Light's loadsteps: step 1 is the state before the increments, so one step
+    applies none of them; the note says so and what to give."""
+    res = _guide({"force": [0, 0, -1.0]}, {"loadsteps": 1})
+    assert res.node[5].p.shape == (3, 1)
+    assert res.node[5].p[2, 0] == pytest.approx(0.05, abs=1e-15)   # never loaded
+    assert any(note.startswith("opt.loadsteps is 1: the one step is the state before the "
+                               "increments") for note in res.notes)

@@ -92,6 +92,11 @@ def run(nodes, elements, nprops=None, eprops=None, opt=None, *more) -> LightResu
         opt: options, a dict with SPACAR Light's fields (``gravity``, ``loadsteps``,
             ``rls``, ``transfer``, ``calcbuck``, ``calccompl``, ``silent``, ...). Without
             ``rls`` the over-constraints are released automatically and printed.
+            ``loadsteps`` keeps SPACAR Light's meaning: ``n`` steps (default 10), the first
+            under the ``*_initial`` loads alone and the last with the whole ``force``,
+            ``moment``, ``displ`` and ``rot`` (so ``loadsteps`` 1 applies none of them, a
+            note says so); :func:`~flexmbd.static_equilibrium`'s ``steps=n`` gives ``n +
+            1`` rows instead.
         more: SPACAR Light before 2019 took the releases fifth and the options sixth,
             ``spacarlight(nodes, elements, nprops, eprops, rls, opt)``; that call is read
             too (``rls = []``: automatic releases).
@@ -121,18 +126,28 @@ def run(nodes, elements, nprops=None, eprops=None, opt=None, *more) -> LightResu
     lm = build(nodes, elements, nprops, eprops, _older(opt, more))
     opt_ = lm.options
     show = not opt_.silent
-    if show:
-        for note in lm.notes:
-            print(f"flexmbd.light: {note}")
     given = bool(lm.load_increment or lm.input_increment)
     steps = (opt_.loadsteps or DEFAULT_LOADSTEPS) - 1 if given else 0
     if opt_.loadsteps and opt_.loadsteps > 1 and not given and not opt_.transfer:
         lm.notes.append("opt.loadsteps: no force, moment, displ or rot is added over the "
                         "steps, so there is one step")
+    if given and opt_.loadsteps == 1:
+        lm.notes.append("opt.loadsteps is 1: the one step is the state before the "
+                        "increments (as in SPACAR Light, step 1 carries only the *_initial "
+                        "loads), so force, moment, displ and rot are never applied; give "
+                        "loadsteps 2 or more")
+    if show:
+        for note in lm.notes:
+            print(f"flexmbd.light: {note}")
+    told = len(lm.notes)
     statics = static_equilibrium(lm.model, load_increment=lm.load_increment or None,
                                  input_increment=lm.input_increment or None, steps=steps,
                                  progress=None if show else False)
-    return _results(lm, statics, show)
+    result = _results(lm, statics, show)
+    if show:   # what the linearized steps noticed
+        for note in lm.notes[told:]:
+            print(f"flexmbd.light: {note}")
+    return result
 
 
 def _geometry(nodes, elements, notes: list[str]) -> tuple[np.ndarray, np.ndarray]:
@@ -180,8 +195,13 @@ def _results(lm: LightModel, statics: StaticResult, show: bool) -> LightResult:
     count = _mode_count(opt.nmodes, ndof, lm.notes)
     freq = np.full((count, rows), np.nan)
     buck = np.full((ndof, rows), np.nan) if opt.calcbuck else None
-    if opt.calcbuck and not lm.load_increment and not model.nodal_forces \
-            and not any(model.gravity):
+    loaded = bool(lm.load_increment or model.nodal_forces or any(model.gravity))
+    driven = bool(lm.input_increment or len(model.input_coordinates))
+    if opt.calcbuck and driven:
+        lm.notes.append("opt.calcbuck: a displacement is prescribed, so the buckling load "
+                        "factors also multiply the loads of the supports that drive it "
+                        "(as SPACAR Light says)")
+    elif opt.calcbuck and not loaded:
         lm.notes.append("opt.calcbuck: no loads are applied, so there are no buckling load "
                         "factors")
     shapes: list[dict] = [{} for _ in lins]
