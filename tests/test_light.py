@@ -295,3 +295,12 @@ def test_one_load_step_applies_no_increment_and_says_so():
     assert res.node[5].p[2, 0] == pytest.approx(0.05, abs=1e-15)   # never loaded
     assert any(note.startswith("opt.loadsteps is 1: the one step is the state before the "
                                "increments") for note in res.notes)
+
+
+def test_a_step_past_buckling_is_named_not_a_silent_negative_frequency():
+    """400 N pressing on the guide (buckling at 345.5 N): the last step's lowest mode
+    grows; the note names the step and says the negative frequency means that."""
+    res = _guide({"force": [0, 0, -400.0]}, {"loadsteps": 3})
+    assert res.freq[0, -1] < 0 < res.freq[0, 1]
+    assert any(note.startswith("step 3 lies past a buckling point: the equilibrium is "
+                               "unstable there") for note in res.notes)

@@ -216,6 +216,15 @@ def _results(lm: LightModel, statics: StaticResult, show: bool) -> LightResult:
                       lm.notes, "buckling")
             if advance is not None:
                 advance(statics.t[row])
+    unstable = [row + 1 for row in range(rows) if np.nanmin(freq[:, row], initial=0.0) < 0]
+    if unstable:   # SPACAR Light warns here; a negative frequency is no vibration
+        lowest = np.nanmin(freq[:, unstable[0] - 1])
+        lm.notes.append(f"step{'s' if len(unstable) > 1 else ''} "
+                        f"{', '.join(map(str, unstable))} "
+                        f"{'lie' if len(unstable) > 1 else 'lies'} past a buckling point: the "
+                        f"equilibrium is unstable there, and a mode with omega^2 < 0 grows "
+                        f"instead of vibrating; it is listed as a negative frequency, "
+                        f"-sqrt(-omega^2)/2pi ({lowest:.4g} Hz at step {unstable[0]})")
     stress, per_beam = _stresses(lm, lins)
     nodes = [_node(lm, j, statics, lins) for j in range(1, len(lm.positions) + 1)]
     elements = []
