@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import flexmbd as fm
 from flexmbd import light
 from flexmbd.errors import ArgumentError
 
@@ -304,3 +305,33 @@ def test_a_step_past_buckling_is_named_not_a_silent_negative_frequency():
     assert res.freq[0, -1] < 0 < res.freq[0, 1]
     assert any(note.startswith("step 3 lies past a buckling point: the equilibrium is "
                                "unstable there") for note in res.notes)
+
+
+@pytest.mark.parametrize("change, words", [
+    ({"eprops": {"emod": 210}}, r"eprops\(1\)\.emod = 210 Pa is softer than any rubber: "
+                                r"moduli are in Pa \(210 GPa is 210e9\)"),
+    ({"eprops": {"dens": 7.8}}, r"eprops\(1\)\.dens = 7\.8 kg/m\^3 is lighter than any foam"),
+    ({"eprops": {"dim": [20, 0.5]}}, r"eprops\(1\)\.dim = \[20\.0, 0\.5\] m is larger than "
+                                     r"element 1, 0\.05 m long: dimensions are in m"),
+    ({"stage": {"rot_z": 30}}, r"nprops\(5\)\.rot_z = 30 rad is more than a turn: rotations "
+                               r"are in rad \(30 degrees is 0\.523599\)"),
+])
+def test_a_number_in_another_unit_is_named_with_the_si_value(change, words):
+    """SPACAR Light takes SI units; a value whose size points at mm, GPa, g/cm^3 or
+    degrees is named once, also in a silent run."""
+    eprops = [dict(LEAF, elems=[1, 2], **change.get("eprops", {}))]
+    with pytest.warns(fm.ModelWarning, match=words):
+        light.run(GUIDE_NODES, GUIDE_ELEMENTS,
+                  {1: {"fix": True}, 3: {"fix": True}, 5: change.get("stage", {})}, eprops,
+                  {"silent": True, "loadsteps": 2})
+
+
+def test_a_stress_beyond_any_material_is_named():
+    """A leaf 0.5 m thick (a thickness in mm) driven 1 mm: stresses far beyond any
+    material; the note says to check the units."""
+    eprops = [dict(LEAF, elems=[1, 2], dim=[0.02, 0.5 * 0.05])]
+    with pytest.warns(fm.ModelWarning, match=r"the largest stress, .* Pa, is beyond any "
+                                             r"material's strength: check the units"):
+        light.run(GUIDE_NODES, GUIDE_ELEMENTS, {1: {"fix": True}, 3: {"fix": True},
+                                                5: {"displ_x": 0.04}},
+                  eprops, {"silent": True, "loadsteps": 3})

@@ -28,6 +28,7 @@ from ..model import Model
 from ..motion import Polynomial
 from ..sections import Circle, Material, Rectangle, Section
 from .fields import ElementSet, NodeProps, Options
+from .plausible import check_section
 
 
 @dataclass
@@ -106,8 +107,15 @@ def assemble(positions: np.ndarray, elements: np.ndarray, props: dict[int, NodeP
     warped: set[int] = set()         # warping nodes in the model
     held: set[int] = set()           # those of rigid warping elements, fixed
     next_beam, next_node = 1, 3 * n + 1
+    checked: set[int] = set()   # the sets whose section was held to their elements
     for i, (p, q) in enumerate(elements, 1):
         s = owner.get(i)
+        if s is not None and s.dim and s.number not in checked:
+            length = float(np.linalg.norm(positions[q - 1] - positions[p - 1]))
+            before = len(notes)
+            check_section(f"eprops({s.number})", s.dim, length, i, notes)
+            if len(notes) > before:
+                checked.add(s.number)
         count = s.nbeams if s else 1
         section = section_of(s) if s else None
         ends = _warping_ends(s, int(p), int(q), notes)

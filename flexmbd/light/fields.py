@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ArgumentError
+from .plausible import check_material, check_rotation
 
 #: node fields, as SPACAR Light names them
 NODE_FIELDS = (
@@ -192,9 +193,15 @@ def _node(props: Mapping[str, Any], where: str) -> NodeProps:
     p.rot_initial = None if rot_initial is None else axis_angle_to_euler(rot_initial)
     dirs: list[tuple[int, ...]] = [(2, 3, 4)] if rot is not None or rot_initial is not None \
         else []
+    for name, given in (("rot", rot), ("rot_initial", rot_initial)):
+        if given is not None:
+            check_rotation(where, name, float(given[0]))
     for k, axis in enumerate("xyz", 2):
         increment = _scalar(props, f"rot_{axis}", where)
         initial = _scalar(props, f"rot_initial_{axis}", where)
+        for name, value in ((f"rot_{axis}", increment), (f"rot_initial_{axis}", initial)):
+            if value is not None:
+                check_rotation(where, name, value)
         if increment is None and initial is None:
             continue
         dirs.append((k,))
@@ -329,6 +336,7 @@ def _element_set(props, where: str, j: int, elems: tuple[int, ...], notes: list[
                  ) -> ElementSet:
     s = ElementSet(j, elems)
     s.emod, s.smod, s.dens = (_scalar(props, n, where) for n in ("emod", "smod", "dens"))
+    check_material(where, s.emod, s.smod, s.dens, notes)
     if _given(props, "cshape"):
         if props["cshape"] not in SHAPES:
             raise ArgumentError(f"{where}.cshape", f"must be 'rect' or 'circ', got "

@@ -17,6 +17,7 @@ from ..errors import ArgumentError
 from ..progress import progress_bar
 from .build import LightModel, assemble, rotational, translational
 from .fields import DEFAULT_LOADSTEPS, ElementSet, element_sets, node_props, options
+from .plausible import check_stress
 from .results import ElementResult, LightResult, NodeResult, OneBased
 
 #: SPACAR Light refuses elements whose lengths differ more than this; flexmbd notes it
@@ -226,6 +227,8 @@ def _results(lm: LightModel, statics: StaticResult, show: bool) -> LightResult:
                         f"instead of vibrating; it is listed as a negative frequency, "
                         f"-sqrt(-omega^2)/2pi ({lowest:.4g} Hz at step {unstable[0]})")
     stress, per_beam = _stresses(lm, lins)
+    if stress is not None:
+        check_stress(stress, lm.notes)
     nodes = [_node(lm, j, statics, lins) for j in range(1, len(lm.positions) + 1)]
     elements = []
     for i, beams in lm.beams.items():
