@@ -94,3 +94,32 @@ def test_a_cantilever_of_sub_beams_built_in_one_call():
         pytest.approx(STEEL.rho * props.A * 0.1)
     assert np.all([model.element_properties[k].section_inertia[0] ==
                    pytest.approx(STEEL.rho * (props.Iy + props.Iz)) for k in range(1, 9)])
+
+
+def test_a_planar_beam_takes_a_section_and_a_material():
+    """A planar cantilever of 8 beams built from ``Rectangle(w, t)`` and steel: its tip
+    deflection under a small load ``P L^3 / (3 E I)`` and its first frequency
+    ``1.8751^2 / (2 pi) sqrt(E I / (rho A L^4))`` to 1e-3, ``I = w t^3 / 12``; the beam
+    gets SPACAR's planar values (EA, EI, the shear stiffness k G A in N, rhoA, rhoI)."""
+    E, rho, w, t, L, P, n = 210e9, 7800.0, 0.02, 0.002, 0.3, 0.1, 8
+    steel = fm.Material.from_poisson(E, 0.3, rho)
+    b = fm.ModelBuilder("planar cantilever")
+    for k in range(n + 1):
+        b.add_node(2 * k + 1, L * k / n, 0.0)
+    for k in range(n):
+        b.add_beam(k + 1, 2 * k + 1, 2 * k + 2, 2 * k + 3, 2 * k + 4)
+        b.dynamic_deformation(k + 1).set_section(k + 1, fm.Rectangle(w, t), steel)
+    model = b.fix(1).fix(2).build()
+    inertia = w * t**3 / 12
+    stiffness = dict(model.element_properties[1].stiffness)
+    assert stiffness["axial"] == pytest.approx(E * w * t)
+    assert stiffness["bending"] == pytest.approx(E * inertia)
+    assert stiffness["shear"] == pytest.approx(fm.Rectangle(w, t).shear_factor(0.3) * E /
+                                               2.6 * w * t)
+    assert model.section_masses[2] == pytest.approx(0.5 * L / n * rho * inertia)
+    statics = fm.static_equilibrium(model, loads={f"x{2 * n + 1}.2": -P})
+    tip = statics[f"x{2 * n + 1}.2"][-1]
+    assert tip == pytest.approx(-P * L**3 / (3 * E * inertia), rel=1e-3)
+    first = fm.vibration_modes(statics.linearization(0), 1).frequencies[0]
+    closed = 1.8751041**2 / (2 * np.pi) * np.sqrt(E * inertia / (rho * w * t * L**4))
+    assert first == pytest.approx(closed, rel=1e-3)

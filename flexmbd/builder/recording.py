@@ -493,12 +493,18 @@ class ModelBuilder:
         return self._set_values(element, "stiffness", values)
 
     def set_section(self, element: int, section, material) -> ModelBuilder:
-        """A spatial beam's stiffness (ESTIFF), mass (EM) and section inertia from its
+        """A beam's stiffness (ESTIFF), mass (EM) and section inertia from its
         cross-section and material (:mod:`flexmbd.sections`: ``Rectangle(w, t)`` with ``w``
         along the orientation vector, ``Circle(d)``, ``Tube(outer, inner)``;
         ``Material(E, G, rho)``), as SPACAR Light computes them. A massless material sets
         no mass; a rigid one (``Material.rigid(rho)``) no stiffness. The warping values
-        ``ECw``, ``rhoCw`` go to a warping beam (added before), not to a spatial beam."""
+        ``ECw``, ``rhoCw`` go to a warping beam (added before), not to a spatial beam.
+
+        A planar beam (added before) bends in its plane, so ``Rectangle(w, t)`` has its
+        width ``w`` across the plane and its thickness ``t`` in it: ``axial = E A``,
+        ``bending = E w t^3 / 12``, ``shear = k G A`` [N] (SPACAR's planar shear
+        stiffness ``G A_s``, ``k`` the section's shear factor), ``rhoA`` and the rotary
+        inertia ``rho w t^3 / 12`` per length."""
         from ..sections import beam_values
 
         try:
@@ -506,8 +512,18 @@ class ModelBuilder:
         except ArgumentError as error:
             self._problem(f"set_section element {element}: {error}")
             return self
+        etype = self._type_of(element)
+        if etype is not None and issubclass(etype, Beam):   # planar: bending about z
+            if not material.is_rigid:
+                bending, flexibility = values.estiff[2], values.estiff[4]
+                self.set_stiffness(element, axial=values.estiff[0], bending=bending,
+                                   shear=bending / flexibility if flexibility else 0.0)
+            if values.mass_per_length:
+                self.set_mass(element, values.mass_per_length,
+                              section_inertia=(values.em[2],))
+            return self
         self._records.sections[element] = (section, material)
-        warping = self._type_of(element) is WarpingBeam
+        warping = etype is WarpingBeam
         if not material.is_rigid:
             self.set_stiffness(element, **values.stiffness,
                                **({"warping": values.estiff[6]} if warping else {}))
