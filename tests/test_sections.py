@@ -123,3 +123,26 @@ def test_a_planar_beam_takes_a_section_and_a_material():
     first = fm.vibration_modes(statics.linearization(0), 1).frequencies[0]
     closed = 1.8751041**2 / (2 * np.pi) * np.sqrt(E * inertia / (rho * w * t * L**4))
     assert first == pytest.approx(closed, rel=1e-3)
+
+
+@pytest.mark.parametrize("spatial, values, words", [
+    (False, {"axial": 1e6, "bending": 1.0, "shear": 1e-8},
+     r"shear = 1e-08 N makes the beam .* times softer in shear than in bending: a planar "
+     r"beam's shear is the stiffness G A_s \[N\]"),
+    (True, {"axial": 1e6, "torsion": 1.0, "bending_y": 1.0, "bending_z": 1.0,
+            "shear_y": 8e7},
+     r"shear_y = 8e\+07 m\^2 makes the beam .* a spatial beam's shear_y is the flexibility "
+     r"EI/\(G A k\) \[m\^2\]"),
+])
+def test_a_shear_value_in_the_other_convention_is_refused(spatial, values, words):
+    """Planar ``shear`` is a stiffness [N], spatial ``shear_y`` a flexibility [m^2]: a value
+    that would make a 0.1 m beam 1e4 times softer in shear than in bending is the other."""
+    b = fm.ModelBuilder("shear")
+    if spatial:
+        b.add_node(1, 0, 0, 0).add_node(3, 0.1, 0, 0).add_spatial_beam(1, 1, 2, 3, 4,
+                                                                       (0, 1, 0))
+    else:
+        b.add_node(1, 0, 0).add_node(3, 0.1, 0).add_beam(1, 1, 2, 3, 4)
+    b.dynamic_deformation(1).set_stiffness(1, **values).fix(1).fix(2)
+    with pytest.raises(fm.ModelError, match=words):
+        b.build()

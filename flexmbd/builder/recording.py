@@ -136,6 +136,8 @@ class Records:
     nodal_inertias: dict[int, tuple[float, ...]] = field(default_factory=dict)
     section_inertias: dict[int, tuple[float, ...]] = field(default_factory=dict)
     sections: dict[int, tuple[Any, Any]] = field(default_factory=dict)
+    #: elements whose stiffness came from set_section (consistent by construction)
+    from_section: set[int] = field(default_factory=set)
     #: the beams of a chain (add_spatial_beams) but its last
     not_last: set[int] = field(default_factory=set)
     nodal_forces: dict[int, tuple[float, ...]] = field(default_factory=dict)
@@ -513,6 +515,7 @@ class ModelBuilder:
             self._problem(f"set_section element {element}: {error}")
             return self
         etype = self._type_of(element)
+        self._records.from_section.add(element)
         if etype is not None and issubclass(etype, Beam):   # planar: bending about z
             if not material.is_rigid:
                 bending, flexibility = values.estiff[2], values.estiff[4]

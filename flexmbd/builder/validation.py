@@ -25,8 +25,11 @@ from ..elements import (
     SPATIAL_TRANSLATIONAL,
     TRANSLATIONAL,
     WARPING,
+    Beam,
     ElementType,
     EulerNormalization,
+    SpatialBeam,
+    WarpingBeam,
 )
 from ..elements.base import ROTATIONAL, is_translational
 from ..engine import workspace_of
@@ -345,6 +348,9 @@ def _element_properties(records: Records, elements, problems) -> dict[int, Eleme
                                     f"negative")
             if values:
                 fields[what] = FrozenMap(dict(values))
+        if number not in records.from_section:   # the user's own values
+            problems += _shear_convention(number, etype, elements[number],
+                                          records.values.get((number, "stiffness"), {}))
         nd = etype.n_deformations()
         prestress = [0.0] * nd
         for k, sigma0 in records.prestress.get(number, {}).items():
@@ -359,6 +365,37 @@ def _element_properties(records: Records, elements, problems) -> dict[int, Eleme
             fields["section"], fields["material"] = records.sections[number]
         out[number] = ElementProperties(**fields)
     return out
+
+
+#: a shear value that makes the beam this many times softer in shear than in bending (or
+#: stiffer) is the other convention's: a flexibility given for a stiffness, or the reverse
+SHEAR_CONTRAST = 1e4
+
+
+def _shear_convention(number: int, etype, element, values: dict) -> list[str]:
+    """A planar beam's ``shear`` is the stiffness ``G A_s`` [N], a spatial beam's
+    ``shear_y``, ``shear_z`` the flexibility ``EI/(G A k)`` [m^2]; a value whose size
+    suggests the other (the shear parameter ``Phi = 12 EI/(G A_s l0^2)`` above
+    :data:`SHEAR_CONTRAST`) is refused, naming both."""
+    l0 = element.reference[0] if element.reference else 0.0
+    if not l0:
+        return []
+    if issubclass(etype, Beam) and values.get("shear") and values.get("bending"):
+        phi = 12 * values["bending"] / (values["shear"] * l0**2)
+        if phi > SHEAR_CONTRAST:
+            return [f"set_stiffness element {number}: shear = {values['shear']:g} N makes the "
+                    f"beam {phi:.3g} times softer in shear than in bending: a planar beam's "
+                    f"shear is the stiffness G A_s [N] (a spatial beam's shear_y is the "
+                    f"flexibility EI/(G A k) [m^2])"]
+    if etype in (SpatialBeam, WarpingBeam):
+        for name in ("shear_y", "shear_z"):
+            phi = 12 * values.get(name, 0.0) / l0**2
+            if phi > SHEAR_CONTRAST:
+                return [f"set_stiffness element {number}: {name} = {values[name]:g} m^2 "
+                        f"makes the beam {phi:.3g} times softer in shear than in bending: "
+                        f"a spatial beam's {name} is the flexibility EI/(G A k) [m^2] (a "
+                        f"planar beam's shear is the stiffness G A_s [N])"]
+    return []
 
 
 def _check_nodal_loads(records: Records, nodes, problems) -> None:
