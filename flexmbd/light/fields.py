@@ -370,7 +370,11 @@ def _element_set(props, where: str, j: int, elems: tuple[int, ...], notes: list[
         s.flex = tuple(sorted({int(k) for k in flex}))
     s.warping = _flag(props, "warping", where)
     if _given(props, "cw"):
-        notes.append(f"{where}.cw is deprecated in SPACAR Light; use warping")
+        notes.append(f"{where}.cw is ignored, as SPACAR Light 1.38 ignores it: before 2019 "
+                     f"cw = true multiplied a rectangular flexure's torsion stiffness GIt by "
+                     f"a constrained-warping factor of its length and aspect, so a 2018 "
+                     f"script gives other torsion frequencies here; warping = true models "
+                     f"the constrained warping itself (warping beams)")
     s.hide = _flag(props, "hide", where)
     s.opacity = _scalar(props, "opacity", where)
     if s.opacity is not None and not 0.0 < s.opacity < 1.0:
