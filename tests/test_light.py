@@ -336,3 +336,17 @@ def test_a_stress_beyond_any_material_is_named():
         light.run(GUIDE_NODES, GUIDE_ELEMENTS, {1: {"fix": True}, 3: {"fix": True},
                                                 5: {"displ_x": 0.04}},
                   eprops, {"silent": True, "loadsteps": 3})
+
+
+def test_what_a_spacar_light_user_reads_off_its_output():
+    """``out.version``, ``out.element(i).Ri`` (the first beam's frame: columns ex0 along
+    the element, ey0 the set's orien, ez0) and the state space's SPACAR Light names."""
+    res = _guide({"transfer_in": ["force_x"], "transfer_out": ["displ_x", "veloc_z"]},
+                 {"transfer": [True]})
+    assert res.version.startswith("flexmbd ")
+    frame = res.element[1].Ri
+    np.testing.assert_allclose(frame[:, 0], [0, 0, 1], atol=1e-15)    # leaf 1 along z
+    np.testing.assert_allclose(frame[:, 1], [0, 1, 0], atol=1e-15)    # LEAF's orien
+    np.testing.assert_allclose(frame.T @ frame, np.eye(3), atol=1e-15)
+    assert res.statespace.InputName == ("force-x n5",)
+    assert res.statespace.OutputName == ("displ-x n5", "veloc-z n5")

@@ -13,6 +13,7 @@ from typing import Any, Generic, TypeVar
 
 import numpy as np
 
+from ..analysis.statespace import StateSpace
 from ..summary import dataclass_repr
 
 T = TypeVar("T")
@@ -110,6 +111,8 @@ class ElementResult:
         e: deformations per beam ``(nbeams, 6, nsteps)`` [m, rad].
         stressmax: the largest von Mises stress over its beams per step ``(nsteps,)`` [Pa]
             (with ``opt.stressperelement``; None otherwise or without a section).
+        Ri: the initial orientation of its first beam ``(3, 3)``, columns ``ex0, ey0,
+            ez0`` (SPACAR Light's ``element(i).Ri``).
     """
 
     __repr__ = dataclass_repr
@@ -118,10 +121,12 @@ class ElementResult:
     L0: np.ndarray
     e: np.ndarray
     stressmax: np.ndarray | None = None
+    Ri: np.ndarray | None = None
 
     def at(self, step: int) -> ElementResult:
         return ElementResult(self.spa_nrs, self.L0, self.e[..., step],
-                             None if self.stressmax is None else self.stressmax[..., step])
+                             None if self.stressmax is None else self.stressmax[..., step],
+                             self.Ri)
 
 
 @dataclass
@@ -138,6 +143,20 @@ class StepResult:
     load: float
     freqmodes: np.ndarray | None = None
     buckmodes: np.ndarray | None = None
+
+
+@dataclass(frozen=True, eq=False)
+class LightStateSpace(StateSpace):
+    """The state-space model of :func:`flexmbd.light.run` (``opt.transfer``): a
+    :class:`~flexmbd.StateSpace` with SPACAR Light's names of its inputs and outputs.
+
+    Attributes:
+        InputName: ``"force-x n3"`` per input, as SPACAR Light names them.
+        OutputName: ``"displ-y n4"`` or ``"veloc-y n4"`` per output.
+    """
+
+    InputName: tuple[str, ...] = ()
+    OutputName: tuple[str, ...] = ()
 
 
 @dataclass
@@ -182,6 +201,13 @@ class LightResult:
     styles: dict = field(default_factory=dict)
     shapes: list = field(default_factory=list, repr=False)
     step: OneBased[StepResult] = field(init=False)
+
+    @property
+    def version(self) -> str:
+        """What ran, as SPACAR Light's ``out.version`` says which SPACAR Light did."""
+        from .. import __version__
+
+        return f"flexmbd {__version__} (flexmbd.light, SPACAR Light 1.38's fields)"
 
     def __post_init__(self):
         steps = []

@@ -18,7 +18,7 @@ from ..progress import progress_bar
 from .build import LightModel, assemble, rotational, translational
 from .fields import DEFAULT_LOADSTEPS, ElementSet, element_sets, node_props, options
 from .plausible import check_stress
-from .results import ElementResult, LightResult, NodeResult, OneBased
+from .results import ElementResult, LightResult, LightStateSpace, NodeResult, OneBased
 
 #: SPACAR Light refuses elements whose lengths differ more than this; flexmbd notes it
 LENGTH_RATIO = 1000.0
@@ -239,7 +239,9 @@ def _results(lm: LightModel, statics: StaticResult, show: bool) -> LightResult:
             top = np.max([per_beam.get(b, np.full(rows, np.nan)) for b in beams], axis=0)
         p, q = lm.elements[i - 1]
         length = float(np.linalg.norm(lm.positions[q - 1] - lm.positions[p - 1]))
-        elements.append(ElementResult(beams, np.full(len(beams), length / len(beams)), e, top))
+        frame = np.array(model.elements[beams[0]].reference[1:10]).reshape(3, 3).T
+        elements.append(ElementResult(beams, np.full(len(beams), length / len(beams)), e, top,
+                                      frame))
     space = _state_space(lm, lins[0]) if opt.transfer and lins else None
     if show and not statics.success:
         print(f"flexmbd.light: {statics.message}")
@@ -362,5 +364,7 @@ def _state_space(lm: LightModel, lin: Linearization) -> StateSpace:
     rates = ["x" + label[2:] for label, _ in lm.transfer_outputs if label.startswith("xd")]
     space = state_space(lin, inputs, outputs, rates, damping_ratio=lm.options.damping)
     order = [space.outputs.index(label) for label, _ in lm.transfer_outputs]
-    return StateSpace(space.A, space.B, space.C[order], space.D[order], space.inputs,
-                      tuple(space.outputs[k] for k in order), space.states)
+    return LightStateSpace(space.A, space.B, space.C[order], space.D[order], space.inputs,
+                           tuple(space.outputs[k] for k in order), space.states,
+                           InputName=tuple(name for _, name in lm.transfer_inputs),
+                           OutputName=tuple(name for _, name in lm.transfer_outputs))
