@@ -350,3 +350,22 @@ def test_what_a_spacar_light_user_reads_off_its_output():
     np.testing.assert_allclose(frame.T @ frame, np.eye(3), atol=1e-15)
     assert res.statespace.InputName == ("force-x n5",)
     assert res.statespace.OutputName == ("displ-x n5", "veloc-z n5")
+
+
+def test_the_mesh_check_reports_what_doubling_nbeams_changes():
+    """``opt.meshcheck``: the guide driven 5 mm, rerun with nbeams doubled; the reported
+    frequency change is that of the two runs, and it shrinks as the mesh is refined."""
+    def stroke(nbeams, check=True):
+        nprops = {1: {"fix": True}, 3: {"fix": True}, 5: {"displ_x": 5e-3}}
+        return light.run(GUIDE_NODES, GUIDE_ELEMENTS, nprops,
+                         [dict(LEAF, elems=[1, 2], nbeams=nbeams)],
+                         {"silent": True, "loadsteps": 3, "meshcheck": check})
+
+    coarse, finer = stroke(2), stroke(4)
+    direct = stroke(4, check=False)
+    expected = np.max(np.abs(direct.freq[:6] - coarse.freq[:6]) / np.abs(direct.freq[:6]))
+    assert coarse.meshcheck["freq"] == pytest.approx(expected, rel=1e-12)
+    assert finer.meshcheck["freq"] < coarse.meshcheck["freq"] / 3
+    assert set(coarse.meshcheck) == {"freq", "stressmax", "displacement"}
+    assert coarse.notes[-1].startswith("meshcheck: with every set's nbeams doubled, freq "
+                                       "changes by")

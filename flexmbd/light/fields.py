@@ -35,7 +35,7 @@ ELEMENT_FIELDS = ("elems", "emod", "smod", "dens", "cshape", "dim", "orien", "nb
 #: written, nothing is shown)
 OPTION_FIELDS = ("gravity", "loadsteps", "rls", "mode", "transfer", "calcbuck", "calccompl",
                  "rigidstress", "stressperelement", "silent", "filename", "spavisual",
-                 "nmodes")
+                 "nmodes", "meshcheck")
 
 #: SPACAR Light options flexmbd does not take, with what to use instead
 UNSUPPORTED_OPTIONS = {
@@ -413,6 +413,8 @@ class Options:
     #: eigenfrequencies per step, flexmbd's option: a count, "all", or None (SPACAR
     #: Light's whole spectrum for a small model, the lowest few of a large one)
     nmodes: int | str | None = None
+    #: flexmbd's option: rerun with every set's nbeams doubled and report the changes
+    meshcheck: bool = False
 
 
 def options(opt, n_elements: int, notes: list[str]) -> Options:
@@ -442,7 +444,7 @@ def options(opt, n_elements: int, notes: list[str]) -> Options:
             raise ArgumentError("opt.mode", f"must be 10 (static) or 3 (inputs free), got "
                                             f"{mode:g}")
         o.mode = int(mode)
-    for name in ("calcbuck", "rigidstress", "stressperelement", "silent"):
+    for name in ("calcbuck", "rigidstress", "stressperelement", "silent", "meshcheck"):
         setattr(o, name, _flag(opt, name, "opt"))
     if _given(opt, "calccompl"):
         o.calccompl = _flag(opt, "calccompl", "opt")

@@ -183,6 +183,9 @@ class LightResult:
         notes: what was read in a way worth saying, and SPACAR Light's warnings.
         model: the flexmbd model; statics: the static equilibria
             (:class:`flexmbd.StaticResult`), for anything beyond SPACAR Light's output.
+        meshcheck: with ``opt.meshcheck`` (flexmbd's option), the largest relative
+            change of the frequencies, the largest stress and the displacements when
+            every set's ``nbeams`` is doubled, by name.
     """
 
 
@@ -200,6 +203,7 @@ class LightResult:
     statespace: object = None
     styles: dict = field(default_factory=dict)
     shapes: list = field(default_factory=list, repr=False)
+    meshcheck: dict | None = None
     step: OneBased[StepResult] = field(init=False)
 
     @property

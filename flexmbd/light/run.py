@@ -4,6 +4,7 @@ linearized at every step's equilibrium."""
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 
 import numpy as np
 
@@ -145,10 +146,47 @@ def run(nodes, elements, nprops=None, eprops=None, opt=None, *more) -> LightResu
                                  input_increment=lm.input_increment or None, steps=steps,
                                  progress=None if show else False)
     result = _results(lm, statics, show)
-    if show:   # what the linearized steps noticed
+    if opt_.meshcheck:
+        result.meshcheck = _mesh_check(result, nodes, elements, nprops, eprops,
+                                       _older(opt, more))
+    if show:   # what the linearized steps and the mesh check noticed
         for note in lm.notes[told:]:
             print(f"flexmbd.light: {note}")
     return result
+
+
+#: the lowest frequencies the mesh check compares (a coarse mesh's higher modes are its own)
+MESH_MODES = 6
+
+
+def _mesh_check(coarse: LightResult, nodes, elements, nprops, eprops, opt) -> dict:
+    """``opt.meshcheck``: the same model with every set's ``nbeams`` doubled, and the
+    largest change of each output relative to its size: the :data:`MESH_MODES` lowest
+    frequencies, the largest stress, the nodes' displacements (relative to the largest
+    displacement)."""
+    finer_sets = [dict(props, nbeams=2 * int(props.get("nbeams") or 1))
+                  if isinstance(props, Mapping) and props.get("elems") is not None else props
+                  for props in (eprops or [])]
+    finer_opt = {k: v for k, v in dict(opt or {}).items() if k != "meshcheck"}
+    fine = run(nodes, elements, nprops, finer_sets, dict(finer_opt, silent=True))
+    changes: dict[str, float] = {}
+    k = min(MESH_MODES, len(coarse.freq), len(fine.freq))   # the higher ones are the mesh's
+    if k:
+        changes["freq"] = float(np.nanmax(np.abs(fine.freq[:k] - coarse.freq[:k]) /
+                                          np.abs(fine.freq[:k])))
+    if np.any(np.isfinite(fine.stressmax)) and np.nanmax(fine.stressmax) > 0:
+        changes["stressmax"] = float(np.nanmax(np.abs(fine.stressmax - coarse.stressmax)) /
+                                     np.nanmax(fine.stressmax))
+    moved = [np.abs(f.p - f.p[:, :1]).max() for f in fine.node]
+    if moved and max(moved) > 0:
+        changes["displacement"] = float(max(np.abs(f.p - c.p).max() for f, c in
+                                            zip(fine.node, coarse.node, strict=True))
+                                        / max(moved))
+    coarse.notes.append("meshcheck: with every set's nbeams doubled, " + ", ".join(
+        f"{name} changes by {value:.2g}" for name, value in changes.items()) +
+        " (relative, over all steps): refine nbeams until the changes are below what you "
+        "accept")
+    return changes
 
 
 def _geometry(nodes, elements, notes: list[str]) -> tuple[np.ndarray, np.ndarray]:
