@@ -56,7 +56,7 @@ HINGE_BODY = {"elems": 2, "dens": 3000, "cshape": "rect", "dim": [50e-3, 10e-3],
 def cross_hinge(loaded: bool = True) -> light.LightResult:
     """SPACAR Light's example; ``loaded=False``: without loads and gravity, one step."""
     nprops: dict = {1: {"fix": True}, 4: {"fix": True}}
-    opt: dict = {"filename": "crosshinge", "silent": True}
+    opt: dict = {"silent": True}
     if loaded:
         nprops[3] = {"force": [0, 1, 0], "moment_initial": [0, 0, -0.025],
                      "moment": [0, 0, 0.05], "mass": 0.1}

@@ -246,7 +246,7 @@ def test_each_step_keeps_its_mode_shapes():
     assert step.buckmodes.shape[0] == res.ndof and res.step[1].buckmodes is None
 
 
-def test_an_older_script_with_its_releases_fifth_runs():
+def test_an_older_script_with_its_releases_fifth_runs(tmp_path):
     """SPACAR Light's wire-flexure example (a 1 mm wire, 40 mm, clamped, 1 N along it)
     in its pre-2019 call spacarlight(nodes, elements, nprops, eprops, rls, opt) with
     rls = []: the buckling factor is the clamped-free column's pi^2 EI/(4 L^2) with shear,
@@ -257,7 +257,8 @@ def test_an_older_script_with_its_releases_fifth_runs():
     res = light.run(nodes, [[1, 2], [2, 3], [3, 4]],
                     {1: {"fix": True}, 4: {"force_initial": [-1, 1e-6, 0]}},
                     [dict(wire, elems=[1, 3]), dict(wire, elems=[2])], [],
-                    {"calcbuck": True, "filename": "wireflexure", "silent": True})
+                    {"calcbuck": True, "filename": str(tmp_path / "wireflexure"),
+                     "silent": True})
     E, G, d, L = 210e9, 79e9, 1e-3, 0.04
     euler = math.pi**2 * E * math.pi * d**4 / 64 / (4 * L**2)
     kga = 6 * (1 + E / (2 * G) - 1) / (7 + 6 * (E / (2 * G) - 1)) * G * math.pi * d**2 / 4
@@ -267,7 +268,7 @@ def test_an_older_script_with_its_releases_fifth_runs():
                   [{"def": [1]}], {"rls": [{"def": [1]}]})
 
 
-def test_spacar_light_s_parallel_guide_transfer_example(capsys):
+def test_spacar_light_s_parallel_guide_transfer_example(capsys, tmp_path):
     """SPACAR Light's own transfer-function example (a guide of 0.2 mm leaves with a
     sensor arm, cw = true, 1 % damping): the static gain is 1 / (24 EI / L^3) to 1e-4, and
     the deprecated cw is noted, not used (as SPACAR Light does now)."""
@@ -280,7 +281,7 @@ def test_spacar_light_s_parallel_guide_transfer_example(capsys):
     rigid = {"elems": [2, 4], "dens": 7800, "cshape": "rect", "dim": [50e-3, 25e-3],
              "orien": [0, 0, 1], "nbeams": 1, "color": "darkblue"}
     res = light.run(nodes, [[1, 2], [2, 3], [3, 4], [3, 5]], nprops, [leaves, rigid],
-                    {"transfer": [True, 0.01], "filename": "test1"})
+                    {"transfer": [True, 0.01], "filename": str(tmp_path / "test1")})
     ss = res.statespace
     gain = (ss.D - ss.C @ np.linalg.solve(ss.A, ss.B))[0, 0]
     EI = 210e9 * 50e-3 * 0.2e-3**3 / 12
@@ -369,3 +370,25 @@ def test_the_mesh_check_reports_what_doubling_nbeams_changes():
     assert set(coarse.meshcheck) == {"freq", "stressmax", "displacement"}
     assert coarse.notes[-1].startswith("meshcheck: with every set's nbeams doubled, freq "
                                        "changes by")
+
+
+def test_a_filename_writes_the_model_and_its_results(tmp_path):
+    """``opt.filename``: the .dat SPACAR Light writes and the .sbd and .sbm SPACAR writes;
+    the .dat, run again by flexmbd in mode 10, gives the same records."""
+    from flexmbd.cli import main as cli
+    from flexmbd.io.sbd import read_sbd
+
+    base = tmp_path / "guide"
+    res = _guide({"force": [0, 0, -1.0]}, {"loadsteps": 3, "filename": str(base)})
+    assert any(note.startswith("opt.filename: wrote ") for note in res.notes)
+    written = read_sbd(tmp_path / "guide.sbd")
+    stage_z = written["LNP"][3 * 5 - 3, 2]      # user node 5: translational node 13, z
+    assert written.step("X", 3)[stage_z - 1, 0] == res.node[5].p[2, -1]
+    again = tmp_path / "again"
+    again.mkdir()
+    (again / "guide.dat").write_text((tmp_path / "guide.dat").read_text())
+    assert cli(["spacar", "10", str(again / "guide")]) == 0
+    rerun = read_sbd(again / "guide.sbd")
+    for record in ("X", "E", "SIG"):
+        scale = np.abs(written[record]).max()
+        assert np.abs(rerun[record] - written[record]).max() <= 1e-9 * scale, record

@@ -31,8 +31,8 @@ NODE_FIELDS = (
 ELEMENT_FIELDS = ("elems", "emod", "smod", "dens", "cshape", "dim", "orien", "nbeams", "flex",
                   "warping", "color", "hide", "opacity", "cw")
 
-#: options; ``filename`` and ``spavisual`` are accepted for ported scripts (no file is
-#: written, nothing is shown)
+#: options; ``spavisual`` is accepted for ported scripts (nothing is shown); ``filename``
+#: writes the model's .dat and the run's .sbd and .sbm
 OPTION_FIELDS = ("gravity", "loadsteps", "rls", "mode", "transfer", "calcbuck", "calccompl",
                  "rigidstress", "stressperelement", "silent", "filename", "spavisual",
                  "nmodes", "meshcheck")

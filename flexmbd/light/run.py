@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from pathlib import Path
 
 import numpy as np
 
@@ -146,6 +147,8 @@ def run(nodes, elements, nprops=None, eprops=None, opt=None, *more) -> LightResu
                                  input_increment=lm.input_increment or None, steps=steps,
                                  progress=None if show else False)
     result = _results(lm, statics, show)
+    if opt_.filename:
+        _write_files(lm, statics, steps, result)
     if opt_.meshcheck:
         result.meshcheck = _mesh_check(result, nodes, elements, nprops, eprops,
                                        _older(opt, more))
@@ -153,6 +156,28 @@ def run(nodes, elements, nprops=None, eprops=None, opt=None, *more) -> LightResu
         for note in lm.notes[told:]:
             print(f"flexmbd.light: {note}")
     return result
+
+
+def _write_files(lm: LightModel, statics: StaticResult, steps: int, result: LightResult
+                 ) -> None:
+    """``opt.filename``: the model as a SPACAR input file ``filename.dat`` (as SPACAR Light
+    writes one; ``flexmbd run`` and ``flexmbd spacar 10`` run it again) and this run's
+    result files ``filename.sbd`` and ``.sbm`` (as SPACAR writes them), beside the
+    working directory's other files."""
+    from ..io.dat import write_dat
+    from ..io.sbd import write_sbd, write_sbm
+    from ..settings import RunSettings
+
+    assert lm.options.filename is not None
+    base = Path(lm.options.filename)
+    settings = RunSettings(load_increment=dict(lm.load_increment),
+                           input_increment=dict(lm.input_increment), load_steps=steps)
+    written = [write_dat(lm.model, base.with_name(base.name + ".dat"), settings)]
+    if len(statics.t):
+        written.append(write_sbd(base.with_name(base.name + ".sbd"), statics, 10))
+        written.append(write_sbm(base.with_name(base.name + ".sbm"),
+                                 [statics.linearization(k) for k in range(len(statics.t))]))
+    lm.notes.append("opt.filename: wrote " + ", ".join(str(path) for path in written))
 
 
 #: the lowest frequencies the mesh check compares (a coarse mesh's higher modes are its own)
