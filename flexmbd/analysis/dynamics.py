@@ -318,7 +318,8 @@ def check_resolution(model: Model, step: float, span: float) -> None:
     enough = resolving_step(period, span)
     if step <= enough * (1 + 1e-9):
         return
-    lag = span / period * (2 * np.pi * step / period) ** 2 / 12
+    phase = 2 * np.pi * step / period     # per step [rad]; squared, a huge step overflows
+    lag = span / period * phase**2 / 12 if phase < 1e100 else float("inf")
     warnings.warn(
         f"GeneralizedAlpha's fixed step {step:.3g} s resolves the lowest vibration mode "
         f"({frequencies[0]:.4g} Hz, a period of {period:.3g} s) in {period / step:.3g} "
