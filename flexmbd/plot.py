@@ -368,8 +368,7 @@ def write_blitted(fig, draw, frames, filename: str | Path, fps: int = 25) -> Pat
     for k in frames:
         canvas.restore_region(background)
         for artist in draw(k):
-            artist.axes.draw_artist(artist) if artist.axes is not None else \
-                fig.draw_artist(artist)
+            fig.draw_artist(artist)
         images.append(np.asarray(canvas.buffer_rgba())[..., :3].copy())
     for artist in moving:
         artist.set_animated(False)

@@ -358,7 +358,8 @@ def evaluate(build: Callable, params: Mapping[str, float], outputs, gradient: bo
         evaluator = Evaluator(design)
         results = {out.name: evaluator.value(out) for out in wanted}
         analysed = time.perf_counter()
-        grads, notes = None, list[str]()
+        grads: dict[str, dict[str, float]] | None = None
+        notes: list[str] = []
         if gradient:
             sens = design.sensitivities()
             found, notes = evaluator.gradients(wanted, sens)

@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ...errors import InputFileError
-from .syntax import DYNAMICS, KINEMATICS, DatText, Statement, _statement
+from .syntax import DYNAMICS, KINEMATICS, DatText, Statement, _number, _statement
 
 __all__ = ["is_spacar95", "parse_spacar95"]
 
@@ -276,15 +276,11 @@ def _initial_values(t: _Translation) -> None:
 
 
 def _int(t: _Translation, word: str, keyword: str, line: int) -> int:
-    value = _float(t, word, keyword, line)
-    if not value.is_integer():
-        t.fail(f"SPACAR95: {keyword}: {word!r} must be a whole number", line)
-    return int(value)
+    """A whole number of a SPACAR95 line, read as the UT reader reads its numbers."""
+    return _number(word, int, "a node, element or direction number", keyword, t.path, line)
 
 
 def _float(t: _Translation, word: str, keyword: str, line: int) -> float:
-    try:
-        return float(word.replace("d", "e").replace("D", "E"))
-    except ValueError:
-        t.fail(f"SPACAR95: {keyword}: {word!r} must be a number", line)
-        raise   # unreachable: fail raises
+    """A number of a SPACAR95 line (``d`` exponents too), finite, as the UT reader reads
+    its numbers."""
+    return _number(word, float, "a value", keyword, t.path, line)
