@@ -7,7 +7,7 @@ and second time derivatives with prefixes ``xd``, ``xdd``, ``ed``, ``edd``.
 from __future__ import annotations
 
 import re
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal, TypeVar
@@ -244,6 +244,9 @@ class SimulationResult(KinematicResult):
             of ``q`` ``(nt, nq)`` [N, N m]: what the drives of the prescribed entries
             supply; zero (to solver accuracy) on freely moving dynamic entries.
         stats: solver counters (``nfev``, ``njev``, ``nlu``, ``nsteps``) and the method.
+        applied_forces: the function ``forces(t, x, xdot)`` the run applied besides the
+            model's constant loads (``None``: none), kept so that :func:`~flexmbd.energy`
+            counts its work.
     """
 
     q: np.ndarray = None  # type: ignore[assignment]
@@ -253,6 +256,7 @@ class SimulationResult(KinematicResult):
     reactions: np.ndarray | None = None
     driving: np.ndarray | None = None
     stats: dict = field(default_factory=dict)
+    applied_forces: Callable | None = field(default=None, repr=False)
 
     __repr__ = KinematicResult.__repr__
     __str__ = KinematicResult.__repr__

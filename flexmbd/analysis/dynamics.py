@@ -277,8 +277,9 @@ def simulate(
         arrays, done, error, stats = run.through(times, q0, qd0)
     if not with_reactions:
         arrays.pop("reactions", None)
-    result = SimulationResult(model, times[:done], **first_rows(arrays, done))
-    result.stats = {**stats, "method": method}
+    result = SimulationResult(model, times[:done], **first_rows(arrays, done),
+                              applied_forces=forces)
+    result.stats = {**stats, "method": method, "rtol": rtol, "atol": atol}
     return conclude(result, error, on_failure,
                     f"completed {len(times)} points to t = {times[-1]:.6g} s "
                     f"({stats['nsteps']} steps, {stats['nfev']} evaluations)")
@@ -553,7 +554,8 @@ def inverse_dynamics(
     if not with_reactions:
         arrays.pop("reactions")
     done = status["reached"]
-    result = SimulationResult(model, times[:done], **first_rows(arrays, done))
+    result = SimulationResult(model, times[:done], **first_rows(arrays, done),
+                              applied_forces=forces)
     return conclude(result, engine.error(status), on_failure,
                     f"completed {len(times)} points from t = {times[0]:.6g} s to "
                     f"{times[-1]:.6g} s")

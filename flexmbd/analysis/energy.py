@@ -10,7 +10,9 @@
 
 Their sum stays constant in a motion that nothing drives, damps or loads otherwise (no
 prescribed inputs that move, no damping, no applied loads besides gravity): its drift is
-the integrator's error, the check of a simulation.
+the integrator's error, the check of a simulation. Otherwise it changes by the work of
+the drives and the loads less what damping takes out (:mod:`flexmbd.analysis.work`), and
+the balance of the two is that check.
 """
 
 from __future__ import annotations
@@ -19,9 +21,12 @@ import numpy as np
 
 from ..elements.base import is_translational
 from ..engine import workspace_of
+from ..engine.laws import Forces
 from ..errors import ArgumentError
-from ..results import KinematicResult
+from ..results import KinematicResult, SimulationResult
 from ..summary import Columns
+from .integrate import RTOL
+from .work import warn_if_unresolved, work_done
 
 __all__ = ["energy"]
 
@@ -31,13 +36,38 @@ _POINTS, _WEIGHTS = np.polynomial.legendre.leggauss(6)
 _POINTS, _WEIGHTS = 0.5 * (_POINTS + 1.0), 0.5 * _WEIGHTS
 
 
-def energy(result: KinematicResult) -> Columns:
-    """The energies of a result's rows [J]: columns ``t``, ``kinetic``, ``elastic``,
-    ``gravity`` and ``total``, each ``(nt,)``.
+def energy(result: KinematicResult, forces: Forces | None = None) -> Columns:
+    """The energies of a result's rows and the work done on it [J]: columns ``t``,
+    ``kinetic``, ``elastic``, ``gravity`` and ``total``, each ``(nt,)``; for a simulation
+    or an inverse-dynamics run also, from its first row:
+
+    * ``input_work``: the work of the drives, ``int tau . qdot dt`` over the prescribed
+      entries of ``q`` (a driven crank's torque times its speed, an actuator's force
+      times its stroke rate);
+    * ``load_work``: the work of the applied loads besides gravity, the model's constant
+      ones and the run's ``forces(t, x, xdot)`` (a force against its node's velocity, a
+      moment against its node's angular velocity);
+    * ``dissipated``: the energy damping took out, ``int edot^T C edot dt`` (>= 0);
+    * ``balance``: ``total - total[0] - input_work - load_work + dissipated``, zero but
+      for the integrator's error.
+
+    The works are integrals over the output rows (Simpson's rule), so the balance checks
+    the integrator only where the rows resolve the power: give output times as dense as
+    the motion's fastest visible vibration. Where the quadrature's own error (estimated
+    from the rule over every other row) is a tenth of the balance or more, and more
+    than the integrator's ``rtol`` of the largest energy, an
+    :class:`~flexmbd.AccuracyWarning` says so.
+
+    Args:
+        result: a run with velocities (``outputs`` ``"all"``, or ``"velocities"`` when its
+            drives do not move).
+        forces: the function the run applied besides the model's loads; by default the
+            one the run kept (:attr:`~flexmbd.results.SimulationResult.applied_forces`).
 
     Raises:
         ArgumentError: the result has no velocities (``simulate(..., outputs=
-            "positions")``) or no deformations.
+            "positions")``) or no deformations, or its drives move and it has no driving
+            loads.
 
     Examples:
         A free swing keeps its energy to the integrator's accuracy:
@@ -69,6 +99,16 @@ def energy(result: KinematicResult) -> Columns:
     columns = Columns({"t": np.asarray(result.t, dtype=float), "kinetic": kinetic,
                        "elastic": elastic, "gravity": _weight(model, engine, x)})
     columns["total"] = columns["kinetic"] + columns["elastic"] + columns["gravity"]
+    if isinstance(result, SimulationResult):
+        done = work_done(result, engine.assembly,
+                         result.applied_forces if forces is None else forces)
+        columns.update(input_work=done.inputs, load_work=done.loads,
+                       dissipated=done.dissipated)
+        columns["balance"] = (columns["total"] - columns["total"][0] - done.inputs
+                              - done.loads + done.dissipated)
+        scale = float(np.max(np.abs([kinetic, elastic, columns["gravity"]]), initial=0.0))
+        warn_if_unresolved(done.error, columns["balance"], scale,
+                           result.stats.get("rtol", RTOL))
     return columns
 
 
