@@ -143,7 +143,7 @@ def test_mode_3_frees_the_prescribed_directions():
 @pytest.mark.parametrize("call, match", [
     (lambda: _guide({"forse": [1, 0, 0]}), r"unknown field 'forse'; did you mean 'force'"),
     (lambda: _guide(opt={"loadstep": 3}), r"did you mean 'loadsteps'"),
-    (lambda: _guide(opt={"customkin": ["X 1 0 0 0"]}), r"customkin: is not supported"),
+    (lambda: _guide(opt={"customvis": ["X 1 0 0 0"]}), r"customvis: is not supported"),
     (lambda: _guide({"fix": True, "fix_pos": True}), r"fix is combined"),
     (lambda: _guide({"force": [1, 0, 0], "displ_x": 1e-3}), r"fix_x, force\(1\) and displ"),
     (lambda: _guide({"rot_x": 0.1, "rot_y": 0.1}), r"more than one input rotation"),

@@ -17,12 +17,13 @@ A SPACAR Light script ports line by line::
 
 Numbers are 1-based as in MATLAB. :func:`run` builds an ordinary flexmbd model
 (:func:`build` returns it without running), numbered as SPACAR Light numbers its ``.dat``
-file.
+file; :func:`show_input` draws the numbered input (``opt.showinputonly``).
 """
 
 from .build import LightModel
+from .picture import show_input
 from .results import ElementResult, LightResult, NodeResult, OneBased, StepResult
 from .run import build, run
 
 __all__ = ["ElementResult", "LightModel", "LightResult", "NodeResult", "OneBased",
-           "StepResult", "build", "run"]
+           "StepResult", "build", "run", "show_input"]

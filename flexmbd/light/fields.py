@@ -31,23 +31,23 @@ NODE_FIELDS = (
 ELEMENT_FIELDS = ("elems", "emod", "smod", "dens", "cshape", "dim", "orien", "nbeams", "flex",
                   "warping", "color", "hide", "opacity", "cw")
 
-#: options; ``spavisual`` is accepted for ported scripts (nothing is shown); ``filename``
-#: writes the model's .dat and the run's .sbd and .sbm
+#: options; ``spavisual`` true draws the result (``res.fighandle``), ``showinputonly`` the
+#: numbered input instead of a run; ``filename`` writes the model's .dat and the run's
+#: .sbd and .sbm
 OPTION_FIELDS = ("gravity", "loadsteps", "rls", "mode", "transfer", "calcbuck", "calccompl",
                  "rigidstress", "stressperelement", "silent", "filename", "spavisual",
-                 "nmodes", "meshcheck")
+                 "nmodes", "meshcheck", "customkin", "customdyn", "showinputonly")
 
 #: SPACAR Light options flexmbd does not take, with what to use instead
 UNSUPPORTED_OPTIONS = {
-    "customkin": "raw SPACAR lines: build the model with flexmbd.ModelBuilder instead",
-    "customdyn": "raw SPACAR lines: build the model with flexmbd.ModelBuilder instead",
     "customvis": "SPACAR's visualization lines: draw with flexmbd.plot",
-    "showinputonly": "use flexmbd.light.build(...) to get the model without running it",
 }
 
 TRANSFER_INPUTS = ("force_x", "force_y", "force_z")
 TRANSFER_OUTPUTS = ("displ_x", "displ_y", "displ_z", "veloc_x", "veloc_y", "veloc_z")
 SHAPES = ("rect", "circ")
+#: SPACAR Light refuses elements whose lengths differ more than this; flexmbd notes it
+LENGTH_RATIO = 1000.0
 #: SPACAR Light's default number of load steps (ITERSTEP with 9 increments)
 DEFAULT_LOADSTEPS = 10
 
@@ -68,7 +68,7 @@ def _given(props: Mapping[str, Any], name: str) -> bool:
     return not (isinstance(value, (list, tuple, np.ndarray)) and len(value) == 0)
 
 
-def _flag(props: Mapping[str, Any], name: str, where: str) -> bool:
+def flag(props: Mapping[str, Any], name: str, where: str) -> bool:
     if not _given(props, name):
         return False
     value = props[name]
@@ -176,10 +176,10 @@ def _node(props: Mapping[str, Any], where: str) -> NodeProps:
         if name not in NODE_FIELDS:
             raise unknown(where, str(name), NODE_FIELDS)
     p = NodeProps()
-    p.fix, p.fix_pos = _flag(props, "fix", where), _flag(props, "fix_pos", where)
-    p.fix_orien, p.fix_warp = _flag(props, "fix_orien", where), _flag(props, "fix_warp", where)
+    p.fix, p.fix_pos = flag(props, "fix", where), flag(props, "fix_pos", where)
+    p.fix_orien, p.fix_warp = flag(props, "fix_orien", where), flag(props, "fix_warp", where)
     p.fix_dirs = tuple(k for k, axis in enumerate("xyz", 1)
-                       if _flag(props, f"fix_{axis}", where))
+                       if flag(props, f"fix_{axis}", where))
     if p.fix and (p.fix_pos or p.fix_orien or p.fix_warp or p.fix_dirs):
         raise ArgumentError(where, "fix is combined with fix_pos, fix_orien, fix_warp or "
                                    "fix_x/y/z; fix already fixes the whole node")
@@ -368,14 +368,14 @@ def _element_set(props, where: str, j: int, elems: tuple[int, ...], notes: list[
             raise ArgumentError(f"{where}.flex", f"deformation modes are 1 to 6, got "
                                                  f"{props['flex']!r}")
         s.flex = tuple(sorted({int(k) for k in flex}))
-    s.warping = _flag(props, "warping", where)
+    s.warping = flag(props, "warping", where)
     if _given(props, "cw"):
         notes.append(f"{where}.cw is ignored, as SPACAR Light 1.38 ignores it: before 2019 "
                      f"cw = true multiplied a rectangular flexure's torsion stiffness GIt by "
                      f"a constrained-warping factor of its length and aspect, so a 2018 "
                      f"script gives other torsion frequencies here; warping = true models "
                      f"the constrained warping itself (warping beams)")
-    s.hide = _flag(props, "hide", where)
+    s.hide = flag(props, "hide", where)
     s.opacity = _scalar(props, "opacity", where)
     if s.opacity is not None and not 0.0 < s.opacity < 1.0:
         raise ArgumentError(f"{where}.opacity", f"must lie in (0, 1), got {s.opacity:g}")
@@ -415,6 +415,12 @@ class Options:
     nmodes: int | str | None = None
     #: flexmbd's option: rerun with every set's nbeams doubled and report the changes
     meshcheck: bool = False
+    #: SPACAR Light's pictures: the result drawn after the run, the input instead of it
+    spavisual: bool = False
+    showinputonly: bool = False
+    #: SPACAR lines added to the kinematics and dynamics blocks of the model's file
+    customkin: tuple[str, ...] = ()
+    customdyn: tuple[str, ...] = ()
 
 
 def options(opt, n_elements: int, notes: list[str]) -> Options:
@@ -444,20 +450,38 @@ def options(opt, n_elements: int, notes: list[str]) -> Options:
             raise ArgumentError("opt.mode", f"must be 10 (static) or 3 (inputs free), got "
                                             f"{mode:g}")
         o.mode = int(mode)
-    for name in ("calcbuck", "rigidstress", "stressperelement", "silent", "meshcheck"):
-        setattr(o, name, _flag(opt, name, "opt"))
+    for name in ("calcbuck", "rigidstress", "stressperelement", "silent", "meshcheck",
+                 "spavisual", "showinputonly"):
+        setattr(o, name, flag(opt, name, "opt"))
     if _given(opt, "calccompl"):
-        o.calccompl = _flag(opt, "calccompl", "opt")
-    _flag(opt, "spavisual", "opt")
+        o.calccompl = flag(opt, "calccompl", "opt")
     if _given(opt, "nmodes"):
         o.nmodes = _mode_count(opt["nmodes"])
     if _given(opt, "filename"):
         if not isinstance(opt["filename"], str):
             raise ArgumentError("opt.filename", f"must be a str, got {opt['filename']!r}")
         o.filename = opt["filename"]
+    for name in ("customkin", "customdyn"):
+        if _given(opt, name):
+            setattr(o, name, custom_lines(opt[name], name))
     _transfer(opt, o, notes)
     o.rls = _releases(opt.get("rls"), n_elements)
     return o
+
+
+def custom_lines(value, name: str) -> tuple[str, ...]:
+    """``opt.customkin`` or ``opt.customdyn`` (``name``) as lines: a list of strings (SPACAR
+    Light's cell array), or one string (lines split at newlines)."""
+    if isinstance(value, str):
+        return tuple(value.splitlines())
+    if not isinstance(value, Sequence) or not all(isinstance(v, str) for v in value):
+        raise ArgumentError(f"opt.{name}", f"must be a list of SPACAR input lines (str), as "
+                                           f"SPACAR Light's cell array {{'XM 4 0.5'}}; got "
+                                           f"{value!r}")
+    lines: list[str] = []
+    for text in value:
+        lines.extend(text.splitlines() or [""])
+    return tuple(lines)
 
 
 def _mode_count(value) -> int | str:
@@ -480,7 +504,7 @@ def _transfer(opt, o: Options, notes: list[str]) -> None:
     if len(items) not in (1, 2):
         raise ArgumentError("opt.transfer", f"must be true/false or [true, damping_ratio], got "
                                             f"{value!r}")
-    o.transfer = _flag({"transfer": items[0]}, "transfer", "opt")
+    o.transfer = flag({"transfer": items[0]}, "transfer", "opt")
     if len(items) == 2:
         ratio = _scalar({"transfer": items[1]}, "transfer", "opt")
         if ratio is None or ratio < 0:
@@ -522,3 +546,42 @@ def _releases(rls, n_elements: int) -> dict[int, tuple[int, ...]] | None:
             raise ArgumentError(where, f"deformation modes are 1 to 6, got {value!r}")
         out[int(element)] = tuple(sorted({int(k) for k in defs}))
     return out
+
+
+def geometry(nodes, elements, notes: list[str]) -> tuple[np.ndarray, np.ndarray]:
+    """Check ``nodes`` ``(n, 3)`` [m] and ``elements`` ``(m, 2)`` (user node numbers):
+    the positions and the pairs as ints; lengths beyond SPACAR Light's ratio noted."""
+    try:
+        positions = np.asarray(nodes, dtype=float)
+    except (TypeError, ValueError):
+        raise ArgumentError("nodes", "must be an (n, 3) array of positions [m]") from None
+    if positions.ndim != 2 or positions.shape[1] != 3 or not len(positions):
+        raise ArgumentError("nodes", f"must be an (n, 3) array of positions [m], got shape "
+                                     f"{positions.shape}")
+    if not np.all(np.isfinite(positions)):
+        raise ArgumentError("nodes", "holds a value that is not a finite number")
+    try:
+        raw = np.asarray(elements, dtype=float)
+    except (TypeError, ValueError):
+        raise ArgumentError("elements", "must be an (m, 2) array of node numbers") from None
+    raw = raw.reshape(1, -1) if raw.ndim == 1 else raw
+    if raw.ndim != 2 or raw.shape[1] != 2 or not len(raw):
+        raise ArgumentError("elements", f"must be an (m, 2) array of node numbers [p q], got "
+                                        f"shape {np.shape(elements)}")
+    n = len(positions)
+    if not np.all(np.isfinite(raw)) or np.any(raw != np.round(raw)) or \
+            np.any((raw < 1) | (raw > n)):
+        raise ArgumentError("elements", f"must hold node numbers 1 to {n} (the rows of nodes)")
+    pairs = raw.astype(int)
+    lengths = np.linalg.norm(positions[pairs[:, 1] - 1] - positions[pairs[:, 0] - 1], axis=1)
+    for i, length in enumerate(lengths, 1):
+        if pairs[i - 1, 0] == pairs[i - 1, 1]:
+            raise ArgumentError("elements", f"element {i} connects node {pairs[i - 1, 0]} to "
+                                            f"itself")
+        if length == 0.0:
+            raise ArgumentError("elements", f"element {i} has zero length (nodes "
+                                            f"{pairs[i - 1, 0]} and {pairs[i - 1, 1]} coincide)")
+    if lengths.max() / lengths.min() > LENGTH_RATIO:
+        notes.append(f"element lengths differ by more than {LENGTH_RATIO:g} times (SPACAR "
+                     f"Light refuses this)")
+    return positions, pairs

@@ -186,6 +186,8 @@ class LightResult:
         meshcheck: with ``opt.meshcheck`` (flexmbd's option), the largest relative
             change of the frequencies, the largest stress and the displacements when
             every set's ``nbeams`` is doubled, by name.
+        fighandle: with ``opt.spavisual`` true, the figure of the last step
+            (:meth:`plot`), as SPACAR Light's ``results.fighandle``.
     """
 
 
@@ -204,6 +206,7 @@ class LightResult:
     styles: dict = field(default_factory=dict)
     shapes: list = field(default_factory=list, repr=False)
     meshcheck: dict | None = None
+    fighandle: Any = None
     step: OneBased[StepResult] = field(init=False)
 
     @property

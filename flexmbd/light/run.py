@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -17,13 +18,22 @@ from ..analysis.statics import StaticResult, static_equilibrium
 from ..analysis.stresses import beam_stresses
 from ..errors import ArgumentError
 from ..progress import progress_bar
+from ..settings import RunSettings
 from .build import LightModel, assemble, rotational, translational
-from .fields import DEFAULT_LOADSTEPS, ElementSet, element_sets, node_props, options
+from .custom import with_custom_lines
+from .fields import (
+    DEFAULT_LOADSTEPS,
+    ElementSet,
+    element_sets,
+    flag,
+    geometry,
+    node_props,
+    options,
+)
+from .picture import show_input
 from .plausible import check_stress
 from .results import ElementResult, LightResult, LightStateSpace, NodeResult, OneBased
 
-#: SPACAR Light refuses elements whose lengths differ more than this; flexmbd notes it
-LENGTH_RATIO = 1000.0
 #: eigenfrequencies per step of a model too large for the whole spectrum (opt.nmodes)
 DEFAULT_MODES = 12
 
@@ -62,7 +72,7 @@ def build(nodes, elements, nprops=None, eprops=None, opt=None, *more) -> LightMo
     """
     opt = _older(opt, more)
     notes: list[str] = []
-    positions, pairs = _geometry(nodes, elements, notes)
+    positions, pairs = geometry(nodes, elements, notes)
     props = node_props(nprops, len(positions))
     sets = element_sets(eprops, len(pairs), notes)
     opt = options(opt, len(pairs), notes)
@@ -76,10 +86,26 @@ def build(nodes, elements, nprops=None, eprops=None, opt=None, *more) -> LightMo
                      f"{'have' if len(bare) > 1 else 'has'} no properties: rigid and massless")
     if not any(s.flex for s in sets):
         notes.append("no element has the flex property: nothing deforms")
-    return assemble(positions, pairs, props, sets, opt, notes)
+    lm = assemble(positions, pairs, props, sets, opt, notes)
+    if opt.customkin or opt.customdyn:
+        lm = with_custom_lines(lm, file_settings(lm, load_steps(lm)))
+    return lm
 
 
-def run(nodes, elements, nprops=None, eprops=None, opt=None, *more) -> LightResult:
+def load_steps(lm: LightModel) -> int:
+    """The load increments of a run of ``lm``: ``opt.loadsteps - 1`` (SPACAR Light's first
+    step carries only the ``*_initial`` loads), none when nothing is added over the steps."""
+    given = bool(lm.load_increment or lm.input_increment)
+    return (lm.options.loadsteps or DEFAULT_LOADSTEPS) - 1 if given else 0
+
+
+def file_settings(lm: LightModel, steps: int) -> RunSettings:
+    """The run settings of ``lm``'s SPACAR file: its increments over ``steps`` load steps."""
+    return RunSettings(load_increment=dict(lm.load_increment),
+                       input_increment=dict(lm.input_increment), load_steps=steps)
+
+
+def run(nodes, elements, nprops=None, eprops=None, opt=None, *more) -> LightResult | Any:
     """Run a SPACAR Light model: static equilibrium over the load steps and, at every
     step's equilibrium, the eigenfrequencies, buckling load factors, compliance of every
     node and largest stresses.
@@ -93,7 +119,10 @@ def run(nodes, elements, nprops=None, eprops=None, opt=None, *more) -> LightResu
             (``elems``, ``emod``, ``smod``, ``dens``, ``cshape``, ``dim``, ``orien``,
             ``nbeams``, ``flex``, ...).
         opt: options, a dict with SPACAR Light's fields (``gravity``, ``loadsteps``,
-            ``rls``, ``transfer``, ``calcbuck``, ``calccompl``, ``silent``, ...). Without
+            ``rls``, ``transfer``, ``calcbuck``, ``calccompl``, ``silent``, ...;
+            ``customkin`` and ``customdyn``, SPACAR lines added to the model's file as
+            SPACAR Light adds them, :mod:`flexmbd.light.custom`; ``spavisual`` true draws
+            the last step into ``res.fighandle``). Without
             ``rls`` the over-constraints are released automatically and printed.
             ``loadsteps`` keeps SPACAR Light's meaning: ``n`` steps (default 10), the first
             under the ``*_initial`` loads alone and the last with the whole ``force``,
@@ -106,7 +135,10 @@ def run(nodes, elements, nprops=None, eprops=None, opt=None, *more) -> LightResu
 
     Returns:
         :class:`~flexmbd.light.results.LightResult`, read as SPACAR Light's output:
-        ``res.node[j].p`` ``(3, nsteps)``, ``res.step[i].freq``, ``res.stressmax``, ...
+        ``res.node[j].p`` ``(3, nsteps)``, ``res.step[i].freq``, ``res.stressmax``, ...;
+        with ``opt.showinputonly`` true, instead, the numbered picture of the input (a
+        matplotlib figure, :func:`~flexmbd.light.show_input`), as SPACAR Light shows only
+        that.
 
     Raises:
         ArgumentError: a field, value or combination SPACAR Light refuses, named.
@@ -126,11 +158,14 @@ def run(nodes, elements, nprops=None, eprops=None, opt=None, *more) -> LightResu
         >>> res.node[2].p.shape
         (3, 3)
     """
-    lm = build(nodes, elements, nprops, eprops, _older(opt, more))
+    opt = _older(opt, more)
+    if isinstance(opt, Mapping) and flag(opt, "showinputonly", "opt"):
+        return show_input(nodes, elements, nprops, eprops, opt, window=True)
+    lm = build(nodes, elements, nprops, eprops, opt)
     opt_ = lm.options
     show = not opt_.silent
     given = bool(lm.load_increment or lm.input_increment)
-    steps = (opt_.loadsteps or DEFAULT_LOADSTEPS) - 1 if given else 0
+    steps = load_steps(lm)
     if opt_.loadsteps and opt_.loadsteps > 1 and not given and not opt_.transfer:
         lm.notes.append("opt.loadsteps: no force, moment, displ or rot is added over the "
                         "steps, so there is one step")
@@ -150,11 +185,12 @@ def run(nodes, elements, nprops=None, eprops=None, opt=None, *more) -> LightResu
     if opt_.filename:
         _write_files(lm, statics, steps, result)
     if opt_.meshcheck:
-        result.meshcheck = _mesh_check(result, nodes, elements, nprops, eprops,
-                                       _older(opt, more))
+        result.meshcheck = _mesh_check(result, nodes, elements, nprops, eprops, opt)
     if show:   # what the linearized steps and the mesh check noticed
         for note in lm.notes[told:]:
             print(f"flexmbd.light: {note}")
+    if opt_.spavisual:
+        result.fighandle = result.plot(window=True)
     return result
 
 
@@ -166,13 +202,11 @@ def _write_files(lm: LightModel, statics: StaticResult, steps: int, result: Ligh
     working directory's other files."""
     from ..io.dat import write_dat
     from ..io.sbd import write_sbd, write_sbm
-    from ..settings import RunSettings
 
     assert lm.options.filename is not None
     base = Path(lm.options.filename)
-    settings = RunSettings(load_increment=dict(lm.load_increment),
-                           input_increment=dict(lm.input_increment), load_steps=steps)
-    written = [write_dat(lm.model, base.with_name(base.name + ".dat"), settings)]
+    written = [write_dat(lm.model, base.with_name(base.name + ".dat"),
+                         file_settings(lm, steps))]
     if len(statics.t):
         written.append(write_sbd(base.with_name(base.name + ".sbd"), statics, 10))
         written.append(write_sbm(base.with_name(base.name + ".sbm"),
@@ -212,43 +246,6 @@ def _mesh_check(coarse: LightResult, nodes, elements, nprops, eprops, opt) -> di
         " (relative, over all steps): refine nbeams until the changes are below what you "
         "accept")
     return changes
-
-
-def _geometry(nodes, elements, notes: list[str]) -> tuple[np.ndarray, np.ndarray]:
-    try:
-        positions = np.asarray(nodes, dtype=float)
-    except (TypeError, ValueError):
-        raise ArgumentError("nodes", "must be an (n, 3) array of positions [m]") from None
-    if positions.ndim != 2 or positions.shape[1] != 3 or not len(positions):
-        raise ArgumentError("nodes", f"must be an (n, 3) array of positions [m], got shape "
-                                     f"{positions.shape}")
-    if not np.all(np.isfinite(positions)):
-        raise ArgumentError("nodes", "holds a value that is not a finite number")
-    try:
-        raw = np.asarray(elements, dtype=float)
-    except (TypeError, ValueError):
-        raise ArgumentError("elements", "must be an (m, 2) array of node numbers") from None
-    raw = raw.reshape(1, -1) if raw.ndim == 1 else raw
-    if raw.ndim != 2 or raw.shape[1] != 2 or not len(raw):
-        raise ArgumentError("elements", f"must be an (m, 2) array of node numbers [p q], got "
-                                        f"shape {np.shape(elements)}")
-    n = len(positions)
-    if not np.all(np.isfinite(raw)) or np.any(raw != np.round(raw)) or \
-            np.any((raw < 1) | (raw > n)):
-        raise ArgumentError("elements", f"must hold node numbers 1 to {n} (the rows of nodes)")
-    pairs = raw.astype(int)
-    lengths = np.linalg.norm(positions[pairs[:, 1] - 1] - positions[pairs[:, 0] - 1], axis=1)
-    for i, length in enumerate(lengths, 1):
-        if pairs[i - 1, 0] == pairs[i - 1, 1]:
-            raise ArgumentError("elements", f"element {i} connects node {pairs[i - 1, 0]} to "
-                                            f"itself")
-        if length == 0.0:
-            raise ArgumentError("elements", f"element {i} has zero length (nodes "
-                                            f"{pairs[i - 1, 0]} and {pairs[i - 1, 1]} coincide)")
-    if lengths.max() / lengths.min() > LENGTH_RATIO:
-        notes.append(f"element lengths differ by more than {LENGTH_RATIO:g} times (SPACAR "
-                     f"Light refuses this)")
-    return positions, pairs
 
 
 def _results(lm: LightModel, statics: StaticResult, show: bool) -> LightResult:
