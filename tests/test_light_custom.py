@@ -120,3 +120,26 @@ def test_spavisual_draws_the_last_step():
     res = _guide({"force": [1.0, 0, 0]}, {"spavisual": True})
     assert res.fighandle is not None and res.fighandle.axes
     assert _guide().fighandle is None
+
+
+# --- a warping flexure's state space ---------------------------------------------------------
+def test_a_warping_guide_s_state_space_is_exact_and_quiet():
+    """Thin warping leaves (50 x 0.1 mm, 8 beams each): the warping coordinates carry some
+    1e-17 of a translation's mass, so the mass matrix's condition is 1e18 in its units
+    alone. The state space is formed without LAPACK's ill-conditioning warning (the test
+    suite makes warnings errors), its static gain is the compliance computed from the
+    stiffness alone, and its poles are the vibration frequencies of the eigen path."""
+    leaf = dict(LEAF, dim=[0.05, 0.0001], nbeams=8, warping=True)
+    stage = {"elems": [3, 4], "dens": 7800, "cshape": "rect", "dim": [0.02, 0.01],
+             "orien": [0, 1, 0]}
+    nprops = {1: {"fix": True}, 3: {"fix": True},
+              5: {"transfer_in": ["force_x"], "transfer_out": ["displ_x"]}}
+    res = light.run(NODES, ELEMENTS, nprops, [dict(leaf, elems=[1, 2]), stage],
+                    {"silent": True, "transfer": [True, 0.0]})
+    ss = res.statespace
+    assert ss.static_gain()[0, 0] == pytest.approx(res.node[5].CMglob[0, 0, 0], rel=1e-7)
+    assert ss.truncated(3).static_gain()[0, 0] == pytest.approx(ss.static_gain()[0, 0],
+                                                                rel=1e-9)
+    poles = np.linalg.eigvals(ss.A)
+    lowest = np.sort(np.abs(poles.imag[poles.imag > 0]))[:4] / (2 * np.pi)
+    np.testing.assert_allclose(lowest, res.freq[:4, 0], rtol=1e-6)

@@ -28,7 +28,7 @@ from ..summary import dataclass_repr
 from .linearization import Linearization, central_differences
 from .modes import linearization_of, vibration_modes
 
-__all__ = ["StateSpace", "state_space"]
+__all__ = ["StateSpace", "equilibrated_solve", "mass_solver", "state_space"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -64,7 +64,7 @@ class StateSpace:
 
     def static_gain(self) -> np.ndarray:
         """``D - C A^-1 B`` ``(no, ni)``: the outputs per unit constant input."""
-        return self.D - self.C @ linalg.solve(self.A, self.B)
+        return self.D - self.C @ equilibrated_solve(self.A, self.B)
 
     def truncated(self, count: int) -> StateSpace:
         """The model reduced to its ``count`` modes of lowest natural frequency ``|p|``.
@@ -90,7 +90,7 @@ class StateSpace:
             raise ArgumentError("count", f"must be a whole number from 1 to {len(upper)}, "
                                          f"got {count!r}")
         kept = upper[np.argsort(np.abs(poles[upper]), kind="stable")[:count]]
-        left = linalg.solve(right, np.eye(len(poles)))[kept]  # rows of V^-1: c = w z
+        left = equilibrated_solve(right, np.eye(len(poles)))[kept]  # rows of V^-1: c = w z
         blocks, inputs, outputs = [], [], []
         for p, v, w in zip(poles[kept], right[:, kept].T, left, strict=True):
             wB, Cv = w @ self.B, self.C @ v
@@ -103,10 +103,22 @@ class StateSpace:
                 inputs.append(np.stack([wB.real, wB.imag]))
                 outputs.append(np.stack([2 * Cv.real, -2 * Cv.imag], axis=1))
         A, B, C = linalg.block_diag(*blocks), np.vstack(inputs), np.hstack(outputs)
-        D = self.static_gain() + C @ linalg.solve(A, B)
+        D = self.static_gain() + C @ equilibrated_solve(A, B)
         states = tuple(f"{part} c{k}" for k, p in enumerate(poles[kept], 1)
                        for part in (("re", "im") if p.imag else ("re",)))
         return StateSpace(A, B, C, D, self.inputs, self.outputs, states)
+
+
+def equilibrated_solve(A: np.ndarray, B: np.ndarray) -> np.ndarray:
+    """``A^-1 B`` for a square ``A`` whose rows and columns differ in scale by units (a
+    state matrix with warping coordinates spans 1e20): solved as ``(R A S) y = R B``,
+    ``A^-1 B = S y``, with ``R`` scaling each row of ``A`` to a largest entry of 1 and then
+    ``S`` each column. What is left of the condition is the model's own, and LAPACK's
+    warning, where it still comes, is about that."""
+    rows = 1.0 / np.max(np.abs(A), axis=1)
+    scaled = A * rows[:, None]
+    columns = 1.0 / np.max(np.abs(scaled), axis=0)
+    return columns[:, None] * linalg.solve(scaled * columns[None, :], rows[:, None] * B)
 
 
 def state_space(linearization, inputs, outputs=(), rate_outputs=(), *,
@@ -139,10 +151,11 @@ def state_space(linearization, inputs, outputs=(), rate_outputs=(), *,
     damping = lin.block("C") if damping_ratio is None else _modal_damping(lin, damping_ratio)
     A = np.zeros((2 * nd, 2 * nd))
     A[:nd, nd:] = np.eye(nd)
-    A[nd:, :nd] = -linalg.solve(M, K, assume_a="pos")
-    A[nd:, nd:] = -linalg.solve(M, damping, assume_a="pos")
+    mass_solve = mass_solver(M, [model.q_labels[j] for j in dynamic])
+    A[nd:, :nd] = -mass_solve(K)
+    A[nd:, nd:] = -mass_solve(damping)
     B = np.zeros((2 * nd, len(inputs)))
-    B[nd:] = linalg.solve(M, lin.transfer(inputs, "inputs").T, assume_a="pos")
+    B[nd:] = mass_solve(lin.transfer(inputs, "inputs").T)
     rows = [np.concatenate([position, np.zeros(nd)])
             for position in lin.transfer(outputs, "outputs")]
     velocity = _rate_transfer(lin) if rate_outputs else np.zeros((0, 0))
@@ -154,6 +167,35 @@ def state_space(linearization, inputs, outputs=(), rate_outputs=(), *,
     return StateSpace(A, B, C, np.zeros((len(rows), len(inputs))), tuple(inputs),
                       tuple(outputs) + tuple("xd" + label.strip()[1:] for label in rate_outputs),
                       tuple(names + [f"d/dt {n}" for n in names]))
+
+
+def mass_solver(M: np.ndarray, labels: list[str]):
+    """``R -> M^-1 R`` for the mass matrix ``M`` ``(nd, nd)`` of the degrees of freedom
+    ``labels``, by Cholesky of ``M`` scaled to a unit diagonal. The scaling changes
+    nothing in exact arithmetic and removes what is only units: a warping beam's warping
+    coordinate carries some 1e-17 of a translation's mass, so ``M`` itself has a condition
+    of 1e18 where the scaled one has the physical 1e8 (LAPACK's warning about the former
+    would be about the units, not the answer).
+
+    Raises:
+        SingularConfigurationError: a degree of freedom has no mass (named), or the
+            masses are not positive definite.
+    """
+    diagonal = np.diag(M)
+    if np.any(diagonal <= 0.0):
+        massless = [labels[j] for j in np.flatnonzero(diagonal <= 0.0)]
+        raise SingularConfigurationError(
+            f"no mass on {', '.join(massless[:8])}{' ...' if len(massless) > 8 else ''}: "
+            f"a state-space model needs mass on every degree of freedom (give the elements "
+            f"or nodes mass, or make those entries rigid)")
+    scale = 1.0 / np.sqrt(diagonal)
+    try:
+        factor = linalg.cho_factor(M * scale[:, None] * scale[None, :])
+    except linalg.LinAlgError:
+        raise SingularConfigurationError(
+            "the mass matrix of the degrees of freedom is not positive definite (a motion "
+            "of them moves no mass): give it mass, or make those entries rigid") from None
+    return lambda rhs: scale[:, None] * linalg.cho_solve(factor, scale[:, None] * rhs)
 
 
 def _modal_damping(lin: Linearization, ratio: float) -> np.ndarray:

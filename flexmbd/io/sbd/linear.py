@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from ...analysis.linearization import Linearization
-from ...analysis.statespace import StateSpace
+from ...analysis.statespace import StateSpace, mass_solver
 from ...errors import ArgumentError
 from .binary import write_records
 
@@ -118,8 +118,8 @@ def ltv_records(linearizations: Sequence[Linearization],
         blocks["C0B"].append(C)
         blocks["K0B"].append(K)
         if systems is None:
-            inverse = np.linalg.inv(M)
             nd = len(M)
+            inverse = mass_solver(M, [lin.model.q_labels[j] for j in lin.dynamic])(np.eye(nd))
             blocks["A"].append(np.block([[np.zeros((nd, nd)), np.eye(nd)],
                                          [-inverse @ K, -inverse @ C]]))
             blocks["B"].append(np.vstack([np.zeros((nd, nd)), inverse]))
