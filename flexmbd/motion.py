@@ -86,6 +86,28 @@ class Expression:
         return tuple(float(f(t)) for f in self._functions)  # type: ignore[return-value]
 
 
+@dataclass(frozen=True)
+class Shifted:
+    """A law less a constant ``offset``: ``law(t)`` with its value lowered by ``offset``
+    (its rate and second derivative unchanged). The builder makes one of an absolute
+    angle (``input_coordinate(..., absolute=True)``): the increment from the drawn one."""
+
+    law: Callable[[float], tuple[float, float, float]]
+    offset: float
+
+    def __call__(self, t: float) -> tuple[float, float, float]:
+        value, rate, acceleration = self.law(t)
+        return (value - self.offset, rate, acceleration)
+
+
+def shifted(law, offset: float):
+    """``law`` less ``offset`` [m or rad]: a :class:`Polynomial` stays one (SPACAR files
+    write only those), any other law becomes :class:`Shifted`."""
+    if isinstance(law, Polynomial):
+        return Polynomial(law.x0 - offset, law.v0, law.a0)
+    return Shifted(law, offset)
+
+
 #: anything that maps time to (value, rate, second derivative)
 Law = Callable[[float], tuple[float, float, float]]
 

@@ -278,3 +278,45 @@ def test_a_released_beam_end_without_stiffness_builds_with_a_warning():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         arm(bending=0.0).build()
+
+
+def _crank(law, absolute=False, extra_beam_angle=None):
+    """A crank of 0.1 m drawn at 90 degrees on a pivot; optionally a second arm on it."""
+    b = fm.ModelBuilder("crank")
+    b.add_node(1, 0, 0).add_node(3, 0, 0.1).add_rigid_beam(1, 1, 2, 3).set_mass(1, 1.0).fix(1)
+    if extra_beam_angle is not None:
+        b.add_node(5, 0.1 * math.cos(extra_beam_angle), 0.1 * math.sin(extra_beam_angle))
+        b.add_rigid_beam(2, 1, 2, 5)
+    return b.input_coordinate(2, law=law, absolute=absolute).build()
+
+
+def test_an_input_angle_given_absolute_starts_as_drawn():
+    """absolute=True: Polynomial(pi/2, w) on a crank drawn at 90 degrees starts it as drawn
+    and turns it to pi/2 + w t (the pin at 0.1 (cos, sin) of that), the model keeping the
+    increment, a Polynomial still; any other law is shifted as well."""
+    for law in (fm.Polynomial(math.pi / 2, 1.0), "pi/2 + t"):
+        model = _crank(law, absolute=True)
+        run = fm.kinematic_analysis(model, [0.0, 1.0])
+        np.testing.assert_allclose(run["x3.1"], 0.1 * np.cos(math.pi / 2 + run.t), atol=1e-12)
+        np.testing.assert_allclose(run["x3.2"], 0.1 * np.sin(math.pi / 2 + run.t), atol=1e-12)
+    assert _crank(fm.Polynomial(math.pi / 2, 1.0), True).input_laws["x2.1"] == \
+        fm.Polynomial(0.0, 1.0)
+
+
+def test_an_increment_that_starts_at_the_drawn_angle_is_warned_about():
+    with pytest.warns(fm.ModelWarning, match=r"starts at 1\.5708 rad, the drawn angle .* "
+                                             r"absolute=True"):
+        _crank(fm.Polynomial(math.pi / 2, 1.0))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        _crank(fm.Polynomial(0.0, 1.0))                      # as drawn: nothing to say
+        _crank(fm.Polynomial(math.pi / 2, 1.0), absolute=True)
+
+
+def test_absolute_needs_one_drawn_angle():
+    with pytest.raises(fm.ModelError, match=r"absolute=True: its elements are drawn at "
+                                            r"different angles \(element 1 at 90 deg, element "
+                                            r"2 at 0 deg\)"):
+        _crank(fm.Polynomial(math.pi / 2, 1.0), absolute=True, extra_beam_angle=0.0)
+    with pytest.raises(fm.ArgumentError, match="absolute"):
+        _crank(fm.Polynomial(0.0, 1.0), absolute="yes")

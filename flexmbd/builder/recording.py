@@ -111,6 +111,8 @@ class Request:
     k: int | str | None
     law: Law | None
     command: str
+    #: the law gives a planar node's absolute angle, not the increment from the drawn one
+    absolute: bool = False
 
 
 @dataclass
@@ -382,7 +384,7 @@ class ModelBuilder:
             return None
         return law
 
-    def _coordinates(self, what, node, directions, law=None, command=""):
+    def _coordinates(self, what, node, directions, law=None, command="", absolute=False):
         law = self._law(law, command, node)
         if law is not None and len(directions) > 1:
             self._problem(
@@ -390,7 +392,8 @@ class ModelBuilder:
             )
             law = None
         for k in directions or (None,):
-            self._records.coordinate_requests.append(Request(what, node, k, law, command))
+            self._records.coordinate_requests.append(Request(what, node, k, law, command,
+                                                             absolute))
         return self
 
     def _deformations(self, what, element, ks, law=None, command=""):
@@ -408,8 +411,8 @@ class ModelBuilder:
         """Fix coordinates of ``node`` (FIX): all of them when no direction is given."""
         return self._coordinates(CoordinateClass.FIXED, node, directions, command="fix")
 
-    def input_coordinate(self, node: int, *directions: int | str, law: Law | None = None
-                         ) -> ModelBuilder:
+    def input_coordinate(self, node: int, *directions: int | str, law: Law | None = None,
+                         absolute: bool = False) -> ModelBuilder:
         """Prescribe coordinates of ``node`` as kinematic inputs (INPUTX).
 
         ``law`` (for one direction) is the default motion, e.g.
@@ -417,9 +420,15 @@ class ModelBuilder:
         coordinate's value: a position is absolute [m], but a planar node's angle counts
         from the drawn orientation [rad] (the elements hold the drawn angles), so a crank
         drawn at 90 degrees starts as drawn with ``Polynomial(0, omega)``;
-        ``Polynomial(pi/2, omega)`` would start it at 180 degrees.
+        ``Polynomial(pi/2, omega)`` would start it at 180 degrees (the build warns when a
+        law starts at the drawn angle itself, the likely slip). With ``absolute=True`` the
+        law gives the angle of the node's elements instead, ``Polynomial(pi/2, omega)``
+        starting the crank as drawn: the model keeps the increment (a ``Polynomial``
+        stays one, so its ``.dat`` file says the same); the elements on the node must be
+        drawn at one angle. Positions and spatial rotations are absolute already.
         """
-        return self._coordinates(CoordinateClass.INPUT, node, directions, law, "input_coordinate")
+        return self._coordinates(CoordinateClass.INPUT, node, directions, law,
+                                 "input_coordinate", checks.flag(absolute, "absolute"))
 
     def dynamic_coordinate(self, node: int, *directions: int | str) -> ModelBuilder:
         """Make coordinates of ``node`` dynamic degrees of freedom (DYNX)."""
@@ -687,6 +696,8 @@ class ModelBuilder:
             raise ModelError(problems)
         for hinge in hinges:   # the model builds: say what is probably meant, once
             warnings.warn(str(hinge), ModelWarning, stacklevel=2)
+        for slip in validation.absolute_slips(self._records, model):
+            warnings.warn(slip, ModelWarning, stacklevel=2)
         negative = negative_mass_problem(workspace_of(model)) if any(
             mass < 0 for mass in model.nodal_masses.values()) else None
         if negative:

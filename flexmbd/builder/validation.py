@@ -47,7 +47,7 @@ from ..model import (
     direction_number,
     frozen_array,
 )
-from ..motion import Law
+from ..motion import Law, shifted
 
 if TYPE_CHECKING:
     from .recording import Records
@@ -208,6 +208,7 @@ def assemble(records: Records, kinds: dict[int, str], problems: list[str]) -> Mo
     laws: dict[str, Law] = {}
     _classify(records.coordinate_requests, nodes, "node", _coordinates_named,
                    labels, coordinate_class, laws, problems)
+    _absolute_laws(records.coordinate_requests, nodes, elements, labels, laws, problems)
     _classify(records.deformation_requests, elements, "element",
                    _deformations_named, deformation_labels, deformation_class, laws,
                    problems)
@@ -484,6 +485,78 @@ def warn_massless(model: Model) -> None:
     if massless:
         warnings.warn(f"{message}; a simulation or vibration modes would refuse the "
                       f"model (its statics need no mass)", ModelWarning, stacklevel=3)
+
+
+#: drawn angles closer than this [rad] are one angle (and a law's start at one is "at" it)
+SAME_ANGLE = 1e-9
+
+
+def drawn_angles(elements, node: int) -> dict[int, float]:
+    """The drawn chord angles [rad] of the planar elements turning with rotational
+    ``node``, by element (a hinge has none)."""
+    return {number: float(e.reference[1]) for number, e in elements.items()
+            if len(e.reference) >= 2 and not e.type.is_spatial() and any(
+                n == node and role.kind == ROTATIONAL
+                for n, role in zip(e.nodes, e.type.roles, strict=True))}
+
+
+def _one_angle(angles: dict[int, float]) -> float | None:
+    """The common angle of ``angles`` (equal modulo 2 pi), or None."""
+    values = list(angles.values())
+    if not values:
+        return None
+    turns = [(v - values[0] + np.pi) % (2 * np.pi) - np.pi for v in values]
+    return values[0] if max(abs(d) for d in turns) <= SAME_ANGLE else None
+
+
+def _absolute_laws(requests, nodes, elements, labels, laws, problems) -> None:
+    """Make the laws of ``input_coordinate(..., absolute=True)`` on planar rotational nodes
+    increments from the drawn angle of the node's elements (positions and spatial
+    rotations are absolute already)."""
+    for req in requests:
+        node = nodes.get(req.number)
+        if not req.absolute or req.law is None or node is None or node.kind != ROTATIONAL:
+            continue
+        label = labels[node.coordinates[0]]
+        angles = drawn_angles(elements, req.number)
+        common = _one_angle(angles)
+        if common is not None:
+            laws[label] = shifted(req.law, common)
+            continue
+        drawn = ", ".join(f"element {e} at {np.degrees(a):.6g} deg" for e, a in angles.items())
+        problems.append(Problem(
+            f"{req.command} node {req.number} absolute=True: "
+            + (f"its elements are drawn at different angles ({drawn}), so an absolute angle "
+               f"is not one turn of the node" if angles else
+               "no element with a drawn chord turns with it (a hinge alone)")
+            + "; give the law as the increment from the drawn orientation (absolute=False)",
+            ("node", req.number)))
+
+
+def absolute_slips(records: Records, model: Model) -> list[str]:
+    """Input laws of planar rotational nodes given as increments (not ``absolute``) that
+    start at the drawn angle of the node's elements (not 0): most likely an absolute angle
+    given where an increment is meant, turning the node twice as far."""
+    found = []
+    for req in records.coordinate_requests:
+        node = model.nodes.get(req.number)
+        if req.absolute or req.law is None or node is None or node.kind != ROTATIONAL:
+            continue
+        common = _one_angle(drawn_angles(model.elements, req.number))
+        try:
+            start = float(req.law(0.0)[0])
+        except Exception:   # a law that fails at 0 is reported where it is used
+            continue
+        if common is None or abs(common) <= SAME_ANGLE or abs(start - common) > SAME_ANGLE:
+            continue
+        label = model.coordinate_labels[node.coordinates[0]]
+        found.append(
+            f"input_coordinate node {req.number}: its law starts at {start:.6g} rad, the drawn "
+            f"angle of its elements, but an input angle counts from the drawn orientation, so "
+            f"{label} starts {np.degrees(start):.6g} deg beyond it ({np.degrees(2 * start):.6g}"
+            f" deg); give the law's start as 0 to start as drawn, or absolute=True to give "
+            f"angles as drawn")
+    return found
 
 
 def _classify(requests, owners, what: str, named, labels, classes, laws, problems):
