@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..builder import ModelBuilder
+from ..elements.spatial_beam import default_orientation
 from ..errors import ArgumentError, ModelError
 from ..model import Model
 from ..motion import Polynomial
@@ -116,11 +117,12 @@ def assemble(positions: np.ndarray, elements: np.ndarray, props: dict[int, NodeP
             check_section(f"eprops({s.number})", s.dim, length, i, notes)
             if len(notes) > before:
                 checked.add(s.number)
+        orien = _orientation(i, positions[p - 1], positions[q - 1], s, notes)
         count = s.nbeams if s else 1
         section = section_of(s) if s else None
         ends = _warping_ends(s, int(p), int(q), notes)
         builder.add_spatial_beams(next_beam, translational(p), rotational(p), translational(q),
-                                  rotational(q), count, s.orien if s else (0.0, 1.0, 0.0),
+                                  rotational(q), count, orien,
                                   new_nodes=next_node, dynamic=(), node_step=3, warping=ends)
         if ends:
             nodes = {*ends, *(next_node + 3 * k + 2 for k in range(count - 1))}
@@ -159,6 +161,37 @@ def assemble(positions: np.ndarray, elements: np.ndarray, props: dict[int, NodeP
     return LightModel(model, positions, elements, beams, {i: owner.get(i) for i in beams},
                       connected, increments[0], increments[1], inputs, outputs, releases, opt,
                       notes, _styles(beams, owner, notes))
+
+
+#: the sine between an element and its orientation vector below which SPACAR Light refuses
+#: the vector as (almost) along the element
+ALONG = 1e-5
+
+
+def _orientation(element: int, p: np.ndarray, q: np.ndarray, s: ElementSet | None,
+                 notes: list[str]) -> tuple[float, float, float]:
+    """The orientation vector of user element ``element`` from ``p`` to ``q`` [m]: its
+    set's ``orien`` (default ``[0 1 0]``). One along the element is refused, naming the
+    field, where it matters (a rectangular section's width direction, as SPACAR Light
+    refuses it); for a round or no section SPACAR's own choice replaces it, noted."""
+    orien = s.orien if s else (0.0, 1.0, 0.0)
+    along = (q - p) / np.linalg.norm(q - p)
+    vector = np.array(orien) / np.linalg.norm(orien)
+    if np.sqrt(max(1.0 - float(np.dot(along, vector)) ** 2, 0.0)) >= ALONG:
+        return orien
+    direction = ", ".join(f"{v:.4g}" for v in along)
+    if s is not None and s.cshape == "rect":   # (a rectangle is given its orien)
+        raise ArgumentError(f"eprops({s.number}).orien",
+                            f"orien lies along element {element} ({direction}): give a "
+                            f"vector across the set's elements (the rectangle's width "
+                            f"direction)")
+    chosen = tuple(float(v) for v in default_orientation(along)[0])
+    notes.append(f"element {element} lies along its orientation vector "
+                 f"[{' '.join(f'{v:g}' for v in orien)}], which "
+                 f"{'a round section' if s is not None else 'an element without a set'} "
+                 f"does not need: SPACAR's choice [{' '.join(f'{v:g}' for v in chosen)}] is "
+                 f"taken instead")
+    return chosen  # type: ignore[return-value]
 
 
 def _styles(beams: dict[int, tuple[int, ...]], owner: dict[int, ElementSet],

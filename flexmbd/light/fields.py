@@ -336,6 +336,14 @@ def _element_set(props, where: str, j: int, elems: tuple[int, ...], notes: list[
                  ) -> ElementSet:
     s = ElementSet(j, elems)
     s.emod, s.smod, s.dens = (_scalar(props, n, where) for n in ("emod", "smod", "dens"))
+    for name, unit in (("emod", "Pa"), ("smod", "Pa")):
+        value = getattr(s, name)
+        if value is not None and value <= 0.0:
+            raise ArgumentError(f"{where}.{name}", f"must be a positive modulus [{unit}], got "
+                                                   f"{value:g}")
+    if s.dens is not None and s.dens < 0.0:
+        raise ArgumentError(f"{where}.dens", f"must be a density >= 0 [kg/m^3], got "
+                                             f"{s.dens:g}")
     check_material(where, s.emod, s.smod, s.dens, notes)
     if _given(props, "cshape"):
         if props["cshape"] not in SHAPES:
@@ -347,6 +355,10 @@ def _element_set(props, where: str, j: int, elems: tuple[int, ...], notes: list[
             wanted = "[width thickness]" if s.cshape == "rect" else "[diameter]"
             raise ArgumentError(where, f"cshape {s.cshape!r} needs dim ({wanted} in m)")
         s.dim = tuple(float(d) for d in dim)
+        if min(s.dim) <= 0.0:
+            wanted = "[width thickness]" if s.cshape == "rect" else "[diameter]"
+            raise ArgumentError(f"{where}.dim", f"must be positive lengths [m] ({wanted}), "
+                                                f"got {list(s.dim)}")
     elif _given(props, "dim"):
         notes.append(f"{where}.dim is not used without cshape")
     orien = _numbers(props, "orien", where, 3)
@@ -379,7 +391,7 @@ def _element_set(props, where: str, j: int, elems: tuple[int, ...], notes: list[
     s.opacity = _scalar(props, "opacity", where)
     if s.opacity is not None and not 0.0 < s.opacity < 1.0:
         raise ArgumentError(f"{where}.opacity", f"must lie in (0, 1), got {s.opacity:g}")
-    s.color = props.get("color")
+    s.color = _color(props, where)
     if s.flex:
         for name in ("cshape", "emod", "smod", "dens"):
             if getattr(s, name) is None:
@@ -392,6 +404,25 @@ def _element_set(props, where: str, j: int, elems: tuple[int, ...], notes: list[
             raise ArgumentError(where, "dens needs cshape and dim (the mass comes from the "
                                        "section)")
     return s
+
+
+def _color(props: Mapping[str, Any], where: str):
+    """``color``: SPACAR Light's ``[r g b]`` (0 to 1), or a name matplotlib knows."""
+    if not _given(props, "color"):
+        return None
+    value = props["color"]
+    from matplotlib.colors import is_color_like
+
+    if isinstance(value, str) and is_color_like(value):
+        return value
+    try:
+        rgb = _numbers(props, "color", where, 3)
+    except ArgumentError:
+        rgb = None
+    if rgb is None or np.any((rgb < 0) | (rgb > 1)):
+        raise ArgumentError(f"{where}.color", f"must be [r g b] from 0 to 1 (or a colour "
+                                              f"name), got {value!r}")
+    return tuple(float(c) for c in rgb)
 
 
 @dataclass

@@ -17,11 +17,13 @@ import numpy as np
 
 from ..errors import ModelWarning
 
-__all__ = ["LARGEST_STRESS", "SOFTEST_MODULUS", "check_material", "check_rotation",
-           "check_section", "check_stress"]
+__all__ = ["LARGEST_STRESS", "SOFTEST_MODULUS", "check_displacements", "check_material",
+           "check_rotation", "check_section", "check_stress"]
 
 #: below this a modulus [Pa] is softer than any rubber: a number in GPa or MPa, likely
 SOFTEST_MODULUS = 1e6
+#: how far outside [0, 0.5] the Poisson's ratio from emod and smod may lie (rounded moduli)
+POISSON_SLACK = 0.02
 #: below this a density [kg/m^3] is lighter than any foam: g/cm^3, likely
 LIGHTEST_DENSITY = 30.0
 #: above this a stress [Pa] is beyond any material's strength (the strongest fibres stay
@@ -42,6 +44,12 @@ def check_material(where: str, emod: float | None, smod: float | None,
         if value is not None and 0 < value < SOFTEST_MODULUS:
             say(f"{where}.{name} = {value:g} Pa is softer than any rubber: moduli are in "
                 f"Pa ({value:g} GPa is {value:g}e9)", notes)
+    if emod and smod and emod >= SOFTEST_MODULUS and smod >= SOFTEST_MODULUS:
+        nu = emod / (2.0 * smod) - 1.0
+        if not -POISSON_SLACK <= nu <= 0.5 + POISSON_SLACK:
+            say(f"{where}: emod / (2 smod) - 1 = {nu:.3g} is no Poisson's ratio of an isotropic "
+                f"solid (0 to 0.5; steel 0.3): smod is the shear modulus G = E / (2 (1 + nu)), "
+                f"{emod / 2.6:.3g} Pa for nu = 0.3", notes)
     if dens is not None and 0 < dens < LIGHTEST_DENSITY:
         say(f"{where}.dens = {dens:g} kg/m^3 is lighter than any foam: densities are in "
             f"kg/m^3 ({dens:g} g/cm^3 is {dens * 1e3:g})", notes)
@@ -52,6 +60,20 @@ def check_section(where: str, dim, length: float, element: int, notes: list[str]
     if dim and max(dim) > length:
         say(f"{where}.dim = {list(dim)} m is larger than element {element}, {length:.4g} m "
             f"long: dimensions are in m ({max(dim):g} mm is {max(dim) / 1e3:g})", notes)
+
+
+def check_displacements(props: dict, positions: np.ndarray, notes: list[str]) -> None:
+    """Prescribed displacements (``displ_*``, ``displ_initial_*``) [m] of the node
+    properties ``props`` (by user node) larger than the whole model, whose size comes from
+    ``positions`` ``(n, 3)`` [m]: mm, likely."""
+    size = float(np.max(np.ptp(positions, axis=0)))
+    for j, p in sorted(props.items()):
+        for name, moved in (("displ", p.displ), ("displ_initial", p.displ_initial)):
+            for k, value in sorted(moved.items()):
+                if size > 0 and abs(value) > size:
+                    say(f"nprops({j}).{name}_{'xyz'[k - 1]} = {value:g} m is larger than the "
+                        f"whole model ({size:.4g} m across): displacements are in m ({value:g} "
+                        f"mm is {value / 1e3:g})", notes)
 
 
 def check_rotation(where: str, name: str, angle: float) -> None:

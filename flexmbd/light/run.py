@@ -4,6 +4,7 @@ linearized at every step's equilibrium."""
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -31,7 +32,7 @@ from .fields import (
     options,
 )
 from .picture import show_input
-from .plausible import check_stress
+from .plausible import check_displacements, check_stress
 from .results import ElementResult, LightResult, LightStateSpace, NodeResult, OneBased
 
 #: eigenfrequencies per step of a model too large for the whole spectrum (opt.nmodes)
@@ -74,6 +75,7 @@ def build(nodes, elements, nprops=None, eprops=None, opt=None, *more) -> LightMo
     notes: list[str] = []
     positions, pairs = geometry(nodes, elements, notes)
     props = node_props(nprops, len(positions))
+    check_displacements(props, positions, notes)
     sets = element_sets(eprops, len(pairs), notes)
     opt = options(opt, len(pairs), notes)
     constraints = sum(p.constraints for p in props.values())
@@ -182,6 +184,7 @@ def run(nodes, elements, nprops=None, eprops=None, opt=None, *more) -> LightResu
                                  input_increment=lm.input_increment or None, steps=steps,
                                  progress=None if show else False)
     result = _results(lm, statics, show)
+    lm.notes[told:] = merged_step_notes(lm.notes[told:])
     if opt_.filename:
         _write_files(lm, statics, steps, result)
     if opt_.meshcheck:
@@ -266,8 +269,12 @@ def _results(lm: LightModel, statics: StaticResult, show: bool) -> LightResult:
         lm.notes.append("opt.calcbuck: no loads are applied, so there are no buckling load "
                         "factors")
     shapes: list[dict] = [{} for _ in lins]
+    if not ndof:
+        lm.notes.append("the model has no degrees of freedom (no flexible deformation is "
+                        "left free): no eigenfrequencies or buckling load factors; give the "
+                        "flexures' sets flex")
     with progress_bar(statics.t, "linearized load steps", None if show else False) as advance:
-        for row, lin in enumerate(lins):
+        for row, lin in enumerate(lins if ndof else ()):
             _fill(freq, row, lambda lin=lin, row=row: _kept(
                 shapes[row], "freqmodes", vibration_modes(lin, count)),
                 lm.notes, "eigenfrequencies")
@@ -332,6 +339,37 @@ def _kept(shapes: dict, name: str, found) -> np.ndarray:
     return their frequencies or factors."""
     shapes[name] = found.shapes
     return found.frequencies if name == "freqmodes" else found.factors
+
+
+_STEP_NOTE = re.compile(r"^(?P<what>.+?) at step (?P<step>\d+): (?P<why>.*)$", re.DOTALL)
+
+
+def merged_step_notes(notes: list[str]) -> list[str]:
+    """``notes`` with the same note of several load steps said once, naming the steps
+    ("eigenfrequencies at steps 1 to 10: ..."), where the first of them stood."""
+    steps: dict[tuple[str, str], list[int]] = {}
+    for note in notes:
+        found = _STEP_NOTE.match(note)
+        if found:
+            steps.setdefault((found["what"], found["why"]), []).append(int(found["step"]))
+    out, said = [], set()
+    for note in notes:
+        found = _STEP_NOTE.match(note)
+        if not found:
+            out.append(note)
+            continue
+        key = (found["what"], found["why"])
+        if key in said:
+            continue
+        said.add(key)
+        numbers = steps[key]
+        if len(numbers) == 1:
+            out.append(note)
+            continue
+        run = numbers == list(range(numbers[0], numbers[-1] + 1))
+        which = (f"{numbers[0]} to {numbers[-1]}" if run else ", ".join(map(str, numbers)))
+        out.append(f"{key[0]} at steps {which}: {key[1]}")
+    return out
 
 
 def _fill(table: np.ndarray, row: int, values, notes: list[str], what: str) -> None:
