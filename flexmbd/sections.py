@@ -72,6 +72,43 @@ class Material:
         """Poisson's ratio ``E / (2 G) - 1`` [-], as SPACAR Light takes it."""
         return self.E / (2.0 * self.G) - 1.0
 
+    def doubts(self) -> list[str]:
+        """What in the numbers points at another unit or at swapped moduli: a modulus
+        softer than any rubber (GPa or MPa given for Pa), a density lighter than any foam
+        (g/cm^3 for kg/m^3), a Poisson's ratio no isotropic solid has. Empty when they
+        look like a material's."""
+        return material_doubts(self.E, self.G, self.rho)
+
+
+#: below this a modulus [Pa] is softer than any rubber: a number in GPa or MPa, likely
+SOFTEST_MODULUS = 1e6
+#: below this a density [kg/m^3] is lighter than any foam: g/cm^3, likely
+LIGHTEST_DENSITY = 30.0
+#: how far outside [0, 0.5] a Poisson's ratio from E and G may lie (rounded moduli)
+POISSON_SLACK = 0.02
+
+
+def material_doubts(E: float | None, G: float | None, rho: float | None,
+                    names: tuple[str, str, str] = ("E", "G", "rho")) -> list[str]:
+    """:meth:`Material.doubts` of moduli ``E``, ``G`` [Pa] and density ``rho`` [kg/m^3]
+    (``None``: not given; infinite: rigid), each message naming its value by ``names``."""
+    out = []
+    for name, value in zip(names[:2], (E, G), strict=True):
+        if value is not None and 0 < value < SOFTEST_MODULUS:
+            unit, factor = ("GPa", 1e9) if value < 1e3 else ("MPa (N/mm^2)", 1e6)
+            out.append(f"{name} = {value:g} Pa is softer than any rubber: moduli are in Pa "
+                       f"({value:g} {unit} is {value * factor:g})")
+    if E and G and SOFTEST_MODULUS <= E < math.inf and SOFTEST_MODULUS <= G < math.inf:
+        nu = E / (2.0 * G) - 1.0
+        if not -POISSON_SLACK <= nu <= 0.5 + POISSON_SLACK:
+            out.append(f"{names[0]} / (2 {names[1]}) - 1 = {nu:.3g} is no Poisson's ratio of "
+                       f"an isotropic solid (0 to 0.5; steel 0.3): {names[1]} is the shear "
+                       f"modulus E / (2 (1 + nu)), {E / 2.6:.3g} Pa for nu = 0.3")
+    if rho is not None and 0 < rho < LIGHTEST_DENSITY:
+        out.append(f"{names[2]} = {rho:g} kg/m^3 is lighter than any foam: densities are in "
+                   f"kg/m^3 ({rho:g} g/cm^3 is {rho * 1e3:g})")
+    return out
+
 
 @dataclass(frozen=True)
 class SectionProperties:

@@ -210,3 +210,14 @@ def test_work_needs_the_driving_loads_of_moving_drives():
         fm.energy(run)
     with pytest.raises(fm.ArgumentError, match="forces"):
         fm.energy(fm.simulate(_free_mass(), np.linspace(0, 0.1, 11)), forces=3.0)
+
+
+def test_load_steps_have_energies_but_no_work_in_time():
+    """A static result's rows are load factors, not times: its elastic energy is there
+    (a cantilever's P^2 l^3 / (6 EI) at the tip load P), no work or balance columns."""
+    b = fm.ModelBuilder("cantilever")
+    b.add_node(1, 0, 0).add_node(3, 1, 0).add_beam(1, 1, 2, 3, 4)
+    b.set_stiffness(1, axial=1e9, bending=10.0).fix(1).fix(2).dynamic_deformation(1)
+    energy = fm.energy(fm.static_equilibrium(b.build(), load_increment={"x3.2": -0.01}))
+    assert list(energy) == ["t", "kinetic", "elastic", "gravity", "total"]
+    assert energy["elastic"][-1] == pytest.approx(0.01**2 / (6 * 10.0), rel=1e-4)

@@ -30,12 +30,17 @@ def _guide(stage=None, leaf=None, opt=None):
     ({"dens": -7800}, r"eprops\(1\)\.dens: must be a density >= 0"),
     ({"dim": [0.02, -0.0005]}, r"eprops\(1\)\.dim: must be positive lengths \[m\] "
                                r"\(\[width thickness\]\)"),
-    ({"color": "purpleish"}, r"eprops\(1\)\.color: must be \[r g b\] from 0 to 1"),
-    ({"color": [0, 0, 255]}, r"eprops\(1\)\.color: must be \[r g b\] from 0 to 1"),
 ])
 def test_impossible_set_fields_are_named(leaf, match):
     with pytest.raises(ArgumentError, match=match):
         _guide(leaf=leaf)
+
+
+@pytest.mark.parametrize("color", ["purpleish", [0, -1, 300]])
+def test_a_colour_no_one_knows_is_drawn_grey_and_noted(color):
+    res = _guide(leaf={"color": color})
+    assert "color" not in res.styles[1]
+    assert any(f"eprops(1).color {color!r} is drawn grey" in note for note in res.notes)
 
 
 def test_an_unset_element_along_the_default_orientation_takes_spacar_s_choice():

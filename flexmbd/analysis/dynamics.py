@@ -104,6 +104,22 @@ def reduced_mass_matrix(model: Model, x: np.ndarray) -> np.ndarray:
     return F_q.T @ mass_matrix(model, x) @ F_q
 
 
+def _check_input_laws(model: Model, inputs: Mapping[str, Law] | None) -> None:
+    """Refuse a law given to a simulation for a dynamic degree of freedom: the integrator
+    moves it, so the law would not be used."""
+    if not isinstance(inputs, Mapping):
+        return          # resolve_laws says what inputs must be
+    for label in inputs:
+        j = q_index(model, label, "inputs")
+        if not model.q_is_input[j]:
+            raise ArgumentError("inputs", f"{label} is a dynamic degree of freedom, which the "
+                                          f"simulation integrates, so a law for it would not "
+                                          f"be used: give its start as initial={{{label!r}: "
+                                          f"(value, rate)}}, or make it an input in the model "
+                                          f"(input_coordinate / input_deformation) to "
+                                          f"prescribe it")
+
+
 def initial_state(model: Model, initial: Mapping[str, tuple[float, float]] | None
                   ) -> tuple[np.ndarray, np.ndarray]:
     """``q_d(0), qdot_d(0)`` of the dynamic entries: the initial configuration at rest
@@ -116,15 +132,16 @@ def initial_state(model: Model, initial: Mapping[str, tuple[float, float]] | Non
     for label, pair in (initial or {}).items():
         j = q_index(model, label, "initial")
         if not d[j]:
-            raise ModelError(f"initial value given for {label}, which is prescribed, not "
-                             f"dynamic; its law sets its value")
+            raise ArgumentError("initial", f"{label} is prescribed, not dynamic: its law "
+                                           f"sets its value (inputs={{{label!r}: law}} "
+                                           f"changes it)")
         try:
             q0[j], qd0[j] = (float(v) for v in pair)
         except (TypeError, ValueError):
-            raise ModelError(f"initial value of {label} must be (value, rate), got "
-                             f"{pair!r}") from None
+            raise ArgumentError("initial", f"{label} takes (value, rate) [m or rad, per s], "
+                                           f"got {pair!r}") from None
         if not (np.isfinite(q0[j]) and np.isfinite(qd0[j])):
-            raise ModelError(f"initial value of {label} is not finite: {pair!r}")
+            raise ArgumentError("initial", f"{label}: {pair!r} is not finite")
     return q0[d], qd0[d]
 
 
@@ -271,6 +288,7 @@ def simulate(
         checks.step_count(span, settings.max_step, "max_step")
         work = len(times)
     q0, qd0 = initial_state(model, initial)
+    _check_input_laws(model, inputs)
     with progress_bar(times, f"simulating ({method})", progress, work) as advance:
         run = _Run(model, inputs, forces, (tolerance, max_iterations), RECORDED[outputs],
                    spec, settings, advance)

@@ -26,6 +26,7 @@ from ..errors import ArgumentError
 from ..results import KinematicResult, SimulationResult
 from ..summary import Columns
 from .integrate import RTOL
+from .statics import StaticResult
 from .work import warn_if_unresolved, work_done
 
 __all__ = ["energy"]
@@ -39,7 +40,8 @@ _POINTS, _WEIGHTS = 0.5 * (_POINTS + 1.0), 0.5 * _WEIGHTS
 def energy(result: KinematicResult, forces: Forces | None = None) -> Columns:
     """The energies of a result's rows and the work done on it [J]: columns ``t``,
     ``kinetic``, ``elastic``, ``gravity`` and ``total``, each ``(nt,)``; for a simulation
-    or an inverse-dynamics run also, from its first row:
+    or an inverse-dynamics run (not load steps, whose rows are no motion in time) also,
+    from its first row:
 
     * ``input_work``: the work of the drives, ``int tau . qdot dt`` over the prescribed
       entries of ``q`` (a driven crank's torque times its speed, an actuator's force
@@ -99,7 +101,7 @@ def energy(result: KinematicResult, forces: Forces | None = None) -> Columns:
     columns = Columns({"t": np.asarray(result.t, dtype=float), "kinetic": kinetic,
                        "elastic": elastic, "gravity": _weight(model, engine, x)})
     columns["total"] = columns["kinetic"] + columns["elastic"] + columns["gravity"]
-    if isinstance(result, SimulationResult):
+    if isinstance(result, SimulationResult) and not isinstance(result, StaticResult):
         done = work_done(result, engine.assembly,
                          result.applied_forces if forces is None else forces)
         columns.update(input_work=done.inputs, load_work=done.loads,

@@ -180,6 +180,9 @@ class ModelBuilder:
         #: or ``"note"`` it in :attr:`notes` (a SPACAR file, which cannot say a zero is
         #: meant)
         self.missing_properties: Literal["raise", "note"] = "raise"
+        #: whether set_section warns about a material whose numbers point at another unit
+        #: (flexmbd.light says it itself, in its fields' names)
+        self.unit_doubts: Literal["warn", "off"] = "warn"
         self.notes: list[str] = []
 
     def _problem(self, problem: str) -> None:
@@ -515,7 +518,10 @@ class ModelBuilder:
         width ``w`` across the plane and its thickness ``t`` in it: ``axial = E A``,
         ``bending = E w t^3 / 12``, ``shear = k G A`` [N] (SPACAR's planar shear
         stiffness ``G A_s``, ``k`` the section's shear factor), ``rhoA`` and the rotary
-        inertia ``rho w t^3 / 12`` per length."""
+        inertia ``rho w t^3 / 12`` per length.
+
+        A truss or a rigid beam takes ``axial = E A`` and ``rhoA`` (a spatial rigid beam
+        also its section inertia); a hinge or a spring has no section, and is refused."""
         from ..sections import beam_values
 
         try:
@@ -523,8 +529,24 @@ class ModelBuilder:
         except ArgumentError as error:
             self._problem(f"set_section element {element}: {error}")
             return self
+        if self.unit_doubts == "warn":
+            for doubt in material.doubts():   # said once per material (same message)
+                warnings.warn(f"set_section: {material}: {doubt}", ModelWarning, stacklevel=2)
         etype = self._type_of(element)
+        takes = {v.name for v in etype.stiffness_values} if etype is not None else set()
+        if etype is not None and not (etype.has_mass or "axial" in takes):
+            self._problem(f"set_section element {element}: a {etype.name} has no "
+                          f"cross-section; give its stiffness with set_stiffness("
+                          f"{', '.join(f'{name}=...' for name in sorted(takes))})")
+            return self
         self._records.from_section.add(element)
+        if etype is not None and takes <= {"axial"}:   # a truss or rigid beam: E A, rho A
+            if not material.is_rigid and takes:
+                self.set_stiffness(element, axial=values.estiff[0])
+            if values.mass_per_length:
+                self.set_mass(element, values.mass_per_length, section_inertia=(
+                    values.section_inertia if etype.takes_section_inertia else None))
+            return self
         if etype is not None and issubclass(etype, Beam):   # planar: bending about z
             if not material.is_rigid:
                 bending, flexibility = values.estiff[2], values.estiff[4]

@@ -96,6 +96,7 @@ def assemble(positions: np.ndarray, elements: np.ndarray, props: dict[int, NodeP
     # SPACAR Light's conventions release deformations on purpose (a warping node left
     # free): not the forgotten properties the builder warns a Python user about
     builder.missing_properties = "note"
+    builder.unit_doubts = "off"      # said by the set's fields (plausible.check_material)
     connected = frozenset(int(v) for v in elements.ravel())
     for j in sorted(connected):
         builder.add_node(translational(j), *positions[j - 1])
@@ -198,7 +199,9 @@ def _styles(beams: dict[int, tuple[int, ...]], owner: dict[int, ElementSet],
             notes: list[str]) -> dict[int, dict]:
     """The sets' ``color`` (a colour name, RGB in 0..1 or 0..255), ``opacity`` and
     ``hide`` by beam; SPACAR Light's numbered palette is not flexmbd's, so a number is
-    noted and drawn grey (as is a name matplotlib does not know, when drawn)."""
+    noted and drawn grey, as is a name matplotlib does not know or RGB out of range."""
+    from matplotlib.colors import is_color_like
+
     styles = {}
     for i, numbers in beams.items():
         s = owner.get(i)
@@ -208,10 +211,10 @@ def _styles(beams: dict[int, tuple[int, ...]], owner: dict[int, ElementSet],
         if s.opacity is not None:
             style["alpha"] = s.opacity
         color = s.color
-        if isinstance(color, (list, tuple, np.ndarray)) and len(color) == 3:
-            rgb = np.asarray(color, dtype=float)
+        rgb = _rgb(color)
+        if rgb is not None:
             style["color"] = tuple(rgb / 255.0) if np.any(rgb > 1) else tuple(rgb)
-        elif isinstance(color, str):
+        elif isinstance(color, str) and is_color_like(color):
             style["color"] = color
         elif color is not None:
             note = f"eprops({s.number}).color {color!r} is drawn grey (give a colour name " \
@@ -221,6 +224,17 @@ def _styles(beams: dict[int, tuple[int, ...]], owner: dict[int, ElementSet],
         for beam in numbers:
             styles[beam] = style
     return styles
+
+
+def _rgb(color) -> np.ndarray | None:
+    """``color`` as three numbers from 0 to 255, or None."""
+    if not isinstance(color, (list, tuple, np.ndarray)) or len(color) != 3:
+        return None
+    try:
+        rgb = np.asarray(color, dtype=float)
+    except (TypeError, ValueError):
+        return None
+    return rgb if np.all(np.isfinite(rgb)) and np.all((rgb >= 0) & (rgb <= 255)) else None
 
 
 def warping_node(node: int) -> int:

@@ -391,7 +391,7 @@ def _element_set(props, where: str, j: int, elems: tuple[int, ...], notes: list[
     s.opacity = _scalar(props, "opacity", where)
     if s.opacity is not None and not 0.0 < s.opacity < 1.0:
         raise ArgumentError(f"{where}.opacity", f"must lie in (0, 1), got {s.opacity:g}")
-    s.color = _color(props, where)
+    s.color = props.get("color")
     if s.flex:
         for name in ("cshape", "emod", "smod", "dens"):
             if getattr(s, name) is None:
@@ -404,25 +404,6 @@ def _element_set(props, where: str, j: int, elems: tuple[int, ...], notes: list[
             raise ArgumentError(where, "dens needs cshape and dim (the mass comes from the "
                                        "section)")
     return s
-
-
-def _color(props: Mapping[str, Any], where: str):
-    """``color``: SPACAR Light's ``[r g b]`` (0 to 1), or a name matplotlib knows."""
-    if not _given(props, "color"):
-        return None
-    value = props["color"]
-    from matplotlib.colors import is_color_like
-
-    if isinstance(value, str) and is_color_like(value):
-        return value
-    try:
-        rgb = _numbers(props, "color", where, 3)
-    except ArgumentError:
-        rgb = None
-    if rgb is None or np.any((rgb < 0) | (rgb > 1)):
-        raise ArgumentError(f"{where}.color", f"must be [r g b] from 0 to 1 (or a colour "
-                                              f"name), got {value!r}")
-    return tuple(float(c) for c in rgb)
 
 
 @dataclass

@@ -16,16 +16,11 @@ import warnings
 import numpy as np
 
 from ..errors import ModelWarning
+from ..sections import SOFTEST_MODULUS, material_doubts
 
 __all__ = ["LARGEST_STRESS", "SOFTEST_MODULUS", "check_displacements", "check_material",
            "check_rotation", "check_section", "check_stress"]
 
-#: below this a modulus [Pa] is softer than any rubber: a number in GPa or MPa, likely
-SOFTEST_MODULUS = 1e6
-#: how far outside [0, 0.5] the Poisson's ratio from emod and smod may lie (rounded moduli)
-POISSON_SLACK = 0.02
-#: below this a density [kg/m^3] is lighter than any foam: g/cm^3, likely
-LIGHTEST_DENSITY = 30.0
 #: above this a stress [Pa] is beyond any material's strength (the strongest fibres stay
 #: below 1e10 Pa): a unit is off somewhere
 LARGEST_STRESS = 1e11
@@ -39,20 +34,12 @@ def say(message: str, notes: list[str]) -> None:
 
 def check_material(where: str, emod: float | None, smod: float | None,
                    dens: float | None, notes: list[str]) -> None:
-    """``emod``, ``smod`` [Pa] and ``dens`` [kg/m^3] of set ``where``."""
-    for name, value in (("emod", emod), ("smod", smod)):
-        if value is not None and 0 < value < SOFTEST_MODULUS:
-            say(f"{where}.{name} = {value:g} Pa is softer than any rubber: moduli are in "
-                f"Pa ({value:g} GPa is {value:g}e9)", notes)
-    if emod and smod and emod >= SOFTEST_MODULUS and smod >= SOFTEST_MODULUS:
-        nu = emod / (2.0 * smod) - 1.0
-        if not -POISSON_SLACK <= nu <= 0.5 + POISSON_SLACK:
-            say(f"{where}: emod / (2 smod) - 1 = {nu:.3g} is no Poisson's ratio of an isotropic "
-                f"solid (0 to 0.5; steel 0.3): smod is the shear modulus G = E / (2 (1 + nu)), "
-                f"{emod / 2.6:.3g} Pa for nu = 0.3", notes)
-    if dens is not None and 0 < dens < LIGHTEST_DENSITY:
-        say(f"{where}.dens = {dens:g} kg/m^3 is lighter than any foam: densities are in "
-            f"kg/m^3 ({dens:g} g/cm^3 is {dens * 1e3:g})", notes)
+    """``emod``, ``smod`` [Pa] and ``dens`` [kg/m^3] of set ``where``
+    (:func:`flexmbd.sections.material_doubts`, in SPACAR Light's field names)."""
+    for doubt in material_doubts(emod, smod, dens, ("emod", "smod", "dens")):
+        field = doubt.split(" = ", 1)[0]          # "emod" of one field, or a ratio of two
+        say(f"{where}.{doubt}" if field in ("emod", "smod", "dens") else f"{where}: {doubt}",
+            notes)
 
 
 def check_section(where: str, dim, length: float, element: int, notes: list[str]) -> None:
