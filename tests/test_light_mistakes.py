@@ -92,3 +92,23 @@ def test_a_model_without_degrees_of_freedom_runs_and_says_so():
     assert res.ndof == 0 and res.freq.shape == (0, len(res.load))
     np.testing.assert_allclose(res.node[2].p[:, -1], [0.1, 0, 0], atol=1e-15)
     assert any("no degrees of freedom" in note for note in res.notes)
+
+
+def test_a_flag_given_as_an_array_is_named():
+    with pytest.raises(ArgumentError, match=r"nprops\(1\)\.fix: must be true or false, got "
+                                            r"array\(\[1, 0\]\)"):
+        light.run(NODES, ELEMENTS, {1: {"fix": np.array([1, 0])}, 3: {"fix": True}},
+                  [dict(LEAF, elems=[1, 2])], {"silent": True})
+
+
+def test_releases_that_leave_over_constraints_name_rls():
+    """Releasing the bending of element 1 only leaves four over-constraints of the guide:
+    refused under opt.rls, with the way out (automatic releases)."""
+    with pytest.raises(ArgumentError, match=r"opt\.rls: with the releases given the model "
+                                            r"does not close .* leave rls out"):
+        _guide(opt={"rls": {1: [1, 2]}})
+
+
+def test_a_filename_may_be_a_path(tmp_path):
+    _guide(opt={"filename": tmp_path / "guide"})
+    assert (tmp_path / "guide.dat").exists()

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -72,7 +73,7 @@ def flag(props: Mapping[str, Any], name: str, where: str) -> bool:
     if not _given(props, name):
         return False
     value = props[name]
-    if isinstance(value, (bool, np.bool_)) or value in (0, 1):
+    if np.ndim(value) == 0 and (isinstance(value, (bool, np.bool_)) or value in (0, 1)):
         return bool(value)
     raise ArgumentError(f"{where}.{name}", f"must be true or false, got {value!r}")
 
@@ -470,9 +471,10 @@ def options(opt, n_elements: int, notes: list[str]) -> Options:
     if _given(opt, "nmodes"):
         o.nmodes = _mode_count(opt["nmodes"])
     if _given(opt, "filename"):
-        if not isinstance(opt["filename"], str):
-            raise ArgumentError("opt.filename", f"must be a str, got {opt['filename']!r}")
-        o.filename = opt["filename"]
+        if not isinstance(opt["filename"], (str, os.PathLike)):
+            raise ArgumentError("opt.filename", f"must be a file name (str or path), got "
+                                                f"{opt['filename']!r}")
+        o.filename = os.fspath(opt["filename"])
     for name in ("customkin", "customdyn"):
         if _given(opt, name):
             setattr(o, name, custom_lines(opt[name], name))
