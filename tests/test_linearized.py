@@ -585,3 +585,22 @@ def test_modes_too_stiff_for_the_reduction_stay_positive(monkeypatch):
     few = fm.vibration_modes(lin, 3)
     assert few.path.method == "arpack" and modes.path.method == "dense"
     np.testing.assert_allclose(f[:3], few.frequencies, rtol=1e-7)
+
+
+def test_modes_past_buckling_are_reported_unstable():
+    """A two-beam column: below its buckling load (fm.buckling's factor, an eigenproblem
+    of K0 and G0 alone) every mode vibrates; above it the lowest grows, reported so."""
+    b = fm.ModelBuilder("column")
+    for k in range(3):
+        b.add_node(2 * k + 1, 0.5 * k, 0.0)
+    for k in range(2):
+        b.add_beam(k + 1, 2 * k + 1, 2 * k + 2, 2 * k + 3, 2 * k + 4)
+        b.dynamic_deformation(k + 1).set_mass(k + 1, 0.5)
+        b.set_stiffness(k + 1, axial=1e6, bending=2.0)
+    model = b.fix(1).fix(2).build()
+    critical = fm.buckling(fm.linearize(model, loads={"x5.1": -1.0})).factors[0]
+    below = fm.vibration_modes(fm.linearize(model, loads={"x5.1": -0.9 * critical}))
+    above = fm.vibration_modes(fm.linearize(model, loads={"x5.1": -1.1 * critical}))
+    assert len(below.unstable) == 0 and "unstable" not in repr(below)
+    assert list(above.unstable) == [0] and above.frequencies[0] < 0
+    assert "unstable: mode 1 grows instead of vibrating" in repr(above)

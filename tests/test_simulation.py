@@ -124,7 +124,7 @@ def test_errors_before_any_work():
     massless.fix(1).dynamic_coordinate(2)
     with pytest.raises(fm.ModelError, match="no mass"):
         fm.simulate(massless.build(), [0.0, 0.1])
-    with pytest.raises(fm.ArgumentError, match="initial: x2.1 is prescribed, not dynamic"):
+    with pytest.raises(fm.ArgumentError, match=r"initial: x2\.1 is prescribed, not dynamic"):
         fm.simulate(flexible_slider_crank_one_beam(), [0.0, 0.1], initial={"x2.1": (0, 1)})
     with pytest.raises(ValueError, match="unknown method"):
         fm.simulate(flexible_pendulum(), [0.0, 0.1], method="Euler")

@@ -65,6 +65,9 @@ from .statics import StaticResult
 #: buckling): a table over many states records them as NaN with the reason
 NO_VALUE = (SingularConfigurationError, UnstressedError)
 
+#: omega^2 below minus this share of the largest |omega^2| is a growing mode, not rounding
+UNSTABLE_ROUNDING = 1e-9
+
 __all__ = ["Buckling", "Modes", "ModesAlong", "buckling", "compliance", "frequencies_of",
            "linearization_of", "modes_along", "node_compliance", "vibration_modes"]
 
@@ -84,14 +87,31 @@ class Modes:
         path: how they were found and why (:class:`~flexmbd.analysis.eigen.EigenPath`).
     """
 
-    __repr__ = dataclass_repr
-
     linearization: Linearization
     omega2: np.ndarray
     frequencies: np.ndarray
     shapes: np.ndarray
     motion: np.ndarray
     path: EigenPath
+
+    @property
+    def unstable(self) -> np.ndarray:
+        """Positions of the modes that grow instead of vibrating (``omega^2 < 0`` beyond
+        the rounding of the largest ``|omega^2|``): the state lies past a buckling point
+        (or on a maximum of its potential energy). Their ``frequencies`` are negative."""
+        scale = float(np.max(np.abs(self.omega2), initial=0.0))
+        return np.flatnonzero(self.omega2 < -UNSTABLE_ROUNDING * scale)
+
+    def __repr__(self) -> str:
+        text = dataclass_repr(self)
+        growing = self.unstable
+        if len(growing):
+            many = len(growing) > 1
+            text += (f"\n  unstable: mode{'s' if many else ''} "
+                     f"{', '.join(str(k + 1) for k in growing)} grow{'' if many else 's'} "
+                     f"instead of vibrating (omega^2 < 0, listed as negative frequencies: "
+                     f"growth rate / 2 pi): the state lies past a buckling point")
+        return text
 
 
 @dataclass(frozen=True, eq=False)
