@@ -90,3 +90,16 @@ def squeezer_angles(result: fm.SimulationResult) -> np.ndarray:
     return np.stack([beta0 + a[11], theta0 + a[12] - a[11], gamma0 + a[13],
                      phi0 + a[15] - a[14], delta0 + a[14], omega0 + a[17] - a[16],
                      epsilon0 + a[16]], axis=1)
+
+
+def two_beam_column() -> fm.Model:
+    """A cantilever of two beams along x (1 m), clamped at node 1, with mass: it can
+    buckle under a load along it at node 5."""
+    b = fm.ModelBuilder("column")
+    for k in range(3):
+        b.add_node(2 * k + 1, 0.5 * k, 0.0)
+    for k in range(2):
+        b.add_beam(k + 1, 2 * k + 1, 2 * k + 2, 2 * k + 3, 2 * k + 4)
+        b.dynamic_deformation(k + 1).set_mass(k + 1, 0.5)
+        b.set_stiffness(k + 1, axial=1e6, bending=2.0)
+    return b.fix(1).fix(2).build()

@@ -15,6 +15,8 @@ from hypothesis import strategies as st
 
 import flexmbd as fm
 
+from .models import two_beam_column
+
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 MODEL = build_model(1)
@@ -22,20 +24,8 @@ TIMES = np.linspace(0.0, 0.004, 5)
 REST = np.zeros(MODEL.n_dof)
 
 
-def _column() -> fm.Model:
-    """A cantilever of two beams along x, clamped at node 1: it can buckle."""
-    b = fm.ModelBuilder("column")
-    for k in range(3):
-        b.add_node(2 * k + 1, 0.5 * k, 0.0)
-    for k in range(2):
-        b.add_beam(k + 1, 2 * k + 1, 2 * k + 2, 2 * k + 3, 2 * k + 4)
-        b.dynamic_deformation(k + 1).set_mass(k + 1, 0.5)
-        b.set_stiffness(k + 1, axial=1e6, bending=2.0)
-    return b.fix(1).fix(2).build()
-
-
 #: the column pressed along its axis, linearized
-LINEAR = fm.linearize(_column(), loads={"x5.1": -1.0})
+LINEAR = fm.linearize(two_beam_column(), loads={"x5.1": -1.0})
 #: no single call may take longer than this [s]
 BOUND = 10.0
 

@@ -19,6 +19,8 @@ from flexmbd.analysis.statespace import state_space
 from flexmbd.analysis.statics import static_equilibrium
 from flexmbd.engine import Workspace
 
+from .models import two_beam_column
+
 L, EI, RHO_A = 1.0, 2.0, 0.5
 #: (beta_n L) of the first three bending modes of a clamped-free beam
 CLAMPED_FREE = np.array([1.8751040687119611, 4.6940911329741745, 7.8547574382376126])
@@ -590,14 +592,7 @@ def test_modes_too_stiff_for_the_reduction_stay_positive(monkeypatch):
 def test_modes_past_buckling_are_reported_unstable():
     """A two-beam column: below its buckling load (fm.buckling's factor, an eigenproblem
     of K0 and G0 alone) every mode vibrates; above it the lowest grows, reported so."""
-    b = fm.ModelBuilder("column")
-    for k in range(3):
-        b.add_node(2 * k + 1, 0.5 * k, 0.0)
-    for k in range(2):
-        b.add_beam(k + 1, 2 * k + 1, 2 * k + 2, 2 * k + 3, 2 * k + 4)
-        b.dynamic_deformation(k + 1).set_mass(k + 1, 0.5)
-        b.set_stiffness(k + 1, axial=1e6, bending=2.0)
-    model = b.fix(1).fix(2).build()
+    model = two_beam_column()
     critical = fm.buckling(fm.linearize(model, loads={"x5.1": -1.0})).factors[0]
     below = fm.vibration_modes(fm.linearize(model, loads={"x5.1": -0.9 * critical}))
     above = fm.vibration_modes(fm.linearize(model, loads={"x5.1": -1.1 * critical}))

@@ -21,9 +21,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import cumulative_simpson
 
-from ..elements.base import is_translational
+from ..elements.base import SPATIAL_ROTATIONAL
 from ..engine.assembly import Assembly
-from ..engine.laws import Forces, load_vector
+from ..engine.laws import Forces, load_vector, own_loads
 from ..errors import AccuracyWarning, ArgumentError, SimulationError
 from ..results import SimulationResult
 
@@ -101,7 +101,7 @@ def _load_power(result: SimulationResult, forces: Forces | None) -> np.ndarray:
     model = result.model
     power = np.zeros(len(result.t))
     if model.nodal_forces:
-        power += _power_of(result, np.tile(_constant_loads(model), (len(result.t), 1)))
+        power += _power_of(result, np.tile(own_loads(model), (len(result.t), 1)))
     if forces is None:
         return power
     if not callable(forces):
@@ -120,17 +120,6 @@ def _load_power(result: SimulationResult, forces: Forces | None) -> np.ndarray:
     return power + _power_of(result, rows)
 
 
-def _constant_loads(model) -> np.ndarray:
-    """The model's constant loads (``add_force``, XF) as :func:`load_vector` takes them
-    ``(nx,)``: on a spatial rotational node the moment in the entries of ``lam1..lam3``."""
-    f = np.zeros(model.n_coordinates)
-    for number, components in model.nodal_forces.items():
-        at = model.nodes[number].coordinates
-        at = at[1:] if len(at) == 4 else at
-        f[list(at)] += components
-    return f
-
-
 def _power_of(result: SimulationResult, loads: np.ndarray) -> np.ndarray:
     """The power ``(nt,)`` [W] of loads ``(nt, nx)`` given as :func:`load_vector` gives
     them: a force or a planar torque times its coordinate's rate, a spatial moment times
@@ -141,7 +130,7 @@ def _power_of(result: SimulationResult, loads: np.ndarray) -> np.ndarray:
         at = list(node.coordinates)
         if not at or not np.any(loads[:, at]):
             continue
-        if len(at) == 4 and not is_translational(node.kind):
+        if node.kind == SPATIAL_ROTATIONAL:
             power += np.sum(loads[:, at[1:]] * result.angular_velocity(node.number), axis=1)
         else:
             power += np.sum(loads[:, at] * xd[:, at], axis=1)

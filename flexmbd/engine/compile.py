@@ -26,7 +26,7 @@ from ..elements.base import SPATIAL_ROTATIONAL, ElementType, is_translational
 from ..errors import ModelError
 from ..model import CoordinateClass, DeformationClass, Element, Model
 from .core import TYPE_NUMBER, check_core, native
-from .laws import coordinate_kinds, coordinate_size, load_slots, periodic_deformations
+from .laws import coordinate_kinds, coordinate_size, own_loads, periodic_deformations
 from .spec import Classification, CoreSpec, Elements, Loads, Reference, Sizes, SquareSystems
 
 _I32 = np.int32
@@ -274,8 +274,7 @@ def _nodal_loads(model: Model, f_const: np.ndarray) -> np.ndarray:
         nodal_mass[list(node.coordinates)] += point_mass
         if is_translational(node.kind):
             f_const[list(node.coordinates)] += point_mass * gravity[:len(node.coordinates)]
-    for number, load in model.nodal_forces.items():
-        f_const[load_slots(model.nodes[number])] += load
+    f_const += own_loads(model)
     return nodal_mass
 
 

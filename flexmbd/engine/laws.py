@@ -29,6 +29,16 @@ def load_slots(node) -> list[int]:
     return coordinates[1:] if node.kind == SPATIAL_ROTATIONAL else coordinates
 
 
+def own_loads(model: Model) -> np.ndarray:
+    """The model's constant nodal loads (``XF``, ``add_force``) ``(nx,)`` [N, N m] in
+    flexmbd's form (a global moment on a spatial rotational node's ``lam1..lam3``, as
+    :func:`load_slots` places it)."""
+    loads = np.zeros(model.n_coordinates)
+    for number, load in model.nodal_forces.items():
+        loads[load_slots(model.nodes[number])] += load
+    return loads
+
+
 def periodic_deformations(model: Model) -> np.ndarray:
     """Mask ``(ne,)`` of the deformations that are angles modulo ``2 pi``."""
     mask = np.zeros(model.n_deformations, dtype=bool)

@@ -151,13 +151,14 @@ def assemble(positions: np.ndarray, elements: np.ndarray, props: dict[int, NodeP
                                        f"deformation {k}" for e, k in releases))
         model = builder.build()
     except ModelError as error:
-        if opt.rls is not None and any(s is not None and s.flex for s in owner.values()):
+        flexible = any(s is not None and s.flex for s in owner.values())
+        if flexible and opt.rls is not None:
             raise ArgumentError("opt.rls", "with the releases given the model does not close "
                                            "(" + str(error).removeprefix("invalid model: ") +
                                            "); leave rls out, and flexmbd releases the "
                                            "over-constraints itself, as SPACAR Light "
                                            "does") from None
-        if any(s is not None and s.flex for s in owner.values()):
+        if flexible:
             raise
         raise ArgumentError("eprops", "no element set has flex, so every element is rigid, "
                                       "and the rigid elements constrain each other (" +

@@ -39,7 +39,8 @@ def with_custom_lines(lm: LightModel, settings: RunSettings) -> LightModel:
             the model, named by its option and index.
     """
     kinematic, dynamic = lm.options.customkin, lm.options.customdyn
-    lines = dat_text(lm.model, settings).splitlines()
+    own = dat_text(lm.model, settings)
+    lines = own.splitlines()
     ends = [i for i, line in enumerate(lines) if line.split()[:1] == ["END"]]
     # inserted from the back, so that the first END's index still holds
     lines[ends[1]:ends[1]] = dynamic
@@ -53,7 +54,7 @@ def with_custom_lines(lm: LightModel, settings: RunSettings) -> LightModel:
         dat = dat_from_text("\n".join(lines) + "\n", release=lm.options.rls is None)
     except InputFileError as error:
         raise _named_error(error, named, lines) from None
-    plain = dat_from_text(dat_text(lm.model, settings)).settings   # without the lines
+    plain = dat_from_text(own).settings   # the file without the lines
     changed = sorted(name for name in _differing(plain, dat.settings)
                      if name not in USED_SETTINGS)
     if changed:

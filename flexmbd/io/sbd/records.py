@@ -24,7 +24,7 @@ from ...analysis.linearization import Linearization
 from ...analysis.statics import StaticResult
 from ...elements.base import SPATIAL_ROTATIONAL
 from ...engine import deformations_and_jacobian
-from ...engine.laws import load_slots
+from ...engine.laws import own_loads
 from ...errors import ArgumentError
 from ...model import CoordinateClass, Model
 from ...model.numbering import ELEMENT_CODES, LE_WIDTH, LN_WIDTH, SpacarNumbering
@@ -91,15 +91,6 @@ def stiffness_table(model: Model) -> np.ndarray:
                             12 * values.get("shear_z", 0.0) / l0**2,
                             values.get("warping", 0.0) / l0**5]
     return table
-
-
-def own_loads(model: Model) -> np.ndarray:
-    """The model's constant nodal loads (``XF``) ``(nx,)`` in flexmbd's form (a global
-    moment on a spatial rotational node's ``lam1..lam3``)."""
-    loads = np.zeros(model.n_coordinates)
-    for number, load in model.nodal_forces.items():
-        loads[load_slots(model.nodes[number])] += load
-    return loads
 
 
 def generalized_loads(model: Model, x: np.ndarray, loads: np.ndarray,

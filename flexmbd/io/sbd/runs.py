@@ -40,6 +40,7 @@ from ...analysis.runs import analyse, default_mode
 from ...analysis.statespace import StateSpace, state_space
 from ...analysis.statics import StaticResult, refuse_routines, static_equilibrium
 from ...engine import MAX_ITERATIONS, deformations_and_jacobian
+from ...engine.laws import own_loads
 from ...errors import ArgumentError, InputFileError
 from ...model import Model
 from ...progress import progress_bar
@@ -54,7 +55,6 @@ from .records import (
     linearization_records,
     model_tables,
     moment_loads,
-    own_loads,
     sbd_records,
     state_records,
 )
